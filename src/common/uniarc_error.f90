@@ -1,0 +1,41 @@
+!> Errors are values: library routines return an allocated error_t on failure and never stop.
+!>
+!> Convention (after fpm): `type(error_t), allocatable, intent(out) :: error`; the caller checks
+!> `if (allocated(error)) return` and adds context on the way up. Only the main program prints and exits.
+module uniarc_error
+   implicit none
+   private
+   public :: error_t, make_error, add_context
+   public :: error_input, error_analysis, error_internal
+
+   !> Error categories; the main program maps them to exit codes (input → 2, analysis → 1).
+   integer, parameter :: error_input = 2
+   integer, parameter :: error_analysis = 1
+   integer, parameter :: error_internal = 3
+
+   !> An error: a category and a message that carries its context.
+   type :: error_t
+      integer :: category = error_internal
+      character(len=:), allocatable :: message
+   end type error_t
+
+contains
+
+   !> Allocate `error` with a message and a category (default: internal).
+   subroutine make_error(error, message, category)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in) :: message
+      integer, intent(in), optional :: category
+      allocate (error)
+      error%message = message
+      if (present(category)) error%category = category
+   end subroutine make_error
+
+   !> Prefix an existing error's message with context (routine, step, load factor ...).
+   subroutine add_context(error, context)
+      type(error_t), intent(inout) :: error
+      character(len=*), intent(in) :: context
+      error%message = context//': '//error%message
+   end subroutine add_context
+
+end module uniarc_error

@@ -1,0 +1,150 @@
+!> The model: what a deck describes, independent of how it is analysed.
+!>
+!> Built by the deck reader (uniarc_deck), read by the analysis. Nodes and elements are stored in the
+!> order the deck created them (internal indices 1..n); user labels are kept for messages and output.
+!> The equation numbering (bandwidth reduction, eliminated DOFs) belongs to the analysis, not here.
+module uniarc_model
+   use uniarc_kinds, only: dp
+   implicit none
+   private
+   public :: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t
+   public :: analysis_options_t
+   public :: dofs_per_node, dof_ux, dof_uy, dof_rz
+   public :: load_fixed_direction, load_pressure
+   public :: analysis_linear, analysis_nonlinear
+   public :: find_node_set, find_element_set, element_length
+
+   !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
+   integer, parameter :: dofs_per_node = 3
+   integer, parameter :: dof_ux = 1, dof_uy = 2, dof_rz = 3
+
+   !> Kinds of distributed load.
+   integer, parameter :: load_fixed_direction = 1 !< force per unit initial length, global (qx, qy)
+   integer, parameter :: load_pressure = 2        !< normal pressure along the element's left normal
+
+   !> Kinds of analysis.
+   integer, parameter :: analysis_linear = 1
+   integer, parameter :: analysis_nonlinear = 2
+
+   !> Cross-section stiffnesses of a beam (Euler–Bernoulli: axial EA, bending EI).
+   type :: section_t
+      character(len=:), allocatable :: name
+      real(dp) :: ea = 0.0_dp
+      real(dp) :: ei = 0.0_dp
+   end type section_t
+
+   !> A named set of nodes (internal indices).
+   type :: node_set_t
+      character(len=:), allocatable :: name
+      integer, allocatable :: nodes(:)
+   end type node_set_t
+
+   !> A named set of elements (internal indices).
+   type :: element_set_t
+      character(len=:), allocatable :: name
+      integer, allocatable :: elements(:)
+   end type element_set_t
+
+   !> A distributed load on one element, per unit initial length, scaled by the load parameter λ.
+   type :: distributed_load_t
+      integer :: element = 0
+      integer :: kind = load_fixed_direction
+      real(dp) :: qx = 0.0_dp        !< global x component (fixed-direction load)
+      real(dp) :: qy = 0.0_dp        !< global y component (fixed-direction load)
+      real(dp) :: pressure = 0.0_dp  !< along the left normal of node 1 → node 2 (pressure load)
+      logical :: follower = .false.  !< pressure follows the deformed normal
+   end type distributed_load_t
+
+   !> A displacement component written as a column of the path file: scale * u(dof) of one node.
+   type :: track_t
+      character(len=:), allocatable :: name
+      integer :: node = 0
+      integer :: dof = dof_uy
+      real(dp) :: scale = 1.0_dp
+   end type track_t
+
+   !> What to run. The nonlinear issue adds its controls here.
+   type :: analysis_options_t
+      integer :: kind = analysis_linear
+   end type analysis_options_t
+
+   !> The whole model.
+   type :: model_t
+      character(len=:), allocatable :: deck_path   !< file it was read from (messages)
+      character(len=:), allocatable :: title
+      integer :: n_nodes = 0
+      integer :: n_elements = 0
+      real(dp), allocatable :: coordinates(:, :)   !< (2, n_nodes) initial x, y
+      integer, allocatable :: node_label(:)        !< (n_nodes) user number
+      integer, allocatable :: connectivity(:, :)   !< (2, n_elements) internal node indices
+      integer, allocatable :: element_label(:)     !< (n_elements) user number
+      integer, allocatable :: element_section(:)   !< (n_elements) index into sections
+      type(section_t), allocatable :: sections(:)
+      type(node_set_t), allocatable :: node_sets(:)
+      type(element_set_t), allocatable :: element_sets(:)
+      logical, allocatable :: fixed(:, :)          !< (3, n_nodes) DOF held at zero
+      real(dp), allocatable :: nodal_load(:, :)    !< (3, n_nodes) reference nodal forces/moments
+      type(distributed_load_t), allocatable :: distributed_loads(:)
+      type(track_t), allocatable :: tracks(:)
+      type(analysis_options_t) :: analysis
+   end type model_t
+
+contains
+
+   !> Index of the node set called `name` (case-insensitive), 0 if there is none.
+   pure function find_node_set(model, name) result(index)
+      type(model_t), intent(in) :: model
+      character(len=*), intent(in) :: name
+      integer :: index
+      integer :: i
+      index = 0
+      if (.not. allocated(model%node_sets)) return
+      do i = 1, size(model%node_sets)
+         if (same_name(model%node_sets(i)%name, name)) then
+            index = i
+            return
+         end if
+      end do
+   end function find_node_set
+
+   !> Index of the element set called `name` (case-insensitive), 0 if there is none.
+   pure function find_element_set(model, name) result(index)
+      type(model_t), intent(in) :: model
+      character(len=*), intent(in) :: name
+      integer :: index
+      integer :: i
+      index = 0
+      if (.not. allocated(model%element_sets)) return
+      do i = 1, size(model%element_sets)
+         if (same_name(model%element_sets(i)%name, name)) then
+            index = i
+            return
+         end if
+      end do
+   end function find_element_set
+
+   !> Initial length of element `e`.
+   pure function element_length(model, e) result(length)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: e
+      real(dp) :: length
+      real(dp) :: d(2)
+      d = model%coordinates(:, model%connectivity(2, e)) - model%coordinates(:, model%connectivity(1, e))
+      length = norm2(d)
+   end function element_length
+
+   pure logical function same_name(a, b)
+      character(len=*), intent(in) :: a, b
+      integer :: i, ca, cb
+      same_name = .false.
+      if (len_trim(a) /= len_trim(b)) return
+      do i = 1, len_trim(a)
+         ca = iachar(a(i:i)); cb = iachar(b(i:i))
+         if (ca >= iachar('a') .and. ca <= iachar('z')) ca = ca - 32
+         if (cb >= iachar('a') .and. cb <= iachar('z')) cb = cb - 32
+         if (ca /= cb) return
+      end do
+      same_name = .true.
+   end function same_name
+
+end module uniarc_model
