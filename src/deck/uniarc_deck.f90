@@ -1426,7 +1426,7 @@ contains
       type(builder_t), intent(in) :: builder
       integer, intent(in) :: ends(2)
       real(dp) :: scale
-      scale = max(maxval(abs(builder%coordinates(:, ends))), tiny(1.0_dp))
+      scale = maxval(abs(builder%coordinates(:, ends)))
       is_zero_length = norm2(builder%coordinates(:, ends(2)) - builder%coordinates(:, ends(1))) <= &
                        zero_length_tolerance*scale
    end function is_zero_length
