@@ -24,7 +24,7 @@ contains
    !> Internal force, tangent stiffness and basic forces of the corotational beam-column.
    !>
    !> In:  x0(:, i) initial coordinates of end i; u total global displacements; ea, ei stiffnesses.
-   !> Out: f_int = Bᵀ q, the global internal force (6), exactly zero under any rigid-body motion;
+   !> Out: f_int = Bᵀ q, the global internal force (6), zero to round-off under any rigid-body motion;
    !>      k_t = ∂f_int/∂u (6×6, symmetric) = KL + Ks where
    !>        KL = Bᵀ Kb B on the current chord — the paper's small-displacement matrix (its Eq. 11); the
    !>             paper's large-displacement matrix KNL (Eq. 13) is carried by evaluating B on the
