@@ -24,7 +24,7 @@ contains
    !> Internal force, tangent stiffness and basic forces of the corotational beam-column.
    !>
    !> In:  x0(:, i) initial coordinates of end i; u total global displacements; ea, ei stiffnesses.
-   !> Out: f_int = Bᵀ q, the global internal force (6), exactly zero under any rigid-body motion;
+   !> Out: f_int = Bᵀ q, the global internal force (6), zero to round-off under any rigid-body motion;
    !>      k_t = ∂f_int/∂u (6×6, symmetric) = KL + Ks where
    !>        KL = Bᵀ Kb B on the current chord — the paper's small-displacement matrix (its Eq. 11); the
    !>             paper's large-displacement matrix KNL (Eq. 13) is carried by evaluating B on the
@@ -43,19 +43,20 @@ contains
       real(dp), intent(out) :: k_t(6, 6)
       real(dp), intent(out) :: basic_force(3)
       real(dp) :: d(2), initial_length, length, c, s, elongation, theta_bar(2)
-      real(dp) :: b(3, 6), r(6), z(6)
+      real(dp) :: kb(3, 3), b(3, 6), r(6), z(6)
 
       call chord_kinematics(x0, u, d, initial_length, length, c, s, elongation, theta_bar)
 
       ! The constitutive law lives in the corotated frame, referred to the initial length (small
       ! strains): the same Kb as the linear element.
-      basic_force = matmul(basic_stiffness(initial_length, ea, ei), [elongation, theta_bar])
+      kb = basic_stiffness(initial_length, ea, ei)
+      basic_force = matmul(kb, [elongation, theta_bar])
       b = basic_to_global(c, s, length)
       f_int = matmul(transpose(b), basic_force)
 
       r = b(1, :)
       z = [s, -c, 0.0_dp, -s, c, 0.0_dp]
-      k_t = matmul(transpose(b), matmul(basic_stiffness(initial_length, ea, ei), b)) &
+      k_t = matmul(transpose(b), matmul(kb, b)) &
             + (basic_force(1)/length)*outer(z, z) &
             + ((basic_force(2) + basic_force(3))/length**2)*(outer(r, z) + outer(z, r))
    end subroutine corotational_response
