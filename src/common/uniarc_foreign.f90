@@ -4,12 +4,13 @@
 !> (-Werror=implicit-interface) and LAPACK's `info` is translated into an error in one place.
 module uniarc_foreign
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis, error_internal
    implicit none
    private
    public :: dgbtrf, dgbtrs
-   public :: lapack_check, rename_file, make_directory
+   public :: lapack_check, rename_file, make_directory, exit_program
 
    interface
       !> LU factorisation of a general band matrix with partial pivoting (LAPACK).
@@ -37,6 +38,11 @@ module uniarc_foreign
          character(kind=c_char), intent(in) :: old_path(*), new_path(*)
          integer(c_int) :: status
       end function c_rename
+
+      subroutine c_exit(status) bind(c, name='exit')
+         import :: c_int
+         integer(c_int), value, intent(in) :: status
+      end subroutine c_exit
 
       function c_mkdir(path, mode) bind(c, name='mkdir') result(status)
          import :: c_int, c_char
@@ -85,5 +91,14 @@ contains
       status = c_mkdir(path//c_null_char, int(o'755', c_int))
       if (status /= 0) call make_error(error, 'cannot create output directory '//path, error_analysis)
    end subroutine make_directory
+
+   !> End the program with an exit status and no further words: Fortran's `stop n` would add
+   !> "STOP n" to stderr under the error message. libgfortran closes its units at exit.
+   subroutine exit_program(status)
+      integer, intent(in) :: status
+      flush (output_unit)
+      flush (error_unit)
+      call c_exit(int(status, c_int))
+   end subroutine exit_program
 
 end module uniarc_foreign

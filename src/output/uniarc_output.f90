@@ -114,14 +114,15 @@ contains
       call write_numbers(files%path%unit, '', values)
    end subroutine write_path_row
 
-   !> One event of the critical-point file: kind, step, λ and the tracked values at the event.
-   subroutine write_crit_row(files, kind, step, lambda, tracked)
+   !> One event of the critical-point file: kind, where it lies (a step number, fractional when the
+   !> event was located between two steps), λ and the tracked values at the event.
+   subroutine write_crit_row(files, kind, position, lambda, tracked)
       type(output_files_t), intent(inout) :: files
       character(len=*), intent(in) :: kind
-      integer, intent(in) :: step
+      real(dp), intent(in) :: position
       real(dp), intent(in) :: lambda
       real(dp), intent(in) :: tracked(:)
-      call write_numbers(files%crit%unit, kind, [real(step, dp), lambda, tracked])
+      call write_numbers(files%crit%unit, kind, [position, lambda, tracked])
    end subroutine write_crit_row
 
    !> A snapshot of the deformed shape: one line per node, snapshots separated by two blank lines
