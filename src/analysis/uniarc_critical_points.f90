@@ -78,7 +78,7 @@ contains
       ! Linear interpolation of the slope is the fallback (and the answer when c2 vanishes).
       t = a%dlambda_ds/(a%dlambda_ds - b%dlambda_ds)
       if (abs(c2) <= epsilon(1.0_dp)*(abs(c1) + abs(c0))) then
-         if (c1 /= 0.0_dp) t = -c0/c1
+         if (abs(c1) > tiny(1.0_dp)) t = -c0/c1
       else
          discriminant = c1**2 - 4*c2*c0
          if (discriminant >= 0.0_dp) then

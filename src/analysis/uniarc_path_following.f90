@@ -333,7 +333,7 @@ contains
          nu = dot_product(y, x(:, 1))
          x = x/norm2(x)
       end do
-      if (nu /= 0.0_dp) mu = 1.0_dp/nu
+      if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
    end function least_eigenvalue
 
    !> Nodal displacements (3, n_nodes) of the committed state.

@@ -15,7 +15,9 @@ module uniarc_deck
                                  check_options, option_index, require_option, data_fields, &
                                  require_field_count, field_real, field_integer
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
-                           dof_ux, dof_uy, dof_rz, load_fixed_direction, load_pressure, analysis_linear
+                           dof_ux, dof_uy, dof_rz, load_fixed_direction, load_pressure, &
+                           analysis_options_t, analysis_nonlinear, control_load, control_displacement, &
+                           control_arclength, iteration_chan, iteration_cylindrical, iteration_riks
    implicit none
    private
    public :: parameter_override_t, read_deck
@@ -66,6 +68,10 @@ module uniarc_deck
       type(distributed_load_t), allocatable :: loads(:)
       integer :: n_tracks = 0
       type(track_t), allocatable :: tracks(:)
+
+      type(analysis_options_t) :: analysis            !< linear static unless a *PATH card says otherwise
+      character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
+      integer :: stop_track_line = 0, stop_track_column = 0
    end type builder_t
 
 contains
@@ -135,6 +141,8 @@ contains
          call read_distributed_load(source, card, builder, error)
       case ('TRACK')
          call read_track(source, card, builder, error)
+      case ('PATH')
+         call read_path(source, card, builder, error)
       case ('STATIC')
          call read_static(source, card, builder, error)
       case default
@@ -892,6 +900,187 @@ contains
       end if
    end subroutine read_static
 
+   !> *PATH: a nonlinear analysis that follows the equilibrium path (docs/input.md, docs/theory.md §2).
+   !> Options CONTROL=, ITERATION=, NODE= and DOF= (displacement control); data lines `key = value`.
+   subroutine read_path(source, card, builder, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(inout) :: builder
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, k, line, equals, first
+      integer, allocatable :: nodes(:)
+      character(len=:), allocatable :: text, key
+      type(field_t) :: field
+      real(dp) :: value
+
+      call check_options(source, card, [character(len=10) :: 'CONTROL=', 'ITERATION=', 'NODE=', 'DOF='], error)
+      if (allocated(error)) return
+      call require_analysis_once(source, card, builder, error)
+      if (allocated(error)) return
+      builder%analysis%kind = analysis_nonlinear
+      k = option_index(card, 'CONTROL')
+      if (k > 0) then
+         select case (to_upper(card%options(k)%value))
+         case ('ARCLENGTH', 'ARC_LENGTH')
+            builder%analysis%control = control_arclength
+         case ('LOAD')
+            builder%analysis%control = control_load
+         case ('DISPLACEMENT')
+            builder%analysis%control = control_displacement
+         case default
+            call raise(source, card%line, card%options(k)%value_column, 'expected CONTROL=ARCLENGTH, '// &
+                       'LOAD or DISPLACEMENT, found '''//clip(card%options(k)%value)//'''', error)
+            return
+         end select
+      end if
+      k = option_index(card, 'ITERATION')
+      if (k > 0) then
+         select case (to_upper(card%options(k)%value))
+         case ('CHAN')
+            builder%analysis%iteration = iteration_chan
+         case ('CYLINDRICAL')
+            builder%analysis%iteration = iteration_cylindrical
+         case ('RIKS')
+            builder%analysis%iteration = iteration_riks
+         case default
+            call raise(source, card%line, card%options(k)%value_column, 'expected ITERATION=CHAN, '// &
+                       'CYLINDRICAL or RIKS, found '''//clip(card%options(k)%value)//'''', error)
+            return
+         end select
+      end if
+      if (builder%analysis%control == control_displacement) then
+         call require_option(source, card, 'NODE', k, error)
+         if (allocated(error)) return
+         field%text = card%options(k)%value
+         field%column = card%options(k)%value_column
+         call resolve_nodes(source, builder, card%line, field, nodes, error)
+         if (allocated(error)) return
+         if (size(nodes) /= 1) then
+            call raise(source, card%line, field%column, 'expected a single node to control, found '// &
+                       integer_to_string(size(nodes))//' nodes', error)
+            return
+         end if
+         builder%analysis%control_node = nodes(1)
+         call require_option(source, card, 'DOF', k, error)
+         if (allocated(error)) return
+         select case (to_upper(card%options(k)%value))
+         case ('UX', '1')
+            builder%analysis%control_dof = dof_ux
+         case ('UY', '2')
+            builder%analysis%control_dof = dof_uy
+         case ('RZ', '3')
+            builder%analysis%control_dof = dof_rz
+         case default
+            call raise(source, card%line, card%options(k)%value_column, 'expected DOF=UX, UY or RZ, '// &
+                       'found '''//clip(card%options(k)%value)//'''', error)
+            return
+         end select
+      end if
+
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         text = source%lines(line)%text
+         first = verify(text, ' ')
+         equals = index(text, '=')
+         if (equals == 0) then
+            call raise(source, line, first, 'expected a line `key = value` (see docs/input.md, *PATH)', error)
+            return
+         end if
+         key = to_upper(trim(adjustl(text(:equals - 1))))
+         field%column = equals + verify(text(equals + 1:)//'x', ' ')
+         field%text = trim(adjustl(text(equals + 1:)))
+         if (key == 'STOP_TRACK') then
+            if (.not. is_name(field%text)) then
+               call raise(source, line, field%column, 'expected the name of a *TRACK, found '''// &
+                          clip(field%text)//'''', error)
+               return
+            end if
+            builder%stop_track = field%text
+            builder%stop_track_line = line
+            builder%stop_track_column = field%column
+            cycle
+         end if
+         call field_real(source, builder%parameters, line, field, 'a value for '//key, value, error)
+         if (allocated(error)) return
+         call set_path_value(source, line, first, field%column, key, value, builder%analysis, error)
+         if (allocated(error)) return
+      end do
+      if (.not. abs(builder%analysis%first_increment) > 0.0_dp) then
+         call raise(source, card%line, card%column, 'expected a data line `increment = value` '// &
+                    '(the first load increment, non-zero) after *PATH', error)
+         return
+      end if
+      if (allocated(builder%stop_track) .and. .not. builder%analysis%stop_value > 0.0_dp) then
+         call raise(source, builder%stop_track_line, builder%stop_track_column, 'expected a positive '// &
+                    '`stop_value = ...` with stop_track', error)
+         return
+      end if
+   end subroutine read_path
+
+   !> One `key = value` of *PATH into the analysis options (keys in docs/input.md).
+   subroutine set_path_value(source, line, key_column, value_column, key, value, analysis, error)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line, key_column, value_column
+      character(len=*), intent(in) :: key
+      real(dp), intent(in) :: value
+      type(analysis_options_t), intent(inout) :: analysis
+      type(error_t), allocatable, intent(out) :: error
+      select case (key)
+      case ('INCREMENT')
+         analysis%first_increment = value
+         return
+      case ('STOP_VALUE')
+         analysis%stop_value = value
+         return
+      case ('MIN_INCREMENT', 'MAX_INCREMENT', 'LAMBDA_MAX', 'TOLERANCE', 'FORCE_TOLERANCE', &
+            'DISPLACEMENT_TOLERANCE', 'STEPS', 'ITERATIONS', 'MAX_ITERATIONS', 'MAX_CUTS', 'SHAPE_EVERY')
+         if (.not. value > 0.0_dp) then
+            call raise(source, line, value_column, 'expected a positive value for '//key//', found '// &
+                       real_to_string(value), error)
+            return
+         end if
+      case default
+         call raise(source, line, key_column, 'expected one of the keys increment, min_increment, '// &
+                    'max_increment, steps, lambda_max, stop_track, stop_value, tolerance, force_tolerance, '// &
+                    'displacement_tolerance, iterations, max_iterations, max_cuts, shape_every; found '''// &
+                    clip(key)//'''', error)
+         return
+      end select
+      select case (key)
+      case ('STEPS', 'ITERATIONS', 'MAX_ITERATIONS', 'MAX_CUTS', 'SHAPE_EVERY')
+         if (abs(value - anint(value)) > 0.0_dp .or. value > real(huge(1), dp)) then
+            call raise(source, line, value_column, 'expected a whole number for '//key//', found '// &
+                       real_to_string(value), error)
+            return
+         end if
+      end select
+      select case (key)
+      case ('MIN_INCREMENT')
+         analysis%min_increment = value
+      case ('MAX_INCREMENT')
+         analysis%max_increment = value
+      case ('LAMBDA_MAX')
+         analysis%lambda_max = value
+      case ('TOLERANCE')
+         analysis%force_tolerance = value
+         analysis%displacement_tolerance = value
+      case ('FORCE_TOLERANCE')
+         analysis%force_tolerance = value
+      case ('DISPLACEMENT_TOLERANCE')
+         analysis%displacement_tolerance = value
+      case ('STEPS')
+         analysis%max_steps = nint(value)
+      case ('ITERATIONS')
+         analysis%desired_iterations = nint(value)
+      case ('MAX_ITERATIONS')
+         analysis%max_iterations = nint(value)
+      case ('MAX_CUTS')
+         analysis%max_cuts = nint(value)
+      case ('SHAPE_EVERY')
+         analysis%shape_every = nint(value)
+      end select
+   end subroutine set_path_value
+
    ! ================================================================================================
    ! Shared pieces of the cards
    ! ================================================================================================
@@ -1145,7 +1334,7 @@ contains
    !> element (it would make the stiffness singular), every element with a section.
    subroutine check_whole_deck(source, builder, error)
       type(source_t), intent(in) :: source
-      type(builder_t), intent(in) :: builder
+      type(builder_t), intent(inout) :: builder
       type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: used(:)
       integer :: i
@@ -1173,6 +1362,16 @@ contains
             return
          end if
       end do
+      if (allocated(builder%stop_track)) then
+         do i = 1, builder%n_tracks
+            if (same_text(builder%tracks(i)%name, builder%stop_track)) builder%analysis%stop_track = i
+         end do
+         if (builder%analysis%stop_track == 0) then
+            call raise(source, builder%stop_track_line, builder%stop_track_column, 'expected the name of a '// &
+                       '*TRACK, found '''//clip(builder%stop_track)//'''', error)
+            return
+         end if
+      end if
       do i = 1, builder%n_elements
          if (builder%element_section(i) == 0) then
             call raise_plain(source, 'expected a section for every element, found element '// &
@@ -1223,7 +1422,7 @@ contains
       else
          allocate (model%tracks(0))
       end if
-      model%analysis%kind = analysis_linear
+      model%analysis = builder%analysis
    end subroutine finish_model
 
    ! ================================================================================================

@@ -34,7 +34,8 @@ module uniarc_output
    type :: table_file_t
       character(len=:), allocatable :: final_path
       character(len=:), allocatable :: part_path
-      integer :: unit = -1
+      integer :: unit = 0
+      logical :: is_open = .false.
    end type table_file_t
 
    !> The result files of one run.
@@ -184,6 +185,7 @@ contains
          call make_error(error, 'cannot write '//table%part_path//': '//trim(message), error_analysis)
          return
       end if
+      table%is_open = .true.
       write (table%unit, '(a)') header
    end subroutine open_table
 
@@ -204,9 +206,9 @@ contains
    subroutine commit_table(table, error)
       type(table_file_t), intent(inout) :: table
       type(error_t), allocatable, intent(out) :: error
-      if (table%unit < 0) return
+      if (.not. table%is_open) return
       close (table%unit)
-      table%unit = -1
+      table%is_open = .false.
       call rename_file(table%part_path, table%final_path, error)
    end subroutine commit_table
 
