@@ -464,9 +464,9 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: set_option, section, line, n, i, field_n, nodes_layout
       type(field_t), allocatable :: fields(:)
-      real(dp) :: values(5), size_scale, angle, sweep
+      real(dp) :: values(5), size_scale, angle, sweep, tolerance
       real(dp), allocatable :: points(:, :)
-      integer, allocatable :: nodes(:), elements(:)
+      integer, allocatable :: nodes(:), elements(:), candidates(:)
       character(len=:), allocatable :: name, layout
       logical :: closed
 
@@ -558,9 +558,17 @@ contains
          points(:, nodes_layout) = values(3:4)
       end select
 
+      ! Merging candidates: the existing nodes in the generator's bounding box (few, typically the
+      ! shared ends), and the generator's own first node (an arc of 360 degrees ends on it). Other own
+      ! nodes cannot coincide, so the search stays linear in the size of the deck.
+      tolerance = merge_tolerance*size_scale
+      candidates = nodes_in_box(builder, minval(points, dim=2) - tolerance, maxval(points, dim=2) + tolerance)
       allocate (nodes(nodes_layout), elements(n))
       do i = 1, nodes_layout
-         nodes(i) = find_coincident_node(builder, points(:, i), merge_tolerance*size_scale)
+         nodes(i) = find_coincident_node(builder, candidates, points(:, i), tolerance)
+         if (nodes(i) == 0 .and. i > 1) then
+            nodes(i) = find_coincident_node(builder, nodes(1:1), points(:, i), tolerance)
+         end if
          if (nodes(i) == 0) then
             call add_node(builder, builder%largest_node_label + 1, points(:, i), line, fields(1)%column)
             nodes(i) = builder%n_nodes
@@ -1603,22 +1611,40 @@ contains
       end do
    end function find_element
 
-   !> The existing node nearest to `point` if it is within `tolerance`, else 0.
-   pure integer function find_coincident_node(builder, point, tolerance) result(index)
+   !> The node among `candidates` nearest to `point` if it is within `tolerance`, else 0.
+   pure integer function find_coincident_node(builder, candidates, point, tolerance) result(index)
       type(builder_t), intent(in) :: builder
+      integer, intent(in) :: candidates(:)
       real(dp), intent(in) :: point(2), tolerance
       real(dp) :: distance, best
       integer :: i
       index = 0
       best = huge(1.0_dp)
-      do i = 1, builder%n_nodes
-         distance = norm2(builder%coordinates(:, i) - point)
+      do i = 1, size(candidates)
+         distance = norm2(builder%coordinates(:, candidates(i)) - point)
          if (distance <= tolerance .and. distance < best) then
             best = distance
-            index = i
+            index = candidates(i)
          end if
       end do
    end function find_coincident_node
+
+   !> The nodes inside the box [lower, upper].
+   pure function nodes_in_box(builder, lower, upper) result(nodes)
+      type(builder_t), intent(in) :: builder
+      real(dp), intent(in) :: lower(2), upper(2)
+      integer, allocatable :: nodes(:)
+      integer :: i, count
+      allocate (nodes(builder%n_nodes))
+      count = 0
+      do i = 1, builder%n_nodes
+         if (all(builder%coordinates(:, i) >= lower .and. builder%coordinates(:, i) <= upper)) then
+            count = count + 1
+            nodes(count) = i
+         end if
+      end do
+      nodes = nodes(1:count)
+   end function nodes_in_box
 
    !> An element is of zero length when its ends are one node or lie within round-off of each other.
    pure logical function is_zero_length(builder, ends)
