@@ -148,7 +148,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*STATIC), found ''*'//card%keyword//'''', error)
+                    '*STATIC, *PATH), found ''*'//card%keyword//'''', error)
       end select
    end subroutine dispatch
 
