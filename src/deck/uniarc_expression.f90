@@ -365,7 +365,8 @@ contains
                   return
                end if
             end do
-            call fail(parser, name_column, 'expected a defined parameter, found '''//name//'''', error, column)
+            call fail(parser, name_column, 'expected a defined parameter, found '''//shortened(name)//'''', &
+                      error, column)
             return
          end if
          value = table%entries(i)%value
@@ -758,9 +759,20 @@ contains
       if (parser%kind == token_end) then
          text = 'the end of the expression'
       else
-         text = ''''//parser%lexeme//''''
+         text = ''''//shortened(parser%lexeme)//''''
       end if
    end function found
+
+   !> At most 40 characters of `text`, for quoting in a message.
+   pure function shortened(text) result(short)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: short
+      if (len(text) > 40) then
+         short = text(1:37)//'...'
+      else
+         short = text
+      end if
+   end function shortened
 
    !> Record a failure at `at`.
    subroutine fail(parser, at, message, error, column)
