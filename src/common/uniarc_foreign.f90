@@ -80,12 +80,19 @@ contains
       end if
    end subroutine rename_file
 
-   !> Create a directory (mode 0755) unless it exists already.
+   !> Create a directory and its missing parents (mode 0755), like `mkdir -p`.
    subroutine make_directory(path, error)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: error
       logical :: exists
+      integer :: i
       integer(c_int) :: status
+      ! Every prefix that ends before a '/' is a parent, created first if missing.
+      do i = 2, len(path)
+         if (path(i:i) /= '/') cycle
+         inquire (file=path(:i - 1)//'/.', exist=exists)
+         if (.not. exists) status = c_mkdir(path(:i - 1)//c_null_char, int(o'755', c_int))
+      end do
       inquire (file=path//'/.', exist=exists)
       if (exists) return
       status = c_mkdir(path//c_null_char, int(o'755', c_int))
