@@ -5,7 +5,7 @@
 !> on dense real(dp) data (the paper's Eqs. 24-32: r the foundation reactions, w the gaps,
 !> M = A K^-1 A^T + T). Lemke (1968), Cottle & Dantzig (1968); the presentation follows
 !> Murty, *Linear Complementarity, Linear and Nonlinear Programming* (1988), Ch. 2, and
-!> Cottle, Pang & Stone, *The Linear Complementarity Problem* (1992), Sec. 4.4 (scheme with a
+!> Cottle, Pang & Stone, *The Linear Complementarity Problem* (1992), Ch. 4 (scheme with a
 !> covering vector d > 0 and the artificial variable z0:  w - M r - d z0 = q).
 !>
 !> The LCP outcomes (solved, ray termination, pivot limit, numerical breakdown) are statuses in
@@ -108,8 +108,8 @@ contains
    end function lemke_status_name
 
    !> Solve the LCP  w = q + M r, w >= 0, r >= 0, w^T r = 0  by Lemke's method (scheme with
-   !> covering vector d and artificial variable z0; Murty 1988 Sec. 2.2, lexicographic
-   !> minimum-ratio rule of Sec. 2.2.8 applied from the first pivot).
+   !> covering vector d and artificial variable z0; Murty 1988 Ch. 2, lexicographic
+   !> minimum-ratio rule of the same chapter applied from the first pivot).
    !>
    !> In: M (n x n), q (n), options. Out: r, w (size n; w = q + M r recomputed from the original
    !> data), report (status, pivots, residuals). `error` is allocated only for misuse.
@@ -417,8 +417,8 @@ contains
       end if
    end subroutine entering_column
 
-   !> Lexicographic minimum-ratio test (Murty 1988, Sec. 2.2.8; Cottle, Pang & Stone 1992,
-   !> Sec. 4.9). Candidate rows are those with sense*column(i) above the pivot tolerance; the
+   !> Lexicographic minimum-ratio test (Murty 1988, Ch. 2; Cottle, Pang & Stone 1992,
+   !> Ch. 4). Candidate rows are those with sense*column(i) above the pivot tolerance; the
    !> leaving row minimises the row vector [x_i, (B^-1)_i.] / (sense*column(i)) lexicographically,
    !> which keeps every row of [x_B, B^-1] lexicographically positive and so rules out cycling.
    !> sense = -1 for the first pivot (z0 entering against all rows, ratios q_i/d_i), +1 after.
@@ -517,7 +517,8 @@ contains
    end subroutine basis_matrix
 
    !> One step of iterative refinement of x_B: x += B^-1 (q - B x), with B from the original
-   !> columns (Golub & Van Loan, Sec. 3.5.3). O(n^2); removes the drift of the updated inverse.
+   !> columns (Golub & Van Loan, *Matrix Computations*, iterative improvement). O(n^2); it
+   !> removes the drift that the updated inverse accumulates.
    pure subroutine refine(matrix, q, covering, basis, inverse, basic)
       real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
       integer, intent(in) :: basis(:)
@@ -535,7 +536,8 @@ contains
    end subroutine refine
 
    !> Recompute B^-1 and x_B = B^-1 q from scratch by Gauss-Jordan elimination with partial
-   !> pivoting (Golub & Van Loan, Sec. 3.4). O(n^3). ok = .false. if B is numerically singular.
+   !> pivoting (Golub & Van Loan, *Matrix Computations*). O(n^3). ok = .false. if B is
+   !> numerically singular.
    pure subroutine refactor(matrix, q, covering, basis, inverse, basic, ok)
       real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
       integer, intent(in) :: basis(:)
