@@ -26,6 +26,7 @@
 !>   against the original basis columns (O(n^2)); if the verification from the original M and q
 !>   still fails, B^-1 is recomputed from scratch (O(n^3), only then) and the check repeated.
 module uniarc_lemke
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
    implicit none
@@ -201,7 +202,7 @@ contains
          report%pivots = report%pivots + 1
          since_refactor = since_refactor + 1
          call flush_zeros(basic, opts%zero_tolerance)
-         if (.not. all(abs(basic) <= huge(1.0_dp))) then
+         if (.not. all(ieee_is_finite(basic))) then
             report%status = lemke_breakdown
             report%message = 'non-finite basic values after a pivot'
             exit
@@ -290,8 +291,12 @@ contains
             return
          end if
          if (n > 0) then
-            if (.not. all(opts%covering > 0.0_dp .and. opts%covering <= huge(1.0_dp))) then
-               call make_error(error, 'lemke_solve: covering vector must be positive and finite', &
+            if (.not. all(ieee_is_finite(opts%covering))) then
+               call make_error(error, 'lemke_solve: covering vector must be finite', error_input)
+               return
+            end if
+            if (.not. all(opts%covering > 0.0_dp)) then
+               call make_error(error, 'lemke_solve: covering vector must be positive', &
                                error_input)
                return
             end if
@@ -303,7 +308,7 @@ contains
          return
       end if
       if (n > 0) then
-         if (.not. (all(abs(matrix) <= huge(1.0_dp)) .and. all(abs(q) <= huge(1.0_dp)))) then
+         if (.not. (all(ieee_is_finite(matrix)) .and. all(ieee_is_finite(q)))) then
             call make_error(error, 'lemke_solve: M or q has non-finite entries', error_input)
             return
          end if
@@ -570,7 +575,7 @@ contains
       end do
       ! b is now the identity up to the row scaling done above; inverse holds B^-1.
       basic = matmul(inverse, q)
-      ok = all(abs(basic) <= huge(1.0_dp))
+      ok = all(ieee_is_finite(basic))
    end subroutine refactor
 
    !> r from the basic values: r~_j where r_j is basic (negative round-off read as zero), then
