@@ -1,5 +1,53 @@
-!> uniarc: the thin main program. Reads the command line, runs the analysis, maps errors to exit codes.
+!> uniarc: the thin main program. Reads the command line and the deck, runs the analysis, and maps
+!> errors to exit codes (SPEC.md §1: 0 success, 1 analysis failed, 2 bad input or usage).
 program main
+   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use uniarc_error, only: error_t, error_input, error_analysis
+   use uniarc_foreign, only: exit_program
+   use uniarc_model, only: model_t
+   use uniarc_deck, only: read_deck
+   use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
+   use uniarc_run, only: run_options_t, run_model
    implicit none
-   print '(a)', 'uniarc 0.1.0'
+   type(cli_options_t) :: cli
+   type(model_t) :: model
+   type(run_options_t) :: run_options
+   type(error_t), allocatable :: error
+
+   call parse_command_line(cli, error)
+   if (allocated(error)) call fail(error)
+   if (cli%help) then
+      write (output_unit, '(a)') usage_text()
+      call exit_program(0)
+   end if
+   if (cli%version) then
+      write (output_unit, '(a)') version_text
+      call exit_program(0)
+   end if
+
+   call read_deck(cli%deck, cli%overrides, model, error)
+   if (allocated(error)) call fail(error)
+
+   run_options%output_directory = cli%output_directory
+   run_options%stem = deck_stem(cli%deck)
+   run_options%quiet = cli%quiet
+   run_options%verbose = cli%verbose
+   call run_model(model, run_options, error)
+   if (allocated(error)) call fail(error)
+
+contains
+
+   subroutine fail(error)
+      type(error_t), intent(in) :: error
+      write (error_unit, '(a)') 'error: '//error%message
+      select case (error%category)
+      case (error_input)
+         call exit_program(2)
+      case (error_analysis)
+         call exit_program(1)
+      case default
+         call exit_program(3)
+      end select
+   end subroutine fail
+
 end program main

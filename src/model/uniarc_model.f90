@@ -12,6 +12,8 @@ module uniarc_model
    public :: dofs_per_node, dof_ux, dof_uy, dof_rz
    public :: load_fixed_direction, load_pressure
    public :: analysis_linear, analysis_nonlinear
+   public :: control_load, control_displacement, control_arclength
+   public :: iteration_chan, iteration_cylindrical, iteration_riks
    public :: find_node_set, find_element_set, element_length
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
@@ -63,9 +65,35 @@ module uniarc_model
       real(dp) :: scale = 1.0_dp
    end type track_t
 
-   !> What to run. The nonlinear issue adds its controls here.
+   !> Path-following controls (paper §5; Crisfield 1991 ch. 9).
+   integer, parameter :: control_load = 1          !< fixed load increments
+   integer, parameter :: control_displacement = 2  !< fixed increments of one displacement
+   integer, parameter :: control_arclength = 3     !< fixed length of the step in displacement space
+   !> Iteration strategies: the constraint that gives the load correction δλ at each iteration.
+   integer, parameter :: iteration_chan = 1        !< minimum residual displacement (Chan 1988)
+   integer, parameter :: iteration_cylindrical = 2 !< cylindrical arc length (Crisfield 1981)
+   integer, parameter :: iteration_riks = 3        !< linearised, updated normal plane (Riks/Ramm)
+
+   !> What to run and, for a nonlinear path, how to follow it.
    type :: analysis_options_t
       integer :: kind = analysis_linear
+      integer :: control = control_arclength
+      integer :: iteration = iteration_chan
+      real(dp) :: first_increment = 0.0_dp   !< first load increment Δλ (or Δu of the controlled DOF)
+      real(dp) :: min_increment = 1.0e-6_dp  !< smallest step, relative to the first
+      real(dp) :: max_increment = 4.0_dp     !< largest step, relative to the first
+      integer :: desired_iterations = 5      !< step size adapts as sqrt(desired/used)
+      integer :: max_iterations = 25         !< per attempt, then the step is cut
+      integer :: max_cuts = 12               !< halvings of one step before the run fails
+      integer :: max_steps = 200
+      real(dp) :: lambda_max = huge(1.0_dp)  !< stop when |λ| exceeds this
+      integer :: stop_track = 0              !< index into tracks (0: none)
+      real(dp) :: stop_value = 0.0_dp        !< stop when |tracked value| reaches it
+      real(dp) :: force_tolerance = 1.0e-8_dp        !< ||g|| relative to the load scale
+      real(dp) :: displacement_tolerance = 1.0e-8_dp !< ||δu|| relative to ||Δu||
+      integer :: control_node = 0            !< displacement control: node and DOF
+      integer :: control_dof = 0
+      integer :: shape_every = 10            !< write a shape snapshot every so many steps
    end type analysis_options_t
 
    !> The whole model.

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Install what uniarc needs on a Debian machine (run as root): gfortran, LAPACK/BLAS, CMake, Python 3
+# (test tools), gnuplot (plots). Does nothing when everything is there already.
+set -euo pipefail
+packages=(gfortran liblapack-dev libblas-dev cmake make python3 gnuplot-nox)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

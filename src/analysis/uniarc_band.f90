@@ -1,0 +1,182 @@
+!> Square matrices in LAPACK general band storage, assembled through DOF maps and factorised by band LU.
+!>
+!> Storage (LAPACK `dgbtrf` layout): A(i, j) lives in ab(kl + ku + 1 + i - j, j) for
+!> max(1, j - ku) <= i <= min(n, j + kl); the first kl rows are room for the fill-in of row pivoting.
+!> Memory and work are O(n·b) and O(n·b²) for half-bandwidth b: no dense n×n matrix anywhere.
+!> A general (not Cholesky) factorisation is used because the tangent is indefinite past limit points.
+module uniarc_band
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_foreign, only: dgbtrf, dgbtrs, lapack_check
+   implicit none
+   private
+   public :: band_matrix_t
+   public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
+   public :: band_factorize, band_solve, band_inertia
+
+   !> A square band matrix, its LU factors once factorised, and what the factorisation tells.
+   type :: band_matrix_t
+      integer :: n = 0          !< order
+      integer :: kl = 0         !< sub-diagonals
+      integer :: ku = 0         !< super-diagonals
+      integer :: ldab = 1       !< leading dimension: 2 kl + ku + 1
+      real(dp), allocatable :: ab(:, :)
+      integer, allocatable :: pivots(:)
+      logical :: factorized = .false.
+      integer :: det_sign = 0   !< sign of the determinant after factorisation (0 if singular)
+   end type band_matrix_t
+
+contains
+
+   !> Allocate an n×n band matrix with half-bandwidths kl, ku and set it to zero.
+   subroutine band_allocate(matrix, n, kl, ku)
+      type(band_matrix_t), intent(out) :: matrix
+      integer, intent(in) :: n, kl, ku
+      matrix%n = n
+      matrix%kl = kl
+      matrix%ku = ku
+      matrix%ldab = 2*kl + ku + 1
+      allocate (matrix%ab(matrix%ldab, max(n, 1)), source=0.0_dp)
+      allocate (matrix%pivots(max(n, 1)), source=0)
+   end subroutine band_allocate
+
+   !> Zero the entries for a new assembly.
+   subroutine band_zero(matrix)
+      type(band_matrix_t), intent(inout) :: matrix
+      matrix%ab = 0.0_dp
+      matrix%factorized = .false.
+      matrix%det_sign = 0
+   end subroutine band_zero
+
+   !> Add one entry A(i, j) += value (i, j inside the band).
+   pure subroutine band_add(matrix, i, j, value)
+      type(band_matrix_t), intent(inout) :: matrix
+      integer, intent(in) :: i, j
+      real(dp), intent(in) :: value
+      integer :: row
+      row = matrix%kl + matrix%ku + 1 + i - j
+      matrix%ab(row, j) = matrix%ab(row, j) + value
+   end subroutine band_add
+
+   !> Entry A(i, j) of an unfactorised matrix (zero outside the band).
+   pure function band_get(matrix, i, j) result(value)
+      type(band_matrix_t), intent(in) :: matrix
+      integer, intent(in) :: i, j
+      real(dp) :: value
+      value = 0.0_dp
+      if (i - j > matrix%kl .or. j - i > matrix%ku) return
+      value = matrix%ab(matrix%kl + matrix%ku + 1 + i - j, j)
+   end function band_get
+
+   !> Scatter an element matrix through its steering vector: equation numbers, 0 for an eliminated DOF.
+   pure subroutine band_add_element(matrix, equations, element_matrix)
+      type(band_matrix_t), intent(inout) :: matrix
+      integer, intent(in) :: equations(:)
+      real(dp), intent(in) :: element_matrix(:, :)
+      integer :: a, b, i, j, offset
+      offset = matrix%kl + matrix%ku + 1
+      do b = 1, size(equations)
+         j = equations(b)
+         if (j <= 0) cycle
+         do a = 1, size(equations)
+            i = equations(a)
+            if (i <= 0) cycle
+            matrix%ab(offset + i - j, j) = matrix%ab(offset + i - j, j) + element_matrix(a, b)
+         end do
+      end do
+   end subroutine band_add_element
+
+   !> y = A x for an unfactorised band matrix.
+   pure function band_multiply(matrix, x) result(y)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(in) :: x(:)
+      real(dp) :: y(size(x))
+      integer :: i, j, offset
+      offset = matrix%kl + matrix%ku + 1
+      y = 0.0_dp
+      do j = 1, matrix%n
+         do i = max(1, j - matrix%ku), min(matrix%n, j + matrix%kl)
+            y(i) = y(i) + matrix%ab(offset + i - j, j)*x(j)
+         end do
+      end do
+   end function band_multiply
+
+   !> Factorise in place by band LU with partial pivoting (dgbtrf) and record the sign of det A.
+   !> A zero pivot is reported as an error (category analysis): the caller cuts the step.
+   subroutine band_factorize(matrix, error)
+      type(band_matrix_t), intent(inout) :: matrix
+      type(error_t), allocatable, intent(out) :: error
+      integer :: info, i, sign_product
+      matrix%factorized = .false.
+      matrix%det_sign = 0
+      if (matrix%n == 0) then
+         matrix%factorized = .true.
+         matrix%det_sign = 1
+         return
+      end if
+      call dgbtrf(matrix%n, matrix%n, matrix%kl, matrix%ku, matrix%ab, matrix%ldab, matrix%pivots, info)
+      call lapack_check('dgbtrf', info, error)
+      if (allocated(error)) return
+      ! det A = (-1)^(row interchanges) · Π U_ii; U's diagonal is row kl + ku + 1 of the factors.
+      sign_product = 1
+      do i = 1, matrix%n
+         if (matrix%pivots(i) /= i) sign_product = -sign_product
+         if (matrix%ab(matrix%kl + matrix%ku + 1, i) < 0.0_dp) sign_product = -sign_product
+      end do
+      matrix%det_sign = sign_product
+      matrix%factorized = .true.
+   end subroutine band_factorize
+
+   !> Solve A X = B with the factors of band_factorize; B (n × nrhs) is overwritten by X.
+   subroutine band_solve(matrix, rhs, error)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: info
+      if (matrix%n == 0) return
+      call dgbtrs('N', matrix%n, matrix%kl, matrix%ku, size(rhs, 2), matrix%ab, matrix%ldab, &
+                  matrix%pivots, rhs, size(rhs, 1), info)
+      call lapack_check('dgbtrs', info, error)
+   end subroutine band_solve
+
+   !> Number of negative pivots of Gaussian elimination WITHOUT interchanges of an unfactorised matrix.
+   !>
+   !> For a symmetric matrix this is LDLᵀ, and by Sylvester's law of inertia the count equals the number
+   !> of negative eigenvalues: 0 on stable equilibrium, +1 past each limit or bifurcation point. The
+   !> row-pivoted LU of band_factorize gives only the sign of det A, not this count, hence the separate
+   !> elimination (on a copy of the band, O(n·b²), done once per converged step). A pivot that vanishes
+   !> exactly is counted as negative (the matrix is singular there) and `singular` is set.
+   pure subroutine band_inertia(matrix, negative_pivots, singular)
+      type(band_matrix_t), intent(in) :: matrix
+      integer, intent(out) :: negative_pivots
+      logical, intent(out) :: singular
+      real(dp), allocatable :: work(:, :)
+      real(dp) :: pivot, factor, scale
+      integer :: k, i, j, offset, last_row, last_col
+      negative_pivots = 0
+      singular = .false.
+      if (matrix%n == 0) return
+      offset = matrix%kl + matrix%ku + 1
+      allocate (work, source=matrix%ab)
+      scale = maxval(abs(work(offset, :)))
+      if (scale <= 0.0_dp) scale = 1.0_dp
+      do k = 1, matrix%n
+         pivot = work(offset, k)
+         if (abs(pivot) <= epsilon(1.0_dp)*scale) then
+            singular = .true.
+            negative_pivots = negative_pivots + 1
+            cycle
+         end if
+         if (pivot < 0.0_dp) negative_pivots = negative_pivots + 1
+         last_row = min(matrix%n, k + matrix%kl)
+         last_col = min(matrix%n, k + matrix%ku)
+         do i = k + 1, last_row
+            factor = work(offset + i - k, k)/pivot
+            do j = k + 1, last_col
+               work(offset + i - j, j) = work(offset + i - j, j) - factor*work(offset + k - j, j)
+            end do
+         end do
+      end do
+   end subroutine band_inertia
+
+end module uniarc_band

@@ -1,0 +1,98 @@
+!> Critical points between two converged points of the path (SPEC.md: `STEM.crit`).
+!>
+!> A limit point is where dλ/ds changes sign along the direction of travel; it is located on the cubic
+!> Hermite interpolant of λ(s) built from the values and slopes at both points (error O(h⁴) in λ, so
+!> the located load is far more accurate than the nearest step). A bifurcation is a change of the
+!> number of negative pivots of K_T that no limit point explains; it is placed where the eigenvalue of
+!> least magnitude, interpolated linearly between the points, vanishes.
+module uniarc_critical_points
+   use uniarc_kinds, only: dp
+   use uniarc_path_following, only: path_point_t
+   implicit none
+   private
+   public :: critical_event_t, find_critical_events
+
+   !> One critical point: its kind, where it lies between the two steps, and the state there.
+   type :: critical_event_t
+      character(len=:), allocatable :: kind   !< limit_max, limit_min or bifurcation
+      real(dp) :: position = 0.0_dp           !< step number, fractional (e.g. 12.4)
+      real(dp) :: lambda = 0.0_dp
+      real(dp) :: fraction = 0.0_dp           !< 0..1 between the two points
+   end type critical_event_t
+
+contains
+
+   !> Critical points between the converged points `before` and `after` (consecutive steps).
+   pure subroutine find_critical_events(before, after, events)
+      type(path_point_t), intent(in) :: before, after
+      type(critical_event_t), allocatable, intent(out) :: events(:)
+      type(critical_event_t) :: event
+      integer :: unexplained
+      allocate (events(0))
+      unexplained = abs(after%neg_pivots - before%neg_pivots)
+      if (before%dlambda_ds*after%dlambda_ds < 0.0_dp) then
+         event%fraction = hermite_stationary_point(before, after)
+         event%lambda = hermite_lambda(before, after, event%fraction)
+         if (before%dlambda_ds > 0.0_dp) then
+            event%kind = 'limit_max'
+         else
+            event%kind = 'limit_min'
+         end if
+         event%position = before%step + event%fraction
+         events = [events, event]
+         unexplained = max(0, unexplained - 1)
+      end if
+      if (unexplained > 0) then
+         event%kind = 'bifurcation'
+         event%fraction = 0.5_dp
+         if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then
+            event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
+         end if
+         event%lambda = hermite_lambda(before, after, event%fraction)
+         event%position = before%step + event%fraction
+         events = [events, event]
+      end if
+   end subroutine find_critical_events
+
+   !> λ on the cubic Hermite interpolant at fraction t of the interval.
+   pure function hermite_lambda(a, b, t) result(lambda)
+      type(path_point_t), intent(in) :: a, b
+      real(dp), intent(in) :: t
+      real(dp) :: lambda, h
+      h = b%s - a%s
+      lambda = (2*t**3 - 3*t**2 + 1)*a%lambda + (t**3 - 2*t**2 + t)*h*a%dlambda_ds &
+               + (-2*t**3 + 3*t**2)*b%lambda + (t**3 - t**2)*h*b%dlambda_ds
+   end function hermite_lambda
+
+   !> Fraction t in [0, 1] where the Hermite interpolant of λ is stationary (dλ/ds changes sign there).
+   pure function hermite_stationary_point(a, b) result(t)
+      type(path_point_t), intent(in) :: a, b
+      real(dp) :: t
+      real(dp) :: h, c2, c1, c0, discriminant, roots(2)
+      integer :: k
+      h = b%s - a%s
+      ! dλ/dt = c2 t² + c1 t + c0 of the Hermite cubic
+      c2 = 6*a%lambda + 3*h*a%dlambda_ds - 6*b%lambda + 3*h*b%dlambda_ds
+      c1 = -6*a%lambda - 4*h*a%dlambda_ds + 6*b%lambda - 2*h*b%dlambda_ds
+      c0 = h*a%dlambda_ds
+      ! Linear interpolation of the slope is the fallback (and the answer when c2 vanishes).
+      t = a%dlambda_ds/(a%dlambda_ds - b%dlambda_ds)
+      if (abs(c2) <= epsilon(1.0_dp)*(abs(c1) + abs(c0))) then
+         if (abs(c1) > tiny(1.0_dp)) t = -c0/c1
+      else
+         discriminant = c1**2 - 4*c2*c0
+         if (discriminant >= 0.0_dp) then
+            roots(1) = (-c1 + sqrt(discriminant))/(2*c2)
+            roots(2) = (-c1 - sqrt(discriminant))/(2*c2)
+            do k = 1, 2
+               if (roots(k) >= 0.0_dp .and. roots(k) <= 1.0_dp) then
+                  t = roots(k)
+                  exit
+               end if
+            end do
+         end if
+      end if
+      t = min(1.0_dp, max(0.0_dp, t))
+   end function hermite_stationary_point
+
+end module uniarc_critical_points

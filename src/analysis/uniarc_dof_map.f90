@@ -1,0 +1,212 @@
+!> Equation numbering: which DOFs are unknowns, in which order, and the half-bandwidth that follows.
+!>
+!> Supports are applied by elimination: a held DOF gets no equation (number 0) and is skipped when element
+!> matrices are scattered, so no penalty number ever enters the stiffness. Nodes are ordered to keep the
+!> band narrow: the creation order (which follows a generated arc or line) or reverse Cuthill–McKee
+!> (George & Liu 1981, ch. 4) from a pseudo-peripheral node, whichever gives the smaller bandwidth.
+module uniarc_dof_map
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, dofs_per_node
+   implicit none
+   private
+   public :: dof_map_t, build_dof_map, element_equations, node_adjacency, reverse_cuthill_mckee
+   public :: ordering_bandwidth
+
+   !> The equation numbering of a model.
+   type :: dof_map_t
+      integer :: n_equations = 0
+      integer :: half_bandwidth = 0       !< max |i − j| over coupled equations
+      integer, allocatable :: equation(:, :)  !< (3, n_nodes): equation number, 0 if held
+      integer, allocatable :: node_order(:)   !< nodes in elimination order
+      logical :: reordered = .false.          !< true if reverse Cuthill–McKee was chosen
+   end type dof_map_t
+
+contains
+
+   !> Number the free DOFs of `model` node by node in the order that gives the smaller bandwidth.
+   subroutine build_dof_map(model, map)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(out) :: map
+      integer, allocatable :: start(:), neighbours(:), natural(:), rcm(:)
+      integer :: i, k, node, next
+      call node_adjacency(model, start, neighbours)
+      natural = [(i, i=1, model%n_nodes)]
+      call reverse_cuthill_mckee(model%n_nodes, start, neighbours, rcm)
+      map%reordered = ordering_bandwidth(rcm, start, neighbours) < ordering_bandwidth(natural, start, neighbours)
+      if (map%reordered) then
+         map%node_order = rcm
+      else
+         map%node_order = natural
+      end if
+      allocate (map%equation(dofs_per_node, model%n_nodes), source=0)
+      next = 0
+      do i = 1, model%n_nodes
+         node = map%node_order(i)
+         do k = 1, dofs_per_node
+            if (model%fixed(k, node)) cycle
+            next = next + 1
+            map%equation(k, node) = next
+         end do
+      end do
+      map%n_equations = next
+      map%half_bandwidth = 0
+      do i = 1, model%n_elements
+         map%half_bandwidth = max(map%half_bandwidth, spread_of(element_equations(model, map, i)))
+      end do
+   end subroutine build_dof_map
+
+   !> Steering vector of element `e`: the 6 equation numbers of its two nodes (0 where held).
+   pure function element_equations(model, map, e) result(equations)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: e
+      integer :: equations(2*dofs_per_node)
+      equations(1:3) = map%equation(:, model%connectivity(1, e))
+      equations(4:6) = map%equation(:, model%connectivity(2, e))
+   end function element_equations
+
+   !> Node adjacency through elements in compressed form: neighbours(start(i):start(i+1)-1) of node i.
+   pure subroutine node_adjacency(model, start, neighbours)
+      type(model_t), intent(in) :: model
+      integer, allocatable, intent(out) :: start(:), neighbours(:)
+      integer, allocatable :: degree(:), fill(:)
+      integer :: e, a, b
+      allocate (degree(model%n_nodes), source=0)
+      do e = 1, model%n_elements
+         a = model%connectivity(1, e)
+         b = model%connectivity(2, e)
+         degree(a) = degree(a) + 1
+         degree(b) = degree(b) + 1
+      end do
+      allocate (start(model%n_nodes + 1))
+      start(1) = 1
+      do a = 1, model%n_nodes
+         start(a + 1) = start(a) + degree(a)
+      end do
+      allocate (neighbours(start(model%n_nodes + 1) - 1))
+      allocate (fill, source=start(1:model%n_nodes))
+      do e = 1, model%n_elements
+         a = model%connectivity(1, e)
+         b = model%connectivity(2, e)
+         neighbours(fill(a)) = b
+         fill(a) = fill(a) + 1
+         neighbours(fill(b)) = a
+         fill(b) = fill(b) + 1
+      end do
+   end subroutine node_adjacency
+
+   !> Largest distance in `order` between two adjacent nodes (the node half-bandwidth of the ordering).
+   pure function ordering_bandwidth(order, start, neighbours) result(bandwidth)
+      integer, intent(in) :: order(:), start(:), neighbours(:)
+      integer :: bandwidth
+      integer, allocatable :: position(:)
+      integer :: i, k
+      allocate (position(size(order)))
+      position(order) = [(i, i=1, size(order))]
+      bandwidth = 0
+      do i = 1, size(order)
+         do k = start(i), start(i + 1) - 1
+            bandwidth = max(bandwidth, abs(position(i) - position(neighbours(k))))
+         end do
+      end do
+   end function ordering_bandwidth
+
+   !> Reverse Cuthill–McKee ordering of each connected component, started from a pseudo-peripheral
+   !> node found by repeated breadth-first level structures (George & Liu 1981, §4.3–4.4).
+   pure subroutine reverse_cuthill_mckee(n, start, neighbours, order)
+      integer, intent(in) :: n, start(:), neighbours(:)
+      integer, allocatable, intent(out) :: order(:)
+      logical, allocatable :: placed(:)
+      integer :: seed, filled, head, node, k, candidate, depth, new_depth, i
+      allocate (order(n))
+      allocate (placed(n), source=.false.)
+      filled = 0
+      do seed = 1, n
+         if (placed(seed)) cycle
+         ! Pseudo-peripheral start: move to a node of least degree in the last level while depth grows.
+         node = seed
+         call level_depth(node, depth, candidate)
+         do
+            call level_depth(candidate, new_depth, k)
+            if (new_depth <= depth) exit
+            node = candidate
+            depth = new_depth
+            candidate = k
+         end do
+         ! Cuthill–McKee: breadth first, neighbours in increasing degree.
+         head = filled + 1
+         filled = filled + 1
+         order(filled) = node
+         placed(node) = .true.
+         do while (head <= filled)
+            node = order(head)
+            head = head + 1
+            do
+               candidate = 0
+               do k = start(node), start(node + 1) - 1
+                  i = neighbours(k)
+                  if (placed(i)) cycle
+                  if (candidate == 0) then
+                     candidate = i
+                  else if (degree_of(i) < degree_of(candidate)) then
+                     candidate = i
+                  end if
+               end do
+               if (candidate == 0) exit
+               filled = filled + 1
+               order(filled) = candidate
+               placed(candidate) = .true.
+            end do
+         end do
+      end do
+      order = order(n:1:-1)
+
+   contains
+
+      pure integer function degree_of(i)
+         integer, intent(in) :: i
+         degree_of = start(i + 1) - start(i)
+      end function degree_of
+
+      !> Depth of the level structure rooted at `root` within its component (unplaced nodes only),
+      !> and a node of least degree in its last level.
+      pure subroutine level_depth(root, depth_out, last_node)
+         integer, intent(in) :: root
+         integer, intent(out) :: depth_out, last_node
+         integer, allocatable :: queue(:), level(:)
+         integer :: qhead, qtail, v, kk, w
+         allocate (queue(n))
+         allocate (level(n), source=-1)
+         level(root) = 0
+         queue(1) = root
+         qhead = 1
+         qtail = 1
+         do while (qhead <= qtail)
+            v = queue(qhead)
+            qhead = qhead + 1
+            do kk = start(v), start(v + 1) - 1
+               w = neighbours(kk)
+               if (placed(w) .or. level(w) >= 0) cycle
+               level(w) = level(v) + 1
+               qtail = qtail + 1
+               queue(qtail) = w
+            end do
+         end do
+         depth_out = level(queue(qtail))
+         last_node = queue(qtail)
+         do kk = 1, qtail
+            v = queue(kk)
+            if (level(v) == depth_out .and. degree_of(v) < degree_of(last_node)) last_node = v
+         end do
+      end subroutine level_depth
+
+   end subroutine reverse_cuthill_mckee
+
+   pure integer function spread_of(equations)
+      integer, intent(in) :: equations(:)
+      spread_of = 0
+      if (count(equations > 0) < 2) return
+      spread_of = maxval(equations, mask=equations > 0) - minval(equations, mask=equations > 0)
+   end function spread_of
+
+end module uniarc_dof_map

@@ -1,0 +1,80 @@
+!> The nonlinear equilibrium equations of the structure at a state (u, λ):
+!>   g(u, λ) = λ R(u) − F(u) = 0,   K_T = ∂F/∂u − λ ∂R/∂u
+!> F the internal forces of the corotational elements, R the reference load (paper Eq. 17: R = λ R_r;
+!> fixed-direction loads do not depend on u, follower pressure does).
+module uniarc_equilibrium
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, dofs_per_node, load_pressure
+   use uniarc_dof_map, only: dof_map_t, element_equations
+   use uniarc_band, only: band_matrix_t, band_add_element, band_zero
+   use uniarc_assembly, only: assemble_reference_load, element_coordinates, scatter_add
+   use uniarc_corotational, only: corotational_response, follower_pressure
+   implicit none
+   private
+   public :: assemble_equilibrium, element_displacements, element_basic_forces
+
+contains
+
+   !> Tangent K_T (band), internal forces F and reference load R(u) at nodal displacements u (3, n)
+   !> and load factor λ (λ enters K_T only through the load stiffness of follower pressure).
+   subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: lambda
+      real(dp), intent(in) :: fixed_load(:)     !< the u-independent part of R (assemble_reference_load)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(out) :: internal(:)
+      real(dp), intent(out) :: reference(:)
+      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), basic_force(3)
+      integer :: e, i
+      call band_zero(tangent)
+      internal = 0.0_dp
+      reference = fixed_load
+      do e = 1, model%n_elements
+         associate (section => model%sections(model%element_section(e)))
+            call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
+                                       section%ea, section%ei, f, k, basic_force)
+         end associate
+         call band_add_element(tangent, element_equations(model, map, e), k)
+         call scatter_add(element_equations(model, map, e), f, internal)
+      end do
+      if (.not. allocated(model%distributed_loads)) return
+      do i = 1, size(model%distributed_loads)
+         associate (dload => model%distributed_loads(i))
+            if (dload%kind /= load_pressure .or. .not. dload%follower) cycle
+            e = dload%element
+            call follower_pressure(element_coordinates(model, e), element_displacements(model, e, displacement), &
+                                   dload%pressure, f, k)
+            call scatter_add(element_equations(model, map, e), f, reference)
+            call band_add_element(tangent, element_equations(model, map, e), lambda*k)
+         end associate
+      end do
+   end subroutine assemble_equilibrium
+
+   !> The 6 global displacements of element `e` from the nodal array (3, n).
+   pure function element_displacements(model, e, displacement) result(u)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: e
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp) :: u(2*dofs_per_node)
+      u(1:3) = displacement(:, model%connectivity(1, e))
+      u(4:6) = displacement(:, model%connectivity(2, e))
+   end function element_displacements
+
+   !> Basic forces (N, M1, M2) of every element at nodal displacements u: for output.
+   pure subroutine element_basic_forces(model, displacement, forces)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(out) :: forces(:, :)   !< (3, n_elements)
+      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
+      integer :: e
+      do e = 1, model%n_elements
+         associate (section => model%sections(model%element_section(e)))
+            call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
+                                       section%ea, section%ei, f, k, forces(:, e))
+         end associate
+      end do
+   end subroutine element_basic_forces
+
+end module uniarc_equilibrium

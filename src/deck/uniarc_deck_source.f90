@@ -1,0 +1,453 @@
+!> The text layer of the deck reader: lines, cards, options, data fields and positioned messages.
+!>
+!> A deck is read whole into memory, then walked card by card (`next_card`), so that every message can
+!> quote its line. Messages follow fpm: `FILE:LINE:COL: what was expected, found 'x'`, then the line
+!> and a caret under the column. Nothing here knows what a card means; uniarc_deck does.
+module uniarc_deck_source
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_strings, only: field_t, split_fields, to_upper, is_name, first_nonblank, last_nonblank, &
+                             same_text, integer_to_string
+   use uniarc_expression, only: parameter_table_t, evaluate_expression, evaluate_integer
+   implicit none
+   private
+   public :: source_t, card_t, option_t
+   public :: read_source, next_card, raise, raise_plain, clip
+   public :: check_options, option_index, require_option
+   public :: data_fields, require_field_count, field_real, field_integer
+
+   !> One line of the deck, tabs replaced by blanks so that columns and carets agree.
+   type :: line_t
+      character(len=:), allocatable :: text
+   end type line_t
+
+   !> The deck's text: the path as given and its lines.
+   type :: source_t
+      character(len=:), allocatable :: path
+      integer :: n_lines = 0
+      type(line_t), allocatable :: lines(:)
+   end type source_t
+
+   !> An option of a keyword line: `NAME` or `NAME=value`.
+   type :: option_t
+      character(len=:), allocatable :: name    !< upper case
+      character(len=:), allocatable :: value   !< as written; '' for a flag
+      logical :: has_value = .false.
+      integer :: column = 1                    !< of the name
+      integer :: value_column = 1              !< of the value (or just after '=')
+   end type option_t
+
+   !> A card: its keyword line and the numbers of its data lines.
+   type :: card_t
+      character(len=:), allocatable :: keyword   !< upper case, without the '*'
+      integer :: line = 0                        !< line number of the keyword line
+      integer :: column = 1                      !< column of the '*'
+      type(option_t), allocatable :: options(:)
+      integer :: n_data = 0
+      integer, allocatable :: data_lines(:)      !< line numbers, comments and blanks skipped
+   end type card_t
+
+contains
+
+   !> Read the file `path` into `source`.
+   !>
+   !> Trailing carriage returns (files written on Windows) are dropped and tabs become single blanks.
+   subroutine read_source(path, source, error)
+      character(len=*), intent(in) :: path
+      type(source_t), intent(out) :: source
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, status
+      character(len=512) :: message
+      character(len=:), allocatable :: text
+      type(line_t), allocatable :: grown(:)
+      integer :: i
+
+      source%path = path
+      open (newunit=unit, file=path, status='old', action='read', form='formatted', access='sequential', &
+            iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, path//': cannot open ('//trim(message)//')', error_input)
+         return
+      end if
+      allocate (source%lines(64))
+      do
+         call read_line(unit, text, status, message)
+         if (status < 0) exit
+         if (status > 0) then
+            call make_error(error, path//': cannot read ('//trim(message)//')', error_input)
+            close (unit)
+            return
+         end if
+         if (len(text) > 0) then
+            if (text(len(text):len(text)) == achar(13)) text = text(1:len(text) - 1)
+         end if
+         do i = 1, len(text)
+            if (text(i:i) == achar(9)) text(i:i) = ' '
+         end do
+         if (source%n_lines == size(source%lines)) then
+            allocate (grown(2*size(source%lines)))
+            grown(1:source%n_lines) = source%lines(1:source%n_lines)
+            call move_alloc(grown, source%lines)
+         end if
+         source%n_lines = source%n_lines + 1
+         source%lines(source%n_lines)%text = text
+      end do
+      close (unit)
+   end subroutine read_source
+
+   !> Read one record of any length (non-advancing reads in chunks). status < 0 at the end of file.
+   subroutine read_line(unit, text, status, message)
+      integer, intent(in) :: unit
+      character(len=:), allocatable, intent(out) :: text
+      integer, intent(out) :: status
+      character(len=*), intent(inout) :: message
+      character(len=256) :: chunk
+      integer :: count
+      logical :: any_read
+
+      text = ''
+      any_read = .false.
+      do
+         read (unit, '(a)', advance='no', iostat=status, iomsg=message, size=count) chunk
+         if (is_iostat_eor(status)) then
+            text = text//chunk(1:count)
+            status = 0
+            return
+         end if
+         if (is_iostat_end(status)) then
+            ! a last line without a newline still counts
+            if (any_read .or. count > 0) then
+               text = text//chunk(1:count)
+               status = 0
+            end if
+            return
+         end if
+         if (status /= 0) return
+         text = text//chunk(1:count)
+         any_read = .true.
+      end do
+   end subroutine read_line
+
+   !> Find the card that starts at or after line `position`; on return `position` is the line after its
+   !> last data line. `found` is false at the end of the deck.
+   !>
+   !> Blank lines and `**` comments are skipped anywhere; a data line before the first card is an error.
+   subroutine next_card(source, position, card, found, error)
+      type(source_t), intent(in) :: source
+      integer, intent(inout) :: position
+      type(card_t), intent(out) :: card
+      logical, intent(out) :: found
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, first
+      integer, allocatable :: grown(:)
+
+      found = .false.
+      do i = position, source%n_lines
+         first = first_nonblank(source%lines(i)%text)
+         if (first == 0) cycle
+         if (is_comment(source%lines(i)%text, first)) cycle
+         if (source%lines(i)%text(first:first) /= '*') then
+            call raise(source, i, first, 'expected a card (a line starting with ''*''), found '''// &
+                       clip(source%lines(i)%text(first:))//'''', error)
+            return
+         end if
+         call parse_keyword_line(source, i, first, card, error)
+         if (allocated(error)) return
+         found = .true.
+         exit
+      end do
+      if (.not. found) then
+         position = source%n_lines + 1
+         return
+      end if
+
+      allocate (card%data_lines(8))
+      do i = card%line + 1, source%n_lines
+         first = first_nonblank(source%lines(i)%text)
+         if (first == 0) cycle
+         if (is_comment(source%lines(i)%text, first)) cycle
+         if (source%lines(i)%text(first:first) == '*') exit
+         if (card%n_data == size(card%data_lines)) then
+            allocate (grown(2*size(card%data_lines)))
+            grown(1:card%n_data) = card%data_lines(1:card%n_data)
+            call move_alloc(grown, card%data_lines)
+         end if
+         card%n_data = card%n_data + 1
+         card%data_lines(card%n_data) = i
+      end do
+      position = i
+   end subroutine next_card
+
+   !> True for a `**` comment line whose first nonblank character is at `first`.
+   pure logical function is_comment(text, first)
+      character(len=*), intent(in) :: text
+      integer, intent(in) :: first
+      is_comment = .false.
+      if (first + 1 <= len(text)) is_comment = text(first:first + 1) == '**'
+   end function is_comment
+
+   !> Split `*KEYWORD, OPTION, OPTION=value ...` into the card's keyword and options.
+   subroutine parse_keyword_line(source, line, star, card, error)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line, star
+      type(card_t), intent(out) :: card
+      type(error_t), allocatable, intent(out) :: error
+      type(field_t), allocatable :: fields(:)
+      character(len=:), allocatable :: text
+      integer :: i, equals, name_end
+
+      text = source%lines(line)%text
+      card%line = line
+      card%column = star
+      call split_fields(text(star + 1:), fields, offset=star)
+      if (size(fields) == 0) then
+         call raise(source, line, star + 1, 'expected a keyword after ''*'', found nothing', error)
+         return
+      end if
+      if (.not. is_name(fields(1)%text)) then
+         call raise(source, line, fields(1)%column, 'expected a keyword after ''*'', found '''// &
+                    clip(fields(1)%text)//'''', error)
+         return
+      end if
+      card%keyword = to_upper(fields(1)%text)
+
+      allocate (card%options(size(fields) - 1))
+      do i = 2, size(fields)
+         associate (option => card%options(i - 1), field => fields(i))
+            option%column = field%column
+            if (len(field%text) == 0) then
+               call raise(source, line, field%column, 'expected an option, found an empty field', error)
+               return
+            end if
+            equals = index(field%text, '=')
+            name_end = len(field%text)
+            if (equals > 0) name_end = equals - 1
+            option%name = to_upper(trim(field%text(1:name_end)))
+            if (.not. is_name(option%name)) then
+               call raise(source, line, field%column, 'expected an option name, found '''// &
+                          clip(field%text(1:name_end))//'''', error)
+               return
+            end if
+            if (equals > 0) then
+               option%has_value = .true.
+               option%value = field%text(equals + 1:)
+               option%value_column = field%column + equals
+               if (first_nonblank(option%value) > 0) then
+                  option%value_column = option%value_column + first_nonblank(option%value) - 1
+                  option%value = option%value(first_nonblank(option%value):)
+               end if
+               if (len_trim(option%value) == 0) then
+                  call raise(source, line, field%column + equals, 'expected a value after '''// &
+                             option%name//'='', found nothing', error)
+                  return
+               end if
+            else
+               option%value = ''
+            end if
+         end associate
+      end do
+   end subroutine parse_keyword_line
+
+   !> Check the options of `card` against `allowed`: each entry is an option name, followed by '=' when
+   !> the option takes a value (`'NAME='`) and alone when it is a flag (`'FOLLOWER'`).
+   !>
+   !> Unknown, repeated, valueless or wrongly valued options are errors at their column.
+   subroutine check_options(source, card, allowed, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      character(len=*), intent(in) :: allowed(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, j, k
+      character(len=:), allocatable :: list
+      logical :: takes_value
+
+      do i = 1, size(card%options)
+         associate (option => card%options(i))
+            k = 0
+            do j = 1, size(allowed)
+               if (spec_name(allowed(j)) == option%name) k = j
+            end do
+            if (k == 0) then
+               if (size(allowed) == 0) then
+                  list = 'no options'
+               else
+                  list = 'one of the options '//trim(allowed(1))
+                  do j = 2, size(allowed)
+                     list = list//', '//trim(allowed(j))
+                  end do
+               end if
+               call raise(source, card%line, option%column, 'expected '//list//' on *'//card%keyword// &
+                          ', found '''//option%name//'''', error)
+               return
+            end if
+            takes_value = index(allowed(k), '=') > 0
+            if (takes_value .and. .not. option%has_value) then
+               call raise(source, card%line, option%column + len(option%name), 'expected a value: '''// &
+                          option%name//'=...'', found nothing', error)
+               return
+            end if
+            if (.not. takes_value .and. option%has_value) then
+               call raise(source, card%line, option%value_column, 'expected no value for the option '''// &
+                          option%name//''', found '''//clip(option%value)//'''', error)
+               return
+            end if
+            do j = 1, i - 1
+               if (card%options(j)%name == option%name) then
+                  call raise(source, card%line, option%column, 'expected each option once, found '''// &
+                             option%name//''' again', error)
+                  return
+               end if
+            end do
+         end associate
+      end do
+   end subroutine check_options
+
+   !> The option name of an `allowed` entry ('NAME=' → 'NAME').
+   pure function spec_name(spec) result(name)
+      character(len=*), intent(in) :: spec
+      character(len=:), allocatable :: name
+      if (index(spec, '=') > 0) then
+         name = to_upper(spec(1:index(spec, '=') - 1))
+      else
+         name = to_upper(trim(spec))
+      end if
+   end function spec_name
+
+   !> Index of option `name` among the card's options, 0 when absent.
+   pure integer function option_index(card, name) result(index)
+      type(card_t), intent(in) :: card
+      character(len=*), intent(in) :: name
+      integer :: i
+      index = 0
+      do i = 1, size(card%options)
+         if (same_text(card%options(i)%name, name)) index = i
+      end do
+   end function option_index
+
+   !> Index of option `name`, which the card must have (error at the keyword otherwise).
+   subroutine require_option(source, card, name, index, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      character(len=*), intent(in) :: name
+      integer, intent(out) :: index
+      type(error_t), allocatable, intent(out) :: error
+      index = option_index(card, name)
+      if (index == 0) then
+         call raise(source, card%line, card%column, 'expected the option '//name//'=... on *'// &
+                    card%keyword//', found none', error)
+      end if
+   end subroutine require_option
+
+   !> The comma-separated fields of data line `line` (commas inside parentheses do not split).
+   subroutine data_fields(source, line, fields)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line
+      type(field_t), allocatable, intent(out) :: fields(:)
+      call split_fields(source%lines(line)%text, fields)
+   end subroutine data_fields
+
+   !> Check that a data line has between `minimum` and `maximum` fields; `layout` names them for the
+   !> message (e.g. 'label, x, y'). Too few: error just after the line; too many: at the first extra.
+   subroutine require_field_count(source, line, fields, minimum, maximum, layout, error)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: fields(:)
+      integer, intent(in) :: minimum, maximum
+      character(len=*), intent(in) :: layout
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: wanted
+      if (minimum == maximum) then
+         wanted = integer_to_string(minimum)
+      else
+         wanted = integer_to_string(minimum)//' to '//integer_to_string(maximum)
+      end if
+      if (size(fields) < minimum) then
+         call raise(source, line, last_nonblank(source%lines(line)%text) + 1, 'expected '//wanted// &
+                    ' fields ('//layout//'), found '//integer_to_string(size(fields)), error)
+      else if (size(fields) > maximum) then
+         call raise(source, line, fields(maximum + 1)%column, 'expected '//wanted//' fields ('//layout// &
+                    '), found '//integer_to_string(size(fields)), error)
+      end if
+   end subroutine require_field_count
+
+   !> Evaluate a real data field; `what` names it in the message when it is empty.
+   subroutine field_real(source, parameters, line, field, what, value, error)
+      type(source_t), intent(in) :: source
+      type(parameter_table_t), intent(in) :: parameters
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      character(len=*), intent(in) :: what
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer :: column
+      character(len=:), allocatable :: message
+      value = 0.0_dp
+      if (len(field%text) == 0) then
+         call raise(source, line, field%column, 'expected '//what//', found an empty field', error)
+         return
+      end if
+      call evaluate_expression(field%text, parameters, value, error, column)
+      if (allocated(error)) then
+         message = error%message   ! raise() reallocates error: keep the text apart
+         call raise(source, line, field%column + column - 1, message, error)
+      end if
+   end subroutine field_real
+
+   !> Evaluate an integer data field (label, count, DOF): the expression must give a whole number.
+   subroutine field_integer(source, parameters, line, field, what, value, error)
+      type(source_t), intent(in) :: source
+      type(parameter_table_t), intent(in) :: parameters
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      character(len=*), intent(in) :: what
+      integer, intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer :: column
+      character(len=:), allocatable :: message
+      value = 0
+      if (len(field%text) == 0) then
+         call raise(source, line, field%column, 'expected '//what//', found an empty field', error)
+         return
+      end if
+      call evaluate_integer(field%text, parameters, value, error, column)
+      if (allocated(error)) then
+         message = error%message   ! raise() reallocates error: keep the text apart
+         call raise(source, line, field%column + column - 1, message, error)
+      end if
+   end subroutine field_integer
+
+   !> Make an input error at line `line`, column `column`: `PATH:LINE:COL: message`, the line, a caret.
+   subroutine raise(source, line, column, message, error)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line, column
+      character(len=*), intent(in) :: message
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: text
+      text = source%path//':'//integer_to_string(line)//':'//integer_to_string(column)//': '//message
+      if (line >= 1 .and. line <= source%n_lines) then
+         text = text//new_line('a')//source%lines(line)%text//new_line('a')// &
+                repeat(' ', max(column - 1, 0))//'^'
+      end if
+      call make_error(error, text, error_input)
+   end subroutine raise
+
+   !> Make an input error about the deck as a whole: `PATH: message`.
+   subroutine raise_plain(source, message, error)
+      type(source_t), intent(in) :: source
+      character(len=*), intent(in) :: message
+      type(error_t), allocatable, intent(out) :: error
+      call make_error(error, source%path//': '//message, error_input)
+   end subroutine raise_plain
+
+   !> At most 40 characters of `text`, for quoting in a message.
+   pure function clip(text) result(short)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: short
+      if (len_trim(text) > 40) then
+         short = text(1:37)//'...'
+      else
+         short = trim(text)
+      end if
+   end function clip
+
+end module uniarc_deck_source
