@@ -340,7 +340,7 @@ contains
       if (size(actual_shape) == 0) then
          text = ''
       else
-         text = detail('first difference at index ', index_text(position, actual_shape))
+         text = detail('first failing element at index ', index_text(position, actual_shape))
       end if
    end function position_detail
 

@@ -156,8 +156,9 @@ def continue_long(line, indent):
 class Translator:
     """Translates one .pf file; ``run`` returns the Fortran source text."""
 
-    def __init__(self, path):
+    def __init__(self, path, portability_warnings=True):
         self.path = path
+        self.portability_warnings = portability_warnings
         self.basename = os.path.basename(path)
         self.expected_module = os.path.splitext(self.basename)[0]
         with open(path, encoding='utf-8') as handle:
@@ -255,6 +256,9 @@ class Translator:
         """Handle the directive starting at line ``index``; return the index of its last line."""
         line = index + 1
         text, last = self.logical_directive(index)
+        if last > index and self.portability_warnings:
+            print(f'{self.path}:{line}: warning: this directive spans several lines; pFUnit 4 '
+                  'takes a directive on one line only', file=sys.stderr)
         indent = re.match(r'\s*', self.lines[index]).group(0)
         match = re.match(r'@(\w+)\s*(.*)$', text, re.DOTALL)
         if not match:
@@ -389,7 +393,7 @@ def driver_source(modules):
              '   logical :: success']
     text += [f'   call {module}_run(runner)' for module in modules]
     text += ['   call funit_finish(runner, success)',
-             '   if (.not. success) error stop 1',
+             '   if (.not. success) stop 1',
              'end program funit_driver',
              '']
     return '\n'.join(text)
@@ -413,6 +417,8 @@ def main(argv):
                         help='a .pf file, or with --driver the names of the test modules')
     parser.add_argument('-o', '--output', help='the Fortran file to write (translation mode)')
     parser.add_argument('--driver', metavar='OUTPUT', help='write the driver program instead')
+    parser.add_argument('--no-portability-warnings', action='store_true',
+                        help='accept what real pFUnit would not (multi-line macros) silently')
     options = parser.parse_args(argv)
     try:
         if options.driver:
@@ -423,7 +429,8 @@ def main(argv):
         else:
             if len(options.inputs) != 1 or not options.output:
                 parser.error('translation needs one INPUT.pf and -o OUTPUT.f90')
-            write_if_changed(options.output, Translator(options.inputs[0]).run())
+            translator = Translator(options.inputs[0], not options.no_portability_warnings)
+            write_if_changed(options.output, translator.run())
     except (TranslationError, ValueError, OSError) as problem:
         print(problem, file=sys.stderr)
         return 1
