@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
 """Checks of uniarc's pFUnit fallback that a passing test cannot make (run by ctest).
 
-    funit_check.py failures EXECUTABLE FAILING.pf PASSING.pf...
-        Runs a test executable built from FAILING.pf (deliberately failing tests) and the passing
-        suites, and checks that
+    funit_check.py failures EXECUTABLE SUITE.pf...
+        Runs a test executable built from the given suites, some of them deliberately failing, and
+        checks that
           - it exits non-zero;
-          - every line of FAILING.pf marked "! expect failure: TEXT" is reported as
-            "FAILING.pf:LINE: ..." with TEXT in the report, and no other line of it is reported;
-          - nothing printed "UNREACHED" (the first failing assertion ends its test);
+          - every line marked "! expect failure: TEXT" in a suite is reported as
+            "SUITE.pf:LINE: ..." with TEXT in the report, and no other line is reported;
+          - nothing printed "UNREACHED" (the first failing assertion ends its procedure, a failed
+            @before skips its test and @after);
           - the closing line counts every test: passed, failed (one per marker), skipped (@disable);
-          - the @after fixture ran once per test that ran.
+          - the @after fixtures that print "after-fixture ran" ran once per test that ran.
 
     funit_check.py rejected PYTHON TRANSLATOR BAD.pf
         Runs the translator on BAD.pf, which has one line marked "! expect rejection: TEXT", and
@@ -60,7 +61,7 @@ def failure_blocks(output):
     return blocks
 
 
-def check_failures(executable, failing, passing):
+def check_failures(executable, suites):
     problems = []
     run = subprocess.run([executable], capture_output=True, text=True, timeout=120)
     output = run.stdout + run.stderr
@@ -68,37 +69,36 @@ def check_failures(executable, failing, passing):
     if run.returncode == 0:
         problems.append('the executable exited with status 0 although tests failed')
 
-    name = os.path.basename(failing)
-    expected = marked_lines(failing, 'expect failure')
     blocks = failure_blocks(run.stdout)
-    for line, text in expected:
-        block = blocks.get(f'{name}:{line}')
-        if block is None:
-            problems.append(f'no failure reported at {name}:{line}')
-        elif text not in block:
-            problems.append(f'the failure at {name}:{line} does not say "{text}":\n{block}')
-    wanted = {f'{name}:{line}' for line, _ in expected}
+    wanted = set()
+    tests, disabled, after_expected = 0, 0, 0
+    for suite in suites:
+        name = os.path.basename(suite)
+        for line, text in marked_lines(suite, 'expect failure'):
+            wanted.add(f'{name}:{line}')
+            block = blocks.get(f'{name}:{line}')
+            if block is None:
+                problems.append(f'no failure reported at {name}:{line}')
+            elif text not in block:
+                problems.append(f'the failure at {name}:{line} does not say "{text}":\n{block}')
+        suite_tests, suite_disabled = count_tests(suite)
+        tests, disabled = tests + suite_tests, disabled + suite_disabled
+        with open(suite, encoding='utf-8') as handle:
+            if "'after-fixture ran'" in handle.read():
+                after_expected += suite_tests - suite_disabled
     for location in blocks:
         if location not in wanted:
             problems.append(f'unexpected failure at {location} (an assertion after a failed one '
                             'ran, or a passing suite failed)')
     if 'UNREACHED' in output:
-        problems.append('a statement after a failed assertion ran')
+        problems.append('a statement that must not run ran')
 
-    tests, disabled = 0, 0
-    for path in [failing] + passing:
-        file_tests, file_disabled = count_tests(path)
-        tests, disabled = tests + file_tests, disabled + file_disabled
-    summary = f'{tests - disabled - len(expected)} passed, {len(expected)} failed, ' \
-              f'{disabled} skipped'
+    summary = f'{tests - disabled - len(wanted)} passed, {len(wanted)} failed, {disabled} skipped'
     if summary not in run.stdout.splitlines():
         problems.append(f'the summary line "{summary}" is missing')
-
-    failing_tests, failing_disabled = count_tests(failing)
     after_runs = run.stdout.count('after-fixture ran')
-    if after_runs != failing_tests - failing_disabled:
-        problems.append(f'@after ran {after_runs} times for {failing_tests - failing_disabled} '
-                        'tests that ran')
+    if after_runs != after_expected:
+        problems.append(f'@after ran {after_runs} times for {after_expected} tests that ran')
     return problems
 
 
@@ -110,7 +110,8 @@ def check_rejected(python, translator, source):
     line, text = marks[0]
     with tempfile.TemporaryDirectory() as scratch:
         output = os.path.join(scratch, 'out.f90')
-        run = subprocess.run([python, translator, source, '-o', output],
+        run = subprocess.run([python, translator, '--no-portability-warnings', source,
+                              '-o', output],
                              capture_output=True, text=True, timeout=60)
         wrote = os.path.exists(output)
     print(run.stderr, end='')
@@ -126,7 +127,7 @@ def check_rejected(python, translator, source):
 
 def main(argv):
     if len(argv) >= 3 and argv[0] == 'failures':
-        problems = check_failures(argv[1], argv[2], argv[3:])
+        problems = check_failures(argv[1], argv[2:])
     elif len(argv) == 4 and argv[0] == 'rejected':
         problems = check_rejected(*argv[1:])
     else:
