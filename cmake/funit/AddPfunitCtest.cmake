@@ -2,8 +2,9 @@
 #
 # Including this file defines
 #   - the library target `funit` (cmake/funit/funit.f90, the runtime the translated tests call);
-#   - funit_add_executable(<name> TEST_SOURCES <file.pf>... [OTHER_SOURCES ...] [LINK_LIBRARIES ...])
-#     which translates each .pf file with pf2f90.py and builds one test executable;
+#   - funit_add_executable(<name> TEST_SOURCES <file.pf>... [OTHER_SOURCES ...] [LINK_LIBRARIES ...]
+#     [TRANSLATOR_OPTIONS ...]) which translates each .pf file with pf2f90.py and builds one test
+#     executable;
 #   - add_pfunit_ctest(<name> TEST_SOURCES ... [OTHER_SOURCES ...] [LINK_LIBRARIES ...] [LABELS ...]
 #     [MAX_PES n] [WORKING_DIRECTORY dir] [REGISTRY ...] [EXTRA_USE ...] [EXTRA_INITIALIZE ...]
 #     [EXTRA_FINALIZE ...]) with the signature of pFUnit's, unless real pFUnit already defined it.
@@ -23,7 +24,7 @@ target_include_directories(funit PUBLIC $<BUILD_INTERFACE:${PROJECT_BINARY_DIR}/
 target_compile_options(funit PRIVATE ${UNIARC_COMMON_FLAGS})
 
 function(funit_add_executable name)
-  cmake_parse_arguments(PARSE_ARGV 1 FUNIT "" "" "TEST_SOURCES;OTHER_SOURCES;LINK_LIBRARIES")
+  cmake_parse_arguments(PARSE_ARGV 1 FUNIT "" "" "TEST_SOURCES;OTHER_SOURCES;LINK_LIBRARIES;TRANSLATOR_OPTIONS")
   if(NOT FUNIT_TEST_SOURCES)
     message(FATAL_ERROR "funit_add_executable(${name}): no TEST_SOURCES")
   endif()
@@ -37,7 +38,7 @@ function(funit_add_executable name)
     add_custom_command(
       OUTPUT ${f90_file}
       COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/${name}_sources
-      COMMAND ${FUNIT_PYTHON} ${FUNIT_TRANSLATOR} ${pf_path} -o ${f90_file}
+      COMMAND ${FUNIT_PYTHON} ${FUNIT_TRANSLATOR} ${FUNIT_TRANSLATOR_OPTIONS} ${pf_path} -o ${f90_file}
       DEPENDS ${pf_path} ${FUNIT_TRANSLATOR}
       COMMENT "Translating ${pf_file} (pFUnit fallback)"
       VERBATIM)

@@ -63,7 +63,8 @@ module funit
       module procedure equal_character_0_0
    end interface funit_assert_equal
 
-   !> Assert that reals agree within a relative `tolerance`: |actual - expected| <= tolerance |expected|.
+   !> Assert that reals agree within a relative `tolerance`:
+   !> |actual - expected| <= tolerance |expected|.
    interface funit_assert_relatively_equal
       module procedure relative_real32_0_0, relative_real32_0_1, relative_real32_1_1
       module procedure relative_real32_0_2, relative_real32_2_2
@@ -117,8 +118,8 @@ contains
       funit_failed = allocated(failure_text)
    end function funit_failed
 
-   !> Run one test: `before`, then the test unless `before` failed, then `after` in any case (the
-   !> order of pFUnit's TestMethod); print one line with the verdict and the failures below it.
+   !> Run one test: `before`, then, unless `before` failed, the test and `after` (even when the test
+   !> failed), as pFUnit's TestCase%runBare does; print the verdict and the failures below it.
    subroutine funit_run_test(runner, name, test, before, after)
       type(funit_runner_t), intent(inout) :: runner
       character(len=*), intent(in) :: name
@@ -127,8 +128,10 @@ contains
 
       if (allocated(failure_text)) deallocate (failure_text)
       if (present(before)) call before()
-      if (.not. funit_failed()) call test()
-      if (present(after)) call after()
+      if (.not. funit_failed()) then
+         call test()
+         if (present(after)) call after()
+      end if
       if (funit_failed()) then
          runner%failed = runner%failed + 1
          write (output_unit, '(a)') '  FAIL      '//name
@@ -340,7 +343,7 @@ contains
       if (size(actual_shape) == 0) then
          text = ''
       else
-         text = detail('first difference at index ', index_text(position, actual_shape))
+         text = detail('first failing element at index ', index_text(position, actual_shape))
       end if
    end function position_detail
 

@@ -8,9 +8,9 @@ must also build with real pFUnit, so anything outside the subset is rejected rat
 Usage::
 
     pf2f90.py INPUT.pf -o OUTPUT.f90
-        Writes the test module (each @assert macro expanded into a call to the funit module, followed
-        by a return on failure) and a small module ``<name>_suite`` whose ``<name>_run`` runs every
-        @test of the file between its @before and @after procedures.
+        Writes the test module (each @assert macro expanded into a call to the funit module,
+        followed by a return on failure) and a small module ``<name>_suite`` whose
+        ``<name>_run`` runs every @test of the file between its @before and @after procedures.
 
     pf2f90.py --driver OUTPUT.f90 MODULE [MODULE ...]
         Writes the main program of one test executable: it runs the suites of the given test modules
@@ -27,7 +27,7 @@ import re
 import sys
 
 # Each supported assertion: the funit procedure it becomes, the names of its leading positional
-# operands, which operand names may follow positionally (pFUnit's order), and keyword names it takes.
+# operands, which operand names may follow positionally (pFUnit's order), and the keywords it takes.
 ASSERTIONS = {
     'true': ('funit_assert_true', ['condition'], ['message'], {'message'}),
     'false': ('funit_assert_false', ['condition'], ['message'], {'message'}),
@@ -64,7 +64,7 @@ def split_code_comment(text, quote):
     """Split one physical line into its code and whether it ends inside a character context.
 
     ``quote`` is the delimiter of a character context continued from the previous line (or None).
-    A ``!`` starts a comment only outside quotes; a doubled delimiter inside quotes is a literal one.
+    A ``!`` starts a comment only outside quotes; inside quotes a doubled delimiter is literal.
     Returns (code, quote_at_end).
     """
     i = 0
@@ -132,7 +132,7 @@ def fortran_string(text):
 
 
 def continue_long(line, indent):
-    """Break ``line`` into pieces of at most MAX_LINE characters joined by ``&``/``&`` continuations.
+    """Break ``line`` into pieces of at most MAX_LINE characters, joined by ``&``...``&``.
 
     A continuation line that starts with ``&`` resumes exactly where the previous one stopped, even
     inside a token or a character constant (F2008 3.3.2.4), so any split point is valid.
@@ -156,8 +156,9 @@ def continue_long(line, indent):
 class Translator:
     """Translates one .pf file; ``run`` returns the Fortran source text."""
 
-    def __init__(self, path):
+    def __init__(self, path, portability_warnings=True):
         self.path = path
+        self.portability_warnings = portability_warnings
         self.basename = os.path.basename(path)
         self.expected_module = os.path.splitext(self.basename)[0]
         with open(path, encoding='utf-8') as handle:
@@ -177,9 +178,12 @@ class Translator:
     def logical_directive(self, index):
         """Join a directive starting at line ``index`` (0-based) with its continuation lines.
 
-        Returns (text without comments and continuation marks, index of the last line used).
+        Returns (text without comments and continuation marks, index of the last line used,
+        whether a comment was removed).
         """
-        code, quote = split_code_comment(self.lines[index], None)
+        raw = self.lines[index]
+        code, quote = split_code_comment(raw, None)
+        commented = len(code) < len(raw)
         text = code.rstrip()
         while text.endswith('&'):
             text = text[:-1]
@@ -190,13 +194,15 @@ class Translator:
                 index += 1
             if index >= len(self.lines):
                 raise self.error(index, 'continuation line missing at end of file')
-            code, quote = split_code_comment(self.lines[index], quote)
+            raw = self.lines[index]
+            code, quote = split_code_comment(raw, quote)
+            commented = commented or len(code) < len(raw)
             stripped = code.lstrip()
             if stripped.startswith('&'):
                 text += stripped[1:].rstrip()
             else:
                 text += ' ' + stripped.rstrip()
-        return text.strip(), index
+        return text.strip(), index, commented
 
     # ---- directives ----------------------------------------------------------------------------
 
@@ -254,7 +260,12 @@ class Translator:
     def directive(self, index):
         """Handle the directive starting at line ``index``; return the index of its last line."""
         line = index + 1
-        text, last = self.logical_directive(index)
+        text, last, commented = self.logical_directive(index)
+        # pFUnit 4 matches a directive against the whole line: it would pass such lines to the
+        # compiler untranslated.
+        if self.portability_warnings and (last > index or commented):
+            print(f'{self.path}:{line}: warning: pFUnit 4 takes a directive on one line without '
+                  'a comment; this file builds with uniarc\'s translator only', file=sys.stderr)
         indent = re.match(r'\s*', self.lines[index]).group(0)
         match = re.match(r'@(\w+)\s*(.*)$', text, re.DOTALL)
         if not match:
@@ -371,8 +382,8 @@ class Translator:
             if disabled:
                 text.append(f'      call funit_skip_test(runner, {label})')
             else:
-                text += continue_long(f'      call funit_run_test(runner, {label}, {name}{fixtures})',
-                                      '      ')
+                call = f'      call funit_run_test(runner, {label}, {name}{fixtures})'
+                text += continue_long(call, '      ')
         text += [f'   end subroutine {run}', f'end module {suite}', '']
         return '\n'.join(text)
 
@@ -389,7 +400,7 @@ def driver_source(modules):
              '   logical :: success']
     text += [f'   call {module}_run(runner)' for module in modules]
     text += ['   call funit_finish(runner, success)',
-             '   if (.not. success) error stop 1',
+             '   if (.not. success) stop 1',
              'end program funit_driver',
              '']
     return '\n'.join(text)
@@ -413,6 +424,9 @@ def main(argv):
                         help='a .pf file, or with --driver the names of the test modules')
     parser.add_argument('-o', '--output', help='the Fortran file to write (translation mode)')
     parser.add_argument('--driver', metavar='OUTPUT', help='write the driver program instead')
+    parser.add_argument('--no-portability-warnings', action='store_true',
+                        help='accept silently what real pFUnit would not (directives over '
+                             'several lines or with a comment)')
     options = parser.parse_args(argv)
     try:
         if options.driver:
@@ -423,7 +437,8 @@ def main(argv):
         else:
             if len(options.inputs) != 1 or not options.output:
                 parser.error('translation needs one INPUT.pf and -o OUTPUT.f90')
-            write_if_changed(options.output, Translator(options.inputs[0]).run())
+            translator = Translator(options.inputs[0], not options.no_portability_warnings)
+            write_if_changed(options.output, translator.run())
     except (TranslationError, ValueError, OSError) as problem:
         print(problem, file=sys.stderr)
         return 1
