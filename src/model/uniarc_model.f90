@@ -15,6 +15,8 @@ module uniarc_model
    public :: control_load, control_displacement, control_arclength
    public :: iteration_chan, iteration_cylindrical, iteration_riks
    public :: find_node_set, find_element_set, element_length
+   public :: contact_candidate_t, contact_group_t
+   public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
    integer, parameter :: dofs_per_node = 3
@@ -65,6 +67,32 @@ module uniarc_model
       real(dp) :: scale = 1.0_dp
    end type track_t
 
+   !> How the gap of a contact candidate follows from the current position x of its node.
+   integer, parameter :: gap_fixed_direction = 1 !< g = offset + n·u (foundation bed, spring, flat surface)
+   integer, parameter :: gap_circle_inside = 2   !< g = R − |x − c|: the node inside a circular cavity
+   integer, parameter :: gap_circle_outside = 3  !< g = |x − c| − R: the node outside a rigid cylinder
+
+   !> One contact candidate: a node that a unilateral medium may push (paper §4: one row of A, one
+   !> entry of T). The reaction r ≥ 0 acts on the node along ∂g/∂u, the direction in which the gap opens.
+   type :: contact_candidate_t
+      integer :: node = 0
+      integer :: gap_kind = gap_fixed_direction
+      real(dp) :: direction(2) = 0.0_dp  !< fixed-direction gap: unit n, pointing to the free side
+      real(dp) :: offset = 0.0_dp        !< fixed-direction gap: initial gap g0 (0 for a bonded bed)
+      real(dp) :: centre(2) = 0.0_dp     !< circular obstacle: centre
+      real(dp) :: radius = 0.0_dp        !< circular obstacle: radius
+      real(dp) :: flexibility = 0.0_dp   !< T_cc = 1/k of an elastic medium; 0 for rigid contact
+      logical :: bilateral = .false.     !< bonded: reacts in tension too (always active)
+      integer :: group = 0               !< the foundation/obstacle card that made it
+      real(dp) :: coordinate = 0.0_dp    !< position along its group for the contact-region output
+   end type contact_candidate_t
+
+   !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
+   type :: contact_group_t
+      character(len=:), allocatable :: name
+      integer, allocatable :: candidates(:)
+   end type contact_group_t
+
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).
    integer, parameter :: control_load = 1          !< fixed load increments
    integer, parameter :: control_displacement = 2  !< fixed increments of one displacement
@@ -114,6 +142,8 @@ module uniarc_model
       real(dp), allocatable :: nodal_load(:, :)    !< (3, n_nodes) reference nodal forces/moments
       type(distributed_load_t), allocatable :: distributed_loads(:)
       type(track_t), allocatable :: tracks(:)
+      type(contact_candidate_t), allocatable :: contacts(:)  !< every contact candidate (may be empty)
+      type(contact_group_t), allocatable :: contact_groups(:)
       type(analysis_options_t) :: analysis
    end type model_t
 
