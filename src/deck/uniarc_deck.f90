@@ -943,6 +943,11 @@ contains
       field = option_field(card, set_option)
       call resolve_elements(source, builder, card%line, field, elements, error)
       if (allocated(error)) return
+      if (size(elements) == 0) then
+         call raise(source, card%line, field%column, 'expected an element set with elements, found '''// &
+                    field%text//''' empty', error)
+         return
+      end if
       call require_option(source, card, 'MODULUS', modulus_option, error)
       if (allocated(error)) return
       call option_real(source, card, builder, modulus_option, 'a modulus', modulus, error)
@@ -982,28 +987,11 @@ contains
             normals = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
          else
             side = to_upper(card%options(side_option)%value)
-            ! sign: +1 when the foundation is on the right (n = + left normal), -1 on the left
-            select case (side)
-            case ('LEFT')
-               sign = -1.0_dp
-            case ('RIGHT')
-               sign = 1.0_dp
-            case ('INNER', 'OUTER')
-               turning = total_turning(coordinates, connectivity, elements)
-               if (abs(turning) <= straight_tolerance) then
-                  call raise(source, card%line, card%options(side_option)%value_column, 'expected a curved ' // &
-                             'element set for SIDE='//side//' (no concave side on a straight one: use ' // &
-                             'SIDE=LEFT|RIGHT or DIRECTION=angle), found '''//field%text//''' straight', error)
-                  return
-               end if
-               ! turning > 0: the concave side is the left one
-               sign = merge(-1.0_dp, 1.0_dp, turning > 0.0_dp)
-               if (side == 'OUTER') sign = -sign
-            case default
+            if (side /= 'LEFT' .and. side /= 'RIGHT' .and. side /= 'INNER' .and. side /= 'OUTER') then
                call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INNER, ' // &
                           'OUTER, LEFT or RIGHT, found '''//clip(card%options(side_option)%value)//'''', error)
                return
-            end select
+            end if
             call nodal_left_normals(coordinates, connectivity, elements, nodes, normals, status, bad)
             if (status /= normals_valid) then
                call raise(source, card%line, card%options(set_option)%value_column, 'expected a chain of ' // &
@@ -1012,6 +1000,24 @@ contains
                           normals_problem(status), error)
                return
             end if
+            ! sign: +1 when the foundation is on the right (n = + left normal), -1 on the left
+            select case (side)
+            case ('LEFT')
+               sign = -1.0_dp
+            case ('RIGHT')
+               sign = 1.0_dp
+            case default
+               turning = total_turning(coordinates, connectivity, elements)
+               if (abs(turning) <= straight_tolerance) then
+                  call raise(source, card%line, card%options(side_option)%value_column, 'expected a curved ' // &
+                             'element set for SIDE='//side//' (no concave side on a straight one: use ' // &
+                             'SIDE=LEFT|RIGHT or DIRECTION=angle), found '''//field%text//''' straight', error)
+                  return
+               end if
+               ! turning > 0: the set turns counter-clockwise, its concave side is the left one
+               sign = merge(-1.0_dp, 1.0_dp, turning > 0.0_dp)
+               if (side == 'OUTER') sign = -sign
+            end select
             normals = sign*normals
          end if
          s = scale*path_coordinates(coordinates, nodes)
@@ -1148,6 +1154,11 @@ contains
       field = option_field(card, set_option)
       call resolve_nodes(source, builder, card%line, field, nodes, error)
       if (allocated(error)) return
+      if (size(nodes) == 0) then
+         call raise(source, card%line, field%column, 'expected a node set with nodes, found '''// &
+                    field%text//''' empty', error)
+         return
+      end if
 
       gap_kind = gap_fixed_direction
       if (kind == 'CIRCLE') gap_kind = gap_circle_inside
