@@ -915,8 +915,9 @@ contains
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
    !> [, NAME=name] [, SCALE=s]: a Winkler foundation along an element set, lumped to its nodes.
    !>
-   !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set), the
-   !> usual lumping of a Winkler bed onto the nodes (a trapezoidal rule for ∫ K w δw ds); flexibility 1/k.
+   !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
+   !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
+   !> diagonal foundation matrix C_b in the paper's Eq. (7), Δr_b = C_b Δu_b; flexibility 1/k.
    !> The reaction direction n (the direction in which the foundation pushes, toward the free side) is
    !> fixed (DIRECTION) or the nodal normal of the set on the side away from the foundation (SIDE; the
    !> concave side of INNER/OUTER from the sign of the set's total turning). Gap g = n·u (offset 0).
