@@ -74,7 +74,7 @@ contains
       real(dp), intent(inout) :: internal(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       integer :: c, i, j, row, node, eq(2)
-      do c = 1, size(model%contacts)
+      do c = 1, size(map%candidate_equation)
          row = map%candidate_equation(c)
          if (row == 0) cycle
          associate (candidate => model%contacts(c))
