@@ -17,7 +17,11 @@ module uniarc_deck
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            dof_ux, dof_uy, dof_rz, load_fixed_direction, load_pressure, &
                            analysis_options_t, analysis_nonlinear, control_load, control_displacement, &
-                           control_arclength, iteration_chan, iteration_cylindrical, iteration_riks
+                           control_arclength, iteration_chan, iteration_cylindrical, iteration_riks, &
+                           contact_candidate_t, contact_group_t, gap_fixed_direction, gap_circle_inside, &
+                           gap_circle_outside
+   use uniarc_deck_contact, only: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, &
+                                  path_coordinates, normals_valid, normals_branch, normals_opposed
    implicit none
    private
    public :: parameter_override_t, read_deck
@@ -33,6 +37,14 @@ module uniarc_deck
 
    !> Relative size under which an element's length is round-off of its coordinates, i.e. zero.
    real(dp), parameter :: zero_length_tolerance = 1.0e-12_dp
+
+   !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
+   !> of a node placed exactly on the surface stays far below it.
+   real(dp), parameter :: penetration_tolerance = 1.0e-9_dp
+
+   !> Total turning (sum of cross products of unit tangents) under which a set counts as straight, so
+   !> that it has no concave side.
+   real(dp), parameter :: straight_tolerance = 1.0e-9_dp
 
    !> Everything the cards have built so far.
    type :: builder_t
@@ -68,6 +80,10 @@ module uniarc_deck
       type(distributed_load_t), allocatable :: loads(:)
       integer :: n_tracks = 0
       type(track_t), allocatable :: tracks(:)
+      integer :: n_contacts = 0
+      type(contact_candidate_t), allocatable :: contacts(:)
+      integer :: n_contact_groups = 0
+      type(contact_group_t), allocatable :: contact_groups(:)
 
       type(analysis_options_t) :: analysis            !< linear static unless a *PATH card says otherwise
       character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
@@ -141,6 +157,12 @@ contains
          call read_distributed_load(source, card, builder, error)
       case ('TRACK')
          call read_track(source, card, builder, error)
+      case ('FOUNDATION')
+         call read_foundation(source, card, builder, error)
+      case ('SPRING')
+         call read_spring(source, card, builder, error)
+      case ('OBSTACLE')
+         call read_obstacle(source, card, builder, error)
       case ('PATH')
          call read_path(source, card, builder, error)
       case ('STATIC')
@@ -148,7 +170,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*STATIC, *PATH), found ''*'//card%keyword//'''', error)
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH), found ''*'//card%keyword//'''', error)
       end select
    end subroutine dispatch
 
@@ -890,6 +912,363 @@ contains
       end do
    end subroutine read_track
 
+   !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
+   !> [, NAME=name] [, SCALE=s]: a Winkler foundation along an element set, lumped to its nodes.
+   !>
+   !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set), the
+   !> usual lumping of a Winkler bed onto the nodes (a trapezoidal rule for ∫ K w δw ds); flexibility 1/k.
+   !> The reaction direction n (the direction in which the foundation pushes, toward the free side) is
+   !> fixed (DIRECTION) or the nodal normal of the set on the side away from the foundation (SIDE; the
+   !> concave side of INNER/OUTER from the sign of the set's total turning). Gap g = n·u (offset 0).
+   subroutine read_foundation(source, card, builder, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(inout) :: builder
+      type(error_t), allocatable, intent(out) :: error
+      integer :: set_option, modulus_option, side_option, direction_option, status, bad, i
+      real(dp) :: modulus, scale, angle, turning, sign
+      integer, allocatable :: elements(:), nodes(:)
+      real(dp), allocatable :: lengths(:), normals(:, :), s(:)
+      type(field_t) :: field
+      type(contact_candidate_t), allocatable :: candidates(:)
+      character(len=:), allocatable :: name, side
+
+      call check_options(source, card, [character(len=10) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
+                                        'BILATERAL', 'NAME=', 'SCALE='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, builder, 'foundation', name, error)
+      if (allocated(error)) return
+      call require_option(source, card, 'ELSET', set_option, error)
+      if (allocated(error)) return
+      field = option_field(card, set_option)
+      call resolve_elements(source, builder, card%line, field, elements, error)
+      if (allocated(error)) return
+      call require_option(source, card, 'MODULUS', modulus_option, error)
+      if (allocated(error)) return
+      call option_real(source, card, builder, modulus_option, 'a modulus', modulus, error)
+      if (allocated(error)) return
+      if (.not. modulus > 0.0_dp) then
+         call raise(source, card%line, card%options(modulus_option)%value_column, &
+                    'expected a positive MODULUS, found '//real_to_string(modulus), error)
+         return
+      end if
+      call contact_scale(source, card, builder, scale, error)
+      if (allocated(error)) return
+      side_option = option_index(card, 'SIDE')
+      direction_option = option_index(card, 'DIRECTION')
+      if (side_option > 0 .and. direction_option > 0) then
+         call raise(source, card%line, card%options(direction_option)%column, 'expected one of SIDE= ' // &
+                    'and DIRECTION= on *FOUNDATION, found both', error)
+         return
+      else if (side_option == 0 .and. direction_option == 0) then
+         call raise(source, card%line, card%column, 'expected SIDE=INNER|OUTER|LEFT|RIGHT or ' // &
+                    'DIRECTION=angle on *FOUNDATION, found neither', error)
+         return
+      end if
+      if (card%n_data > 0) then
+         call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
+                    'expected no data line after *FOUNDATION (all is in its options), found one', error)
+         return
+      end if
+
+      associate (coordinates => builder%coordinates(:, 1:builder%n_nodes), &
+                 connectivity => builder%connectivity(:, 1:builder%n_elements))
+         nodes = chain_nodes(builder%n_nodes, connectivity, elements)
+         lengths = tributary_lengths(coordinates, connectivity, elements, nodes)
+         allocate (normals(2, size(nodes)))
+         if (direction_option > 0) then
+            call option_real(source, card, builder, direction_option, 'an angle in degrees', angle, error)
+            if (allocated(error)) return
+            normals = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
+         else
+            side = to_upper(card%options(side_option)%value)
+            ! sign: +1 when the foundation is on the right (n = + left normal), -1 on the left
+            select case (side)
+            case ('LEFT')
+               sign = -1.0_dp
+            case ('RIGHT')
+               sign = 1.0_dp
+            case ('INNER', 'OUTER')
+               turning = total_turning(coordinates, connectivity, elements)
+               if (abs(turning) <= straight_tolerance) then
+                  call raise(source, card%line, card%options(side_option)%value_column, 'expected a curved ' // &
+                             'element set for SIDE='//side//' (no concave side on a straight one: use ' // &
+                             'SIDE=LEFT|RIGHT or DIRECTION=angle), found '''//field%text//''' straight', error)
+                  return
+               end if
+               ! turning > 0: the concave side is the left one
+               sign = merge(-1.0_dp, 1.0_dp, turning > 0.0_dp)
+               if (side == 'OUTER') sign = -sign
+            case default
+               call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INNER, ' // &
+                          'OUTER, LEFT or RIGHT, found '''//clip(card%options(side_option)%value)//'''', error)
+               return
+            end select
+            call nodal_left_normals(coordinates, connectivity, elements, nodes, normals, status, bad)
+            if (status /= normals_valid) then
+               call raise(source, card%line, card%options(set_option)%value_column, 'expected a chain of ' // &
+                          'elements running one way for SIDE= (use DIRECTION= otherwise), found at node '// &
+                          integer_to_string(builder%node_label(nodes(bad)))//' '// &
+                          normals_problem(status), error)
+               return
+            end if
+            normals = sign*normals
+         end if
+         s = scale*path_coordinates(coordinates, nodes)
+      end associate
+
+      allocate (candidates(size(nodes)))
+      do i = 1, size(nodes)
+         candidates(i)%node = nodes(i)
+         candidates(i)%gap_kind = gap_fixed_direction
+         candidates(i)%direction = normals(:, i)
+         candidates(i)%offset = 0.0_dp
+         candidates(i)%flexibility = 1.0_dp/(modulus*lengths(i))
+         candidates(i)%bilateral = option_index(card, 'BILATERAL') > 0
+         candidates(i)%coordinate = s(i)
+      end do
+      call add_contact_group(builder, name, candidates)
+   end subroutine read_foundation
+
+   !> What is wrong at a node whose normal `nodal_left_normals` could not make.
+   pure function normals_problem(status) result(text)
+      integer, intent(in) :: status
+      character(len=:), allocatable :: text
+      select case (status)
+      case (normals_branch)
+         text = 'more than two elements of the set'
+      case (normals_opposed)
+         text = 'two elements of the set running in opposite directions'
+      case default
+         text = 'two elements of the set folded back on each other'
+      end select
+   end function normals_problem
+
+   !> *SPRING [, BILATERAL] [, NAME=name]: lines `target, angle_deg, k`, a discrete spring of stiffness k
+   !> at each node of the target pushing the node along the direction `angle` (gap g = n·u, offset 0).
+   subroutine read_spring(source, card, builder, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(inout) :: builder
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, j, line, count
+      real(dp) :: angle, stiffness
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: nodes(:)
+      real(dp), allocatable :: s(:)
+      type(contact_candidate_t), allocatable :: candidates(:), grown(:)
+      character(len=:), allocatable :: name
+
+      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, builder, 'spring', name, error)
+      if (allocated(error)) return
+      if (card%n_data == 0) then
+         call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, 'expected data lines ' // &
+                    '`target, angle, k` after *SPRING, found none', error)
+         return
+      end if
+      allocate (candidates(8))
+      count = 0
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         call require_field_count(source, line, fields, 3, 3, 'target, angle, k', error)
+         if (allocated(error)) return
+         call resolve_nodes(source, builder, line, fields(1), nodes, error)
+         if (allocated(error)) return
+         call field_real(source, builder%parameters, line, fields(2), 'an angle in degrees', angle, error)
+         if (allocated(error)) return
+         call field_real(source, builder%parameters, line, fields(3), 'a stiffness k', stiffness, error)
+         if (allocated(error)) return
+         if (.not. stiffness > 0.0_dp) then
+            call raise(source, line, fields(3)%column, 'expected a positive stiffness k, found '// &
+                       real_to_string(stiffness), error)
+            return
+         end if
+         if (count + size(nodes) > size(candidates)) then
+            allocate (grown(max(2*size(candidates), count + size(nodes))))
+            grown(1:count) = candidates(1:count)
+            call move_alloc(grown, candidates)
+         end if
+         do j = 1, size(nodes)
+            count = count + 1
+            candidates(count)%node = nodes(j)
+            candidates(count)%gap_kind = gap_fixed_direction
+            candidates(count)%direction = [cos_degrees(angle), sin_degrees(angle)]
+            candidates(count)%offset = 0.0_dp
+            candidates(count)%flexibility = 1.0_dp/stiffness
+            candidates(count)%bilateral = option_index(card, 'BILATERAL') > 0
+         end do
+      end do
+      candidates = candidates(1:count)
+      nodes = candidates%node
+      s = path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
+      candidates%coordinate = s
+      call add_contact_group(builder, name, candidates)
+   end subroutine read_spring
+
+   !> *OBSTACLE, TYPE=PLANE|CIRCLE, NSET=set [, SIDE=INSIDE|OUTSIDE] [, STIFFNESS=k] [, END_FACTOR=f]
+   !> [, NAME=name] [, SCALE=s]: a rigid (or, with STIFFNESS, elastic) obstacle for every node of the set.
+   !>
+   !> PLANE `px, py, angle`: the line through p whose normal n = (cos, sin) points to the free side;
+   !> g = n·(x0 − p) + n·u. CIRCLE `xc, yc, R`: g = R − |x − c| (INSIDE a cavity, the default) or
+   !> |x − c| − R (OUTSIDE a cylinder). A node that starts inside the obstacle is an error.
+   subroutine read_obstacle(source, card, builder, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(inout) :: builder
+      type(error_t), allocatable, intent(out) :: error
+      integer :: type_option, set_option, side_option, stiffness_option, factor_option, line, i, gap_kind
+      real(dp) :: values(3), scale, stiffness, end_factor, normal(2), gap, tolerance, factor
+      type(field_t) :: field
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: nodes(:)
+      real(dp), allocatable :: s(:)
+      type(contact_candidate_t), allocatable :: candidates(:)
+      character(len=:), allocatable :: name, kind, layout, surface
+      character(len=5), parameter :: plane_names(3) = ['px   ', 'py   ', 'angle']
+      character(len=5), parameter :: circle_names(3) = ['xc   ', 'yc   ', 'R    ']
+
+      call check_options(source, card, [character(len=11) :: 'TYPE=', 'NSET=', 'SIDE=', 'STIFFNESS=', &
+                                        'END_FACTOR=', 'NAME=', 'SCALE='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, builder, 'obstacle', name, error)
+      if (allocated(error)) return
+      call require_option(source, card, 'TYPE', type_option, error)
+      if (allocated(error)) return
+      kind = to_upper(card%options(type_option)%value)
+      if (kind /= 'PLANE' .and. kind /= 'CIRCLE') then
+         call raise(source, card%line, card%options(type_option)%value_column, 'expected TYPE=PLANE or ' // &
+                    'TYPE=CIRCLE, found '''//clip(card%options(type_option)%value)//'''', error)
+         return
+      end if
+      call require_option(source, card, 'NSET', set_option, error)
+      if (allocated(error)) return
+      field = option_field(card, set_option)
+      call resolve_nodes(source, builder, card%line, field, nodes, error)
+      if (allocated(error)) return
+
+      gap_kind = gap_fixed_direction
+      if (kind == 'CIRCLE') gap_kind = gap_circle_inside
+      side_option = option_index(card, 'SIDE')
+      if (side_option > 0) then
+         if (kind /= 'CIRCLE') then
+            call raise(source, card%line, card%options(side_option)%column, 'expected SIDE= only with ' // &
+                       'TYPE=CIRCLE (a plane''s free side is its normal''s), found it with TYPE='//kind, error)
+            return
+         end if
+         select case (to_upper(card%options(side_option)%value))
+         case ('INSIDE')
+            gap_kind = gap_circle_inside
+         case ('OUTSIDE')
+            gap_kind = gap_circle_outside
+         case default
+            call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INSIDE ' // &
+                       'or SIDE=OUTSIDE, found '''//clip(card%options(side_option)%value)//'''', error)
+            return
+         end select
+      end if
+
+      stiffness = 0.0_dp
+      stiffness_option = option_index(card, 'STIFFNESS')
+      if (stiffness_option > 0) then
+         call option_real(source, card, builder, stiffness_option, 'a stiffness', stiffness, error)
+         if (allocated(error)) return
+         if (.not. stiffness > 0.0_dp) then
+            call raise(source, card%line, card%options(stiffness_option)%value_column, 'expected a ' // &
+                       'positive STIFFNESS (leave it out for a rigid obstacle), found '// &
+                       real_to_string(stiffness), error)
+            return
+         end if
+      end if
+      end_factor = 1.0_dp
+      factor_option = option_index(card, 'END_FACTOR')
+      if (factor_option > 0) then
+         if (stiffness_option == 0) then
+            call raise(source, card%line, card%options(factor_option)%column, 'expected END_FACTOR= only ' // &
+                       'with STIFFNESS= (a rigid obstacle has no stiffness to scale), found it alone', error)
+            return
+         end if
+         call option_real(source, card, builder, factor_option, 'a factor', end_factor, error)
+         if (allocated(error)) return
+         if (.not. end_factor > 0.0_dp) then
+            call raise(source, card%line, card%options(factor_option)%value_column, 'expected a positive ' // &
+                       'END_FACTOR, found '//real_to_string(end_factor), error)
+            return
+         end if
+      end if
+      call contact_scale(source, card, builder, scale, error)
+      if (allocated(error)) return
+
+      call require_one_data_line(source, card, error)
+      if (allocated(error)) return
+      line = card%data_lines(1)
+      call data_fields(source, line, fields)
+      if (kind == 'PLANE') then
+         layout = 'px, py, angle'
+      else
+         layout = 'xc, yc, R'
+      end if
+      call require_field_count(source, line, fields, 3, 3, layout, error)
+      if (allocated(error)) return
+      do i = 1, 3
+         if (kind == 'PLANE') then
+            call field_real(source, builder%parameters, line, fields(i), trim(plane_names(i)), values(i), error)
+         else
+            call field_real(source, builder%parameters, line, fields(i), trim(circle_names(i)), values(i), error)
+         end if
+         if (allocated(error)) return
+      end do
+      if (kind == 'CIRCLE' .and. .not. values(3) > 0.0_dp) then
+         call raise(source, line, fields(3)%column, 'expected a positive radius R, found '// &
+                    real_to_string(values(3)), error)
+         return
+      end if
+
+      tolerance = penetration_tolerance*model_size(builder)
+      normal = [cos_degrees(values(3)), sin_degrees(values(3))]
+      allocate (candidates(size(nodes)))
+      do i = 1, size(nodes)
+         associate (x0 => builder%coordinates(:, nodes(i)))
+            select case (gap_kind)
+            case (gap_fixed_direction)
+               gap = dot_product(normal, x0 - values(1:2))
+               surface = 'the plane'
+            case (gap_circle_inside)
+               gap = values(3) - norm2(x0 - values(1:2))
+               surface = 'the circular cavity'
+            case default
+               gap = norm2(x0 - values(1:2)) - values(3)
+               surface = 'the cylinder'
+            end select
+         end associate
+         if (gap < -tolerance) then
+            call raise(source, line, fields(1)%column, 'expected every node of '''//field%text// &
+                       ''' clear of '//surface//', found node '//integer_to_string(builder%node_label(nodes(i)))// &
+                       ' inside it by '//real_to_string(-gap), error)
+            return
+         end if
+         candidates(i)%node = nodes(i)
+         candidates(i)%gap_kind = gap_kind
+         if (gap_kind == gap_fixed_direction) then
+            candidates(i)%direction = normal
+            candidates(i)%offset = gap
+         else
+            candidates(i)%centre = values(1:2)
+            candidates(i)%radius = values(3)
+         end if
+         if (stiffness_option > 0) then
+            factor = 1.0_dp
+            if (i == 1 .or. i == size(nodes)) factor = end_factor
+            candidates(i)%flexibility = 1.0_dp/(factor*stiffness)
+         end if
+      end do
+      s = scale*path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
+      candidates%coordinate = s
+      call add_contact_group(builder, name, candidates)
+   end subroutine read_obstacle
+
    !> *STATIC: a linear static analysis (also what a deck without an analysis card gets).
    subroutine read_static(source, card, builder, error)
       type(source_t), intent(in) :: source
@@ -1106,6 +1485,84 @@ contains
       end if
       builder%analysis_line = card%line
    end subroutine require_analysis_once
+
+   !> An option's value as a field (text and column), to be read like a data field.
+   pure function option_field(card, k) result(field)
+      type(card_t), intent(in) :: card
+      integer, intent(in) :: k
+      type(field_t) :: field
+      field%text = card%options(k)%value
+      field%column = card%options(k)%value_column
+   end function option_field
+
+   !> The value of option `k` of the card, an expression; `what` names it when it is empty.
+   subroutine option_real(source, card, builder, k, what, value, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(in) :: builder
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: what
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      call field_real(source, builder%parameters, card%line, option_field(card, k), what, value, error)
+   end subroutine option_real
+
+   !> The SCALE= option of a contact card (default 1): the factor from arc length to the coordinate of
+   !> the contact-region output. Zero would make every coordinate 0, so it must not be.
+   subroutine contact_scale(source, card, builder, scale, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(in) :: builder
+      real(dp), intent(out) :: scale
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      scale = 1.0_dp
+      k = option_index(card, 'SCALE')
+      if (k == 0) return
+      call option_real(source, card, builder, k, 'a scale', scale, error)
+      if (allocated(error)) return
+      if (.not. abs(scale) > 0.0_dp) then
+         call raise(source, card%line, card%options(k)%value_column, 'expected a non-zero SCALE, found '// &
+                    real_to_string(scale), error)
+      end if
+   end subroutine contact_scale
+
+   !> The name of the contact group a card makes: its NAME= option, or `default_stem_<index>` with the
+   !> group's index. Either must be new among the contact groups (case-insensitive).
+   subroutine contact_group_name(source, card, builder, default_stem, name, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: default_stem
+      character(len=:), allocatable, intent(out) :: name
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, column, i
+      k = option_index(card, 'NAME')
+      if (k > 0) then
+         name = card%options(k)%value
+         column = card%options(k)%value_column
+         if (.not. is_name(name)) then
+            call raise(source, card%line, column, 'expected a contact group name (a letter, then letters, ' // &
+                       'digits, _), found '''//clip(name)//'''', error)
+            return
+         end if
+      else
+         name = default_stem//'_'//integer_to_string(builder%n_contact_groups + 1)
+         column = card%column
+      end if
+      do i = 1, builder%n_contact_groups
+         if (same_text(builder%contact_groups(i)%name, name)) then
+            if (k > 0) then
+               call raise(source, card%line, column, 'expected a new contact group name, found '''// &
+                          name//''' again', error)
+            else
+               call raise(source, card%line, column, 'expected a new contact group name, found the ' // &
+                          'default name '''//name//''' already taken (give this card a NAME=)', error)
+            end if
+            return
+         end if
+      end do
+   end subroutine contact_group_name
 
    !> Cards with exactly one data line (sections, generators).
    subroutine require_one_data_line(source, card, error)
@@ -1430,6 +1887,16 @@ contains
       else
          allocate (model%tracks(0))
       end if
+      if (builder%n_contacts > 0) then
+         model%contacts = builder%contacts(1:builder%n_contacts)
+      else
+         allocate (model%contacts(0))
+      end if
+      if (builder%n_contact_groups > 0) then
+         model%contact_groups = builder%contact_groups(1:builder%n_contact_groups)
+      else
+         allocate (model%contact_groups(0))
+      end if
       model%analysis = builder%analysis
    end subroutine finish_model
 
@@ -1519,6 +1986,49 @@ contains
       builder%n_loads = builder%n_loads + 1
       builder%loads(builder%n_loads) = distributed_load_t(element=element, kind=kind, follower=follower)
    end subroutine add_load
+
+   !> Append the contact group `name` made of `candidates` (in node order) to the builder.
+   pure subroutine add_contact_group(builder, name, candidates)
+      type(builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      type(contact_candidate_t), intent(in) :: candidates(:)
+      type(contact_candidate_t), allocatable :: grown(:)
+      type(contact_group_t), allocatable :: grown_groups(:)
+      integer :: first, group, i
+
+      if (.not. allocated(builder%contacts)) allocate (builder%contacts(max(16, size(candidates))))
+      if (.not. allocated(builder%contact_groups)) allocate (builder%contact_groups(4))
+      if (builder%n_contacts + size(candidates) > size(builder%contacts)) then
+         allocate (grown(max(2*size(builder%contacts), builder%n_contacts + size(candidates))))
+         grown(1:builder%n_contacts) = builder%contacts(1:builder%n_contacts)
+         call move_alloc(grown, builder%contacts)
+      end if
+      if (builder%n_contact_groups == size(builder%contact_groups)) then
+         allocate (grown_groups(2*size(builder%contact_groups)))
+         grown_groups(1:builder%n_contact_groups) = builder%contact_groups(1:builder%n_contact_groups)
+         call move_alloc(grown_groups, builder%contact_groups)
+      end if
+
+      builder%n_contact_groups = builder%n_contact_groups + 1
+      group = builder%n_contact_groups
+      first = builder%n_contacts + 1
+      builder%contacts(first:first + size(candidates) - 1) = candidates
+      builder%contacts(first:first + size(candidates) - 1)%group = group
+      builder%n_contacts = builder%n_contacts + size(candidates)
+      builder%contact_groups(group)%name = name
+      builder%contact_groups(group)%candidates = [(i, i = first, builder%n_contacts)]
+   end subroutine add_contact_group
+
+   !> The diagonal of the box around the nodes defined so far: the length that obstacle tolerances scale.
+   pure real(dp) function model_size(builder)
+      type(builder_t), intent(in) :: builder
+      if (builder%n_nodes == 0) then
+         model_size = 0.0_dp
+      else
+         model_size = norm2(maxval(builder%coordinates(:, 1:builder%n_nodes), dim=2) - &
+                            minval(builder%coordinates(:, 1:builder%n_nodes), dim=2))
+      end if
+   end function model_size
 
    !> Add `members` to node set `name` (created if new), skipping nodes already in it.
    subroutine add_to_node_set(builder, name, members)
