@@ -232,15 +232,16 @@ class Translator:
                                    f"{', '.join(operands)}")
         extras = positional[len(operands):]
         names = positional_extras
-        # pFUnit reads a third positional argument of assertEqual as the message when it is a
-        # character constant and as the tolerance otherwise.
+        # A third positional argument of assertEqual is the tolerance or, when it is a character
+        # constant, the message: pFUnit's generics tell the two apart by type, which a translator
+        # cannot see, so a message in a variable must be passed as message=.
         if names[:1] == ['tolerance'] and extras and extras[0][0] in '\'"':
             names = ['message']
         if len(extras) > len(names):
             raise self.error(line, f'{written}: too many positional arguments '
                                    f"(pass the message as message='...')")
         actual = list(zip(operands, positional[:len(operands)])) + list(zip(names, extras))
-        for keyword, value in actual[len(operands):]:
+        for keyword, _ in actual[len(operands):]:
             if keyword in named:
                 raise self.error(line, f"{written}: '{keyword}' given twice")
         actual += list(named.items())
@@ -308,7 +309,7 @@ class Translator:
         self.pending = (role, line, False)
 
     def subroutine(self, line, name, arguments):
-        role, directive_line, disabled = self.pending
+        role, _, disabled = self.pending
         self.pending = None
         if arguments and arguments.strip('() \t'):
             raise self.error(line, f"'{name}' takes arguments: test-case style suites (@TestCase)"

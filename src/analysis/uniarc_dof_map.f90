@@ -19,16 +19,23 @@ module uniarc_dof_map
       integer, allocatable :: equation(:, :)  !< (3, n_nodes): equation number, 0 if held
       integer, allocatable :: node_order(:)   !< nodes in elimination order
       logical :: reordered = .false.          !< true if reverse Cuthill–McKee was chosen
+      integer, allocatable :: candidate_equation(:)  !< (n_contacts): equation of its reaction, 0 if inert
+      real(dp), allocatable :: metric(:)      !< (n_equations): 1 for a displacement, 0 for a reaction
    end type dof_map_t
 
 contains
 
    !> Number the free DOFs of `model` node by node in the order that gives the smaller bandwidth.
+   !>
+   !> Each contact candidate adds one unknown, its reaction, numbered right after the DOFs of its node:
+   !> the contact rows of the augmented (saddle-point) system then stay inside the band, and elimination
+   !> without interchanges meets the node's DOFs before the reaction (see docs/theory.md §3). A
+   !> candidate whose node has both translations held can never move and gets no equation (inert).
    subroutine build_dof_map(model, map)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(out) :: map
-      integer, allocatable :: start(:), neighbours(:), natural(:), rcm(:)
-      integer :: i, k, node, next
+      integer, allocatable :: start(:), neighbours(:), natural(:), rcm(:), first_candidate(:), next_candidate(:)
+      integer :: i, k, node, next, c, n_candidates
       call node_adjacency(model, start, neighbours)
       natural = [(i, i=1, model%n_nodes)]
       call reverse_cuthill_mckee(model%n_nodes, start, neighbours, rcm)
@@ -38,7 +45,17 @@ contains
       else
          map%node_order = natural
       end if
+      ! Candidates of each node as linked lists, so that numbering stays O(nodes + candidates).
+      n_candidates = 0
+      if (allocated(model%contacts)) n_candidates = size(model%contacts)
+      allocate (first_candidate(model%n_nodes), source=0)
+      allocate (next_candidate(n_candidates), source=0)
+      do c = n_candidates, 1, -1
+         next_candidate(c) = first_candidate(model%contacts(c)%node)
+         first_candidate(model%contacts(c)%node) = c
+      end do
       allocate (map%equation(dofs_per_node, model%n_nodes), source=0)
+      allocate (map%candidate_equation(n_candidates), source=0)
       next = 0
       do i = 1, model%n_nodes
          node = map%node_order(i)
@@ -47,11 +64,31 @@ contains
             next = next + 1
             map%equation(k, node) = next
          end do
+         c = first_candidate(node)
+         do while (c > 0)
+            if (.not. (model%fixed(1, node) .and. model%fixed(2, node))) then
+               next = next + 1
+               map%candidate_equation(c) = next
+            end if
+            c = next_candidate(c)
+         end do
       end do
       map%n_equations = next
+      allocate (map%metric(next), source=0.0_dp)
+      do i = 1, model%n_nodes
+         do k = 1, dofs_per_node
+            if (map%equation(k, i) > 0) map%metric(map%equation(k, i)) = 1.0_dp
+         end do
+      end do
       map%half_bandwidth = 0
       do i = 1, model%n_elements
          map%half_bandwidth = max(map%half_bandwidth, spread_of(element_equations(model, map, i)))
+      end do
+      do c = 1, n_candidates
+         if (map%candidate_equation(c) == 0) cycle
+         node = model%contacts(c)%node
+         map%half_bandwidth = max(map%half_bandwidth, &
+                                  spread_of([map%equation(:, node), map%candidate_equation(c)]))
       end do
    end subroutine build_dof_map
 

@@ -17,7 +17,10 @@ contains
 
    !> Tangent K_T (band), internal forces F and reference load R(u) at nodal displacements u (3, n)
    !> and load factor λ (λ enters K_T only through the load stiffness of follower pressure).
-   subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference)
+   !> `force_scale` = sqrt(Σ_e ‖f_e‖²), the size of the element forces that cancel in F: round-off in
+   !> the residual is proportional to it, so convergence tests measure the residual against it too.
+   subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
+                                   force_scale)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -26,11 +29,13 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(out) :: internal(:)
       real(dp), intent(out) :: reference(:)
+      real(dp), intent(out) :: force_scale
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), basic_force(3)
       integer :: e, i
       call band_zero(tangent)
       internal = 0.0_dp
       reference = fixed_load
+      force_scale = 0.0_dp
       do e = 1, model%n_elements
          associate (section => model%sections(model%element_section(e)))
             call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
@@ -38,7 +43,9 @@ contains
          end associate
          call band_add_element(tangent, element_equations(model, map, e), k)
          call scatter_add(element_equations(model, map, e), f, internal)
+         force_scale = force_scale + dot_product(f, f)
       end do
+      force_scale = sqrt(force_scale)
       if (.not. allocated(model%distributed_loads)) return
       do i = 1, size(model%distributed_loads)
          associate (dload => model%distributed_loads(i))

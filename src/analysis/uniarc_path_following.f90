@@ -19,9 +19,14 @@ module uniarc_path_following
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
+   use uniarc_contact, only: candidate_gap, assemble_contact
+   use uniarc_contact_lcp, only: path_constraint_t, select_contact_set, constraint_arclength, &
+                                 constraint_load, constraint_displacement
+   use uniarc_lemke, only: lemke_report_t
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
+   public :: candidate_reactions
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -33,13 +38,17 @@ module uniarc_path_following
       integer :: neg_pivots = 0         !< negative pivots of K_T (Sylvester: negative eigenvalues)
       real(dp) :: min_eigenvalue = 0.0_dp   !< eigenvalue of K_T of least magnitude (inverse iteration)
       integer :: iterations = 0
+      integer :: lcp_pivots = 0             !< Lemke pivots spent on the step
+      real(dp) :: lcp_residual = 0.0_dp     !< complementarity residual at the converged state
+      integer :: n_active = 0               !< candidates in the working set
    end type path_point_t
 
    !> The committed state of the path and what the next step needs.
    type :: path_state_t
       type(dof_map_t) :: map
       type(band_matrix_t) :: tangent            !< K_T at the committed state, factorised
-      real(dp), allocatable :: u(:)             !< committed total displacements (equations)
+      real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
+      logical, allocatable :: active(:)         !< committed working set of contact candidates
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: fixed_load(:)    !< u-independent part of the reference load R_r
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
@@ -50,6 +59,7 @@ module uniarc_path_following
       real(dp) :: load_norm = 0.0_dp            !< ||R_r|| · first Δλ: the force scale of the problem
       integer :: direction = 1                  !< +1/−1: predictor along ±K⁻¹R
       integer :: control_equation = 0
+      real(dp) :: length_scale = 1.0_dp         !< size of the model (gap tolerances)
       type(path_point_t) :: point
    end type path_state_t
 
@@ -60,6 +70,7 @@ contains
       type(model_t), intent(in) :: model
       type(path_state_t), intent(out) :: state
       type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :)
       associate (options => model%analysis)
          call build_dof_map(model, state%map)
          call band_allocate(state%tangent, state%map%n_equations, state%map%half_bandwidth, &
@@ -68,6 +79,13 @@ contains
          allocate (state%last_increment(state%map%n_equations), source=0.0_dp)
          allocate (state%fixed_load(state%map%n_equations))
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
+         state%length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
+         ! The first working set: every candidate that touches (zero gap) and every bonded one. It
+         ! holds what the contacts hold (a ring resting in a cavity), so the augmented tangent is
+         ! regular; the first LCP then keeps only the contacts that push.
+         allocate (state%active(size(state%map%candidate_equation)))
+         call nodal_displacements(model, state, nodal)
+         call touching_candidates(model, state, nodal, state%active)
          if (options%control == control_displacement) then
             state%control_equation = state%map%equation(options%control_dof, options%control_node)
             if (state%control_equation == 0) then
@@ -82,7 +100,7 @@ contains
          end if
          select case (options%control)
          case (control_arclength)
-            state%first_length = abs(options%first_increment)*norm2(state%tangent_displacement)
+            state%first_length = abs(options%first_increment)*masked_norm(state%map, state%tangent_displacement)
          case default
             state%first_length = abs(options%first_increment)
          end select
@@ -96,7 +114,7 @@ contains
                             error_analysis)
             return
          end if
-         call describe_point(state, 0, 0)
+         call describe_point(model, state, 0, 0, 0)
       end associate
    end subroutine path_initialize
 
@@ -106,14 +124,16 @@ contains
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: increment(:)
+      logical, allocatable :: active(:)
       real(dp) :: dlambda, length, factor
-      integer :: cuts, iterations
+      integer :: cuts, iterations, lcp_pivots
       logical :: converged
       character(len=:), allocatable :: reason
       associate (options => model%analysis)
          length = state%step_length
          do cuts = 0, options%max_cuts
-            call try_step(model, state, length, increment, dlambda, iterations, converged, reason)
+            call try_step(model, state, length, increment, dlambda, active, iterations, lcp_pivots, converged, &
+                          reason)
             if (converged) exit
             length = 0.5_dp*length
             if (length < options%min_increment*state%first_length) exit
@@ -126,8 +146,9 @@ contains
          end if
          state%u = state%u + increment
          state%lambda = state%lambda + dlambda
+         state%active = active
          state%last_increment = increment
-         state%point%s = state%point%s + norm2(increment)
+         state%point%s = state%point%s + masked_norm(state%map, increment)
          call tangent_at_committed_state(model, state, error)
          if (allocated(error)) then
             call add_where(error, 'step '//int_text(state%point%step + 1)//' (converged state)', state)
@@ -136,13 +157,13 @@ contains
          select case (options%control)
          case (control_arclength)
             ! Keep travelling forward: positive angle between the new tangent and the last increment.
-            if (dot_product(increment, state%tangent_displacement) < 0.0_dp) then
+            if (masked_dot(state%map, increment, state%tangent_displacement) < 0.0_dp) then
                state%direction = -1
             else
                state%direction = 1
             end if
          end select
-         call describe_point(state, state%point%step + 1, iterations)
+         call describe_point(model, state, state%point%step + 1, iterations, lcp_pivots)
          factor = sqrt(real(options%desired_iterations, dp)/real(max(iterations, 1), dp))
          factor = min(2.0_dp, max(0.25_dp, factor))
          state%step_length = min(options%max_increment*state%first_length, &
@@ -151,74 +172,142 @@ contains
    end subroutine path_advance
 
    !> One attempt at a step of the given length; the committed state is not touched.
-   subroutine try_step(model, state, length, increment, dlambda, iterations, converged, reason)
+   !>
+   !> With contact candidates this is the paper's two-level iteration (Fig. 3): the contact LCP at the
+   !> committed state gives the working set of the predictor; Newton converges with that set; the
+   !> complementarity conditions are checked at the converged state and, if violated, the LCP at that
+   !> state gives a new set and Newton goes on, until both equilibrium and contact have converged.
+   subroutine try_step(model, state, length, increment, dlambda, active, iterations, lcp_pivots, converged, reason)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       real(dp), intent(in) :: length
       real(dp), allocatable, intent(out) :: increment(:)
       real(dp), intent(out) :: dlambda
-      integer, intent(out) :: iterations
+      logical, allocatable, intent(out) :: active(:)
+      integer, intent(out) :: iterations, lcp_pivots
       logical, intent(out) :: converged
       character(len=:), allocatable, intent(out) :: reason
-      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :), trial(:)
-      real(dp) :: lambda, dl, residual_norm, force_scale
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :), trial(:), ut(:)
+      logical, allocatable :: new_active(:)
+      real(dp) :: lambda, dl, force_scale, element_scale
       type(error_t), allocatable :: error
-      logical :: small_correction
-      integer :: n
+      type(path_constraint_t) :: constraint
+      type(lemke_report_t) :: report
+      logical :: small_correction, has_contacts
+      integer :: n, set_changes
+      integer, parameter :: max_set_changes = 40
       n = state%map%n_equations
       allocate (nodal(dofs_per_node, model%n_nodes), internal(n), reference(n), rhs(n, 2), trial(n))
       converged = .false.
       reason = 'iteration limit'
-      associate (options => model%analysis, ut => state%tangent_displacement)
-         ! Predictor along the committed tangent.
-         select case (options%control)
-         case (control_arclength)
-            dlambda = state%direction*length/norm2(ut)
-         case (control_displacement)
-            dlambda = state%direction*length/ut(state%control_equation)
-         case default
-            dlambda = state%direction*length
-         end select
+      active = state%active
+      has_contacts = any(state%map%candidate_equation > 0)
+      lcp_pivots = 0
+      set_changes = 0
+      iterations = 0
+      dlambda = 0.0_dp
+      associate (options => model%analysis)
+         ut = state%tangent_displacement
+         ! Predictor along the committed tangent; with contact, the LCP first chooses its working set.
+         dlambda = predictor_dlambda(options, state, ut, length)
+         if (has_contacts) then
+            call gather_nodal(state%map, state%u, nodal)
+            call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, element_scale)
+            call factorize_and_solve(state%tangent, state%lambda*reference - internal, reference, rhs, error)
+            if (allocated(error)) then
+               reason = 'singular tangent at the start of the step'
+               return
+            end if
+            call step_constraint(options, state, ut, dlambda, constraint)
+            allocate (new_active(size(active)))
+            call select_contact_set(model, state%map, state%tangent, state%u, nodal, rhs(:, 1), rhs(:, 2), &
+                                    constraint, active, new_active, report, error)
+            lcp_pivots = lcp_pivots + report%pivots
+            if (allocated(error)) then
+               reason = error%message
+               return
+            end if
+            if (any(new_active .neqv. active)) then
+               active = new_active
+               call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, &
+                                   element_scale)
+               call factorize_and_solve(state%tangent, state%lambda*reference - internal, reference, rhs, error)
+               if (allocated(error)) then
+                  reason = 'singular tangent with the predicted contact set'
+                  return
+               end if
+               ut = rhs(:, 2)
+               dlambda = predictor_dlambda(options, state, ut, length)
+            end if
+         end if
          increment = dlambda*ut
          small_correction = .false.
-         do iterations = 0, options%max_iterations
+         do while (iterations <= options%max_iterations)
             lambda = state%lambda + dlambda
             trial = state%u + increment
             call gather_nodal(state%map, trial, nodal)
-            call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%tangent, &
-                                      internal, reference)
+            call equilibrium_at(model, state, trial, lambda, active, nodal, internal, reference, element_scale)
             rhs(:, 1) = lambda*reference - internal
-            residual_norm = norm2(rhs(:, 1))
-            force_scale = max(state%load_norm, norm2(lambda*reference))
-            if (.not. (residual_norm < huge(1.0_dp))) then   ! NaN or overflow
+            force_scale = max(state%load_norm, norm2(lambda*reference), element_scale)
+            if (.not. (norm2(rhs(:, 1)) < huge(1.0_dp))) then   ! NaN or overflow
                reason = 'the residual is not finite'
                exit
             end if
             if (iterations > 0 .and. small_correction .and. &
-                residual_norm <= options%force_tolerance*force_scale) then
-               converged = .true.
-               exit
+                masked_norm(state%map, rhs(:, 1)) <= options%force_tolerance*force_scale .and. &
+                constraint_residual(state%map, rhs(:, 1)) <= options%displacement_tolerance* &
+                max(maxval(abs(state%map%metric*trial)), 1.0e-12_dp*state%length_scale)) then
+               if (.not. has_contacts) then
+                  converged = .true.
+                  exit
+               end if
+               if (complementary(model, state, trial, nodal, active)) then
+                  converged = .true.
+                  exit
+               end if
+               ! Equilibrium with a wrong contact set: the LCP at this state gives the next set.
+               set_changes = set_changes + 1
+               if (set_changes > max_set_changes) then
+                  reason = 'the contact set does not settle'
+                  exit
+               end if
+               call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+               if (allocated(error)) then
+                  reason = 'singular tangent'
+                  exit
+               end if
+               call correction_constraint(options, state, increment, constraint)
+               if (.not. allocated(new_active)) allocate (new_active(size(active)))
+               call select_contact_set(model, state%map, state%tangent, trial, nodal, rhs(:, 1), rhs(:, 2), &
+                                       constraint, active, new_active, report, error)
+               lcp_pivots = lcp_pivots + report%pivots
+               if (allocated(error)) then
+                  reason = error%message
+                  exit
+               end if
+               if (.not. any(new_active .neqv. active)) then
+                  reason = 'the LCP keeps a contact set that violates complementarity'
+                  exit
+               end if
+               active = new_active
+               small_correction = .false.
+               cycle
             end if
             if (iterations == options%max_iterations) exit
-            call band_factorize(state%tangent, error)
+            iterations = iterations + 1
+            call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
             if (allocated(error)) then
                reason = 'singular tangent'
                exit
             end if
-            rhs(:, 2) = reference
-            call band_solve(state%tangent, rhs, error)
-            if (allocated(error)) then
-               reason = 'solve failed'
-               exit
-            end if
-            ! rhs(:, 1) = δu_g (residual displacement), rhs(:, 2) = δu_t (tangent displacement)
+            ! rhs(:, 1) = δx_g (residual correction), rhs(:, 2) = δx_t (tangent correction)
             select case (options%control)
             case (control_load)
                dl = 0.0_dp
             case (control_displacement)
                dl = -rhs(state%control_equation, 1)/rhs(state%control_equation, 2)
             case default
-               call load_correction(options, increment, rhs(:, 1), rhs(:, 2), length, dl, reason)
+               call load_correction(options, state%map, increment, rhs(:, 1), rhs(:, 2), length, dl, reason)
                if (len(reason) == 0) then
                   reason = 'iteration limit'
                else
@@ -227,15 +316,208 @@ contains
             end select
             increment = increment + rhs(:, 1) + dl*rhs(:, 2)
             dlambda = dlambda + dl
-            small_correction = norm2(rhs(:, 1) + dl*rhs(:, 2)) <= &
-                               options%displacement_tolerance*max(norm2(increment), tiny(1.0_dp))
+            small_correction = masked_norm(state%map, rhs(:, 1) + dl*rhs(:, 2)) <= &
+                               options%displacement_tolerance*max(masked_norm(state%map, increment), tiny(1.0_dp))
          end do
       end associate
    end subroutine try_step
 
-   !> Load correction δλ of an arc-length iteration; `reason` is empty on success.
-   pure subroutine load_correction(options, increment, du_residual, du_tangent, length, dl, reason)
+   !> Load increment of the predictor along the tangent ut for a step of the given length.
+   pure real(dp) function predictor_dlambda(options, state, ut, length) result(dlambda)
       type(analysis_options_t), intent(in) :: options
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: ut(:), length
+      select case (options%control)
+      case (control_arclength)
+         dlambda = state%direction*length/masked_norm(state%map, ut)
+      case (control_displacement)
+         dlambda = state%direction*length/ut(state%control_equation)
+      case default
+         dlambda = state%direction*length
+      end select
+   end function predictor_dlambda
+
+   !> The constraint of the predictor LCP: the linearised step (normal plane to the tangent at distance
+   !> Δl for arc length, the load or displacement increment otherwise).
+   pure subroutine step_constraint(options, state, ut, dlambda, constraint)
+      type(analysis_options_t), intent(in) :: options
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: ut(:), dlambda
+      type(path_constraint_t), intent(out) :: constraint
+      select case (options%control)
+      case (control_arclength)
+         constraint%kind = constraint_arclength
+         constraint%t = state%map%metric*ut*dlambda
+         constraint%target = masked_dot(state%map, constraint%t, ut*dlambda)
+      case (control_displacement)
+         constraint%kind = constraint_displacement
+         constraint%equation = state%control_equation
+         constraint%target = dlambda*ut(state%control_equation)
+      case default
+         constraint%kind = constraint_load
+         constraint%target = dlambda
+      end select
+   end subroutine step_constraint
+
+   !> The constraint of a corrector LCP inside a step: stay on the step (normal plane to the current
+   !> increment, or the same load or controlled displacement).
+   pure subroutine correction_constraint(options, state, increment, constraint)
+      type(analysis_options_t), intent(in) :: options
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: increment(:)
+      type(path_constraint_t), intent(out) :: constraint
+      select case (options%control)
+      case (control_arclength)
+         constraint%kind = constraint_arclength
+         constraint%t = state%map%metric*increment
+      case (control_displacement)
+         constraint%kind = constraint_displacement
+         constraint%equation = state%control_equation
+      case default
+         constraint%kind = constraint_load
+      end select
+      constraint%target = 0.0_dp
+   end subroutine correction_constraint
+
+   !> Complementarity at a state that is in equilibrium for the working set `active`: no candidate in
+   !> the set pulls (r ≥ 0) and none outside it penetrates (g ≥ 0), within tolerances relative to the
+   !> largest reaction and the largest displacement.
+   function complementary(model, state, x, nodal, active) result(ok)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      logical :: ok
+      real(dp), allocatable :: reaction(:), gap(:)
+      call candidate_state(model, state%map, x, nodal, reaction, gap)
+      ok = violation(model, state, x, reaction, gap, active) <= model%analysis%displacement_tolerance
+   end function complementary
+
+   !> Largest violation of complementarity, relative: −r/r_scale for pulling contacts, −g/g_scale for
+   !> penetrating free candidates, |r w|/(r_scale g_scale) for both at once.
+   pure real(dp) function violation(model, state, x, reaction, gap, active) result(worst)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), reaction(:), gap(:)
+      logical, intent(in) :: active(:)
+      real(dp) :: r_scale, g_scale, w
+      integer :: c
+      worst = 0.0_dp
+      if (size(reaction) == 0) return
+      r_scale = max(maxval(abs(reaction)), tiny(1.0_dp))
+      g_scale = max(maxval(abs(state%map%metric*x)), 1.0e-12_dp*state%length_scale)
+      do c = 1, size(reaction)
+         if (state%map%candidate_equation(c) == 0 .or. model%contacts(c)%bilateral) cycle
+         w = gap(c) + model%contacts(c)%flexibility*reaction(c)
+         if (active(c)) then
+            worst = max(worst, -reaction(c)/r_scale)
+         else
+            worst = max(worst, -gap(c)/g_scale)
+         end if
+         worst = max(worst, abs(reaction(c)*w)/(r_scale*g_scale), -w/g_scale)
+      end do
+   end function violation
+
+   !> Reactions (from the unknowns) and current gaps of every candidate.
+   pure subroutine candidate_state(model, map, x, nodal, reaction, gap)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      real(dp), allocatable, intent(out) :: reaction(:), gap(:)
+      real(dp) :: gradient(2), hessian(2, 2)
+      integer :: c, node
+      allocate (reaction(size(map%candidate_equation)), gap(size(map%candidate_equation)))
+      do c = 1, size(map%candidate_equation)
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
+                            hessian)
+         reaction(c) = 0.0_dp
+         if (map%candidate_equation(c) > 0) reaction(c) = x(map%candidate_equation(c))
+      end do
+   end subroutine candidate_state
+
+   !> Reactions of every candidate at the committed state (0 for those out of contact).
+   pure function candidate_reactions(model, state) result(reaction)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), allocatable :: reaction(:)
+      integer :: c
+      allocate (reaction(size(state%map%candidate_equation)), source=0.0_dp)
+      do c = 1, size(state%map%candidate_equation)
+         if (state%map%candidate_equation(c) > 0) reaction(c) = state%u(state%map%candidate_equation(c))
+      end do
+   end function candidate_reactions
+
+   !> Candidates that touch (|g| within round-off of the model size) or are bonded.
+   pure subroutine touching_candidates(model, state, nodal, active)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: nodal(:, :)
+      logical, intent(out) :: active(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      do c = 1, size(state%map%candidate_equation)
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         active(c) = state%map%candidate_equation(c) > 0 .and. &
+                     (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
+      end do
+   end subroutine touching_candidates
+
+   !> Augmented internal forces, reference load and tangent at unknowns x, load λ, working set `active`.
+   subroutine equilibrium_at(model, state, x, lambda, active, nodal, internal, reference, element_scale)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), intent(in) :: x(:), lambda
+      logical, intent(in) :: active(:)
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp), intent(out) :: internal(:), reference(:), element_scale
+      call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%tangent, &
+                                internal, reference, element_scale)
+      if (size(state%map%candidate_equation) > 0) then
+         call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+                               state%tangent, internal)
+      end if
+   end subroutine equilibrium_at
+
+   !> The reaction unknowns of x, one per candidate (0 for inert ones).
+   pure function candidate_values(map, x) result(values)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:)
+      real(dp) :: values(size(map%candidate_equation))
+      integer :: c
+      values = 0.0_dp
+      do c = 1, size(values)
+         if (map%candidate_equation(c) > 0) values(c) = x(map%candidate_equation(c))
+      end do
+   end function candidate_values
+
+   !> Largest residual of the contact rows (gap units for the working set, reactions for the rest).
+   pure real(dp) function constraint_residual(map, residual) result(largest)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: residual(:)
+      largest = 0.0_dp
+      if (size(map%candidate_equation) > 0) largest = maxval(abs((1.0_dp - map%metric)*residual))
+   end function constraint_residual
+
+   !> Factorise the tangent and solve it for the residual and the reference load: rhs(:, 1:2).
+   subroutine factorize_and_solve(tangent, residual, reference, rhs, error)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(in) :: residual(:), reference(:)
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      call band_factorize(tangent, error)
+      if (allocated(error)) return
+      rhs(:, 1) = residual
+      rhs(:, 2) = reference
+      call band_solve(tangent, rhs, error)
+   end subroutine factorize_and_solve
+
+   !> Load correction δλ of an arc-length iteration; `reason` is empty on success. Dot products and
+   !> norms are over the displacements only (the metric masks the reactions out).
+   pure subroutine load_correction(options, map, increment, du_residual, du_tangent, length, dl, reason)
+      type(analysis_options_t), intent(in) :: options
+      type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: increment(:), du_residual(:), du_tangent(:), length
       real(dp), intent(out) :: dl
       character(len=:), allocatable, intent(out) :: reason
@@ -245,15 +527,15 @@ contains
       select case (options%iteration)
       case (iteration_chan)
          ! Minimum residual displacement (Chan 1988): δλ minimises ||δu_g + δλ δu_t||.
-         dl = -dot_product(du_tangent, du_residual)/dot_product(du_tangent, du_tangent)
+         dl = -masked_dot(map, du_tangent, du_residual)/masked_dot(map, du_tangent, du_tangent)
       case (iteration_riks)
          ! Updated normal plane (Ramm 1981): the correction is orthogonal to the current increment.
-         dl = -dot_product(increment, du_residual)/dot_product(increment, du_tangent)
+         dl = -masked_dot(map, increment, du_residual)/masked_dot(map, increment, du_tangent)
       case (iteration_cylindrical)
          ! ||Δu + δu_g + δλ δu_t|| = Δl (Crisfield 1981): the root closer in angle to the increment.
-         a = dot_product(du_tangent, du_tangent)
-         b = 2.0_dp*dot_product(du_tangent, increment + du_residual)
-         c = dot_product(increment + du_residual, increment + du_residual) - length**2
+         a = masked_dot(map, du_tangent, du_tangent)
+         b = 2.0_dp*masked_dot(map, du_tangent, increment + du_residual)
+         c = masked_dot(map, increment + du_residual, increment + du_residual) - length**2
          discriminant = b**2 - 4.0_dp*a*c
          if (discriminant < 0.0_dp) then
             reason = 'the arc-length constraint has no real root'
@@ -263,7 +545,7 @@ contains
          root(1) = (-b + sqrt(discriminant))/(2.0_dp*a)
          root(2) = (-b - sqrt(discriminant))/(2.0_dp*a)
          do k = 1, 2
-            cosine(k) = dot_product(increment, increment + du_residual + root(k)*du_tangent)
+            cosine(k) = masked_dot(map, increment, increment + du_residual + root(k)*du_tangent)
          end do
          dl = root(maxloc(cosine, 1))
       case default
@@ -278,15 +560,20 @@ contains
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), internal(:), rhs(:, :)
+      real(dp) :: element_scale
       logical :: singular
       integer :: n
       n = state%map%n_equations
       allocate (internal(n), rhs(n, 1))
       call nodal_displacements(model, state, nodal)
       if (.not. allocated(state%reference)) allocate (state%reference(n))
-      call assemble_equilibrium(model, state%map, nodal, state%lambda, state%fixed_load, state%tangent, &
-                                internal, state%reference)
+      call equilibrium_at(model, state, state%u, state%lambda, state%active, nodal, internal, state%reference, &
+                          element_scale)
       call band_inertia(state%tangent, state%point%neg_pivots, singular)
+      ! Each contact row of the working set adds one negative pivot to the saddle-point system
+      ! (Haynsworth inertia additivity): what remains counts the unstable modes of the structure.
+      state%point%n_active = count(state%active .and. state%map%candidate_equation > 0)
+      state%point%neg_pivots = max(0, state%point%neg_pivots - state%point%n_active)
       call band_factorize(state%tangent, error)
       if (allocated(error)) return
       rhs(:, 1) = state%reference
@@ -297,19 +584,42 @@ contains
    end subroutine tangent_at_committed_state
 
    !> Fill the point record of the committed state.
-   subroutine describe_point(state, step, iterations)
+   subroutine describe_point(model, state, step, iterations, lcp_pivots)
+      type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
-      integer, intent(in) :: step, iterations
+      integer, intent(in) :: step, iterations, lcp_pivots
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
       real(dp) :: norm
       state%point%step = step
       state%point%lambda = state%lambda
       state%point%iterations = iterations
+      state%point%lcp_pivots = lcp_pivots
       ! Unit tangent of the path in (u, λ) with the arc-length metric ds² = ||du||² (cylindrical):
       ! du/ds = ±K⁻¹R/||K⁻¹R||, dλ/ds = ±1/||K⁻¹R||, signed by the direction of travel.
-      norm = norm2(state%tangent_displacement)
+      norm = masked_norm(state%map, state%tangent_displacement)
       state%point%dlambda_ds = real(state%direction, dp)/norm
-      state%point%rate = (real(state%direction, dp)/norm)*state%tangent_displacement
+      state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
+      state%point%lcp_residual = 0.0_dp
+      if (size(state%map%candidate_equation) > 0) then
+         call nodal_displacements(model, state, nodal)
+         call candidate_state(model, state%map, state%u, nodal, reaction, gap)
+         state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active)
+      end if
    end subroutine describe_point
+
+   !> Dot product over the displacement unknowns only.
+   pure real(dp) function masked_dot(map, a, b)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: a(:), b(:)
+      masked_dot = sum(map%metric*a*b)
+   end function masked_dot
+
+   !> Norm over the displacement unknowns only.
+   pure real(dp) function masked_norm(map, a)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: a(:)
+      masked_norm = sqrt(sum(map%metric*a**2))
+   end function masked_norm
 
    !> Eigenvalue of least magnitude of a factorised matrix by inverse iteration (Rayleigh quotient of
    !> K⁻¹); used only to place bifurcation points between steps, so a few digits suffice.

@@ -6,7 +6,8 @@ module uniarc_run
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
-                                    nodal_displacements
+                                    nodal_displacements, candidate_reactions
+   use uniarc_contact, only: contact_summary_t, summarize_contact
    use uniarc_critical_points, only: critical_event_t, find_critical_events
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, commit_outputs, tracked_values, format_number
@@ -54,7 +55,7 @@ contains
       call open_outputs(model, options%output_directory, options%stem, files, error)
       if (allocated(error)) return
       call write_path_row(files, model, record)
-      call write_shape(files, model, record%step, record%lambda, record%displacement)
+      call write_shape(files, model, record)
       call commit_outputs(files, commit_error)
       if (allocated(commit_error)) call move_alloc(commit_error, error)
       if (.not. options%quiet) call print_tracks(model, record)
@@ -74,7 +75,7 @@ contains
       real(dp), allocatable :: tracked_before(:), tracked_after(:)
       character(len=:), allocatable :: stop_reason
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
-      integer :: k, n_events
+      integer :: k, n_events, previous_contacts
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
@@ -84,8 +85,9 @@ contains
       if (allocated(error)) return
       call record_state(model, state, record)
       call write_path_row(files, model, record)
-      call write_shape(files, model, record%step, record%lambda, record%displacement)
+      call write_shape(files, model, record)
       n_events = 0
+      previous_contacts = record%n_contact
       stop_reason = 'an error'
       done = .false.
       do while (.not. done)
@@ -97,6 +99,8 @@ contains
          call write_path_row(files, model, record)
          tracked_after = tracked_values(model, record%displacement)
          call find_critical_events(previous, state%point, events)
+         call add_contact_events(previous_contacts, record, events)
+         previous_contacts = record%n_contact
          do k = 1, size(events)
             ! Tracked values at the event: linear between the steps (the event's λ is on the Hermite
             ! interpolant; the displacements vary slowly there).
@@ -108,7 +112,7 @@ contains
                trim(format_number(events(k)%lambda))
          end do
          if (mod(record%step, model%analysis%shape_every) == 0) &
-            call write_shape(files, model, record%step, record%lambda, record%displacement)
+            call write_shape(files, model, record)
          call stop_criteria(model, record, tracked_after, done, stop_reason)
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
@@ -120,7 +124,7 @@ contains
          end if
       end do
       if (mod(record%step, model%analysis%shape_every) /= 0) &
-         call write_shape(files, model, record%step, record%lambda, record%displacement)
+         call write_shape(files, model, record)
       call commit_outputs(files, commit_error)
       if (allocated(error)) return
       if (allocated(commit_error)) then
@@ -134,15 +138,44 @@ contains
       end if
    end subroutine run_path
 
+   !> Contact start (no contact → some) and loss (some → none) between two steps, placed at the step
+   !> where they are first seen.
+   pure subroutine add_contact_events(before, record, events)
+      integer, intent(in) :: before
+      type(step_record_t), intent(in) :: record
+      type(critical_event_t), allocatable, intent(inout) :: events(:)
+      type(critical_event_t) :: event
+      if ((before == 0) .eqv. (record%n_contact == 0)) return
+      if (before == 0) then
+         event%kind = 'contact_start'
+      else
+         event%kind = 'contact_lost'
+      end if
+      event%position = real(record%step, dp)
+      event%lambda = record%lambda
+      event%fraction = 1.0_dp
+      events = [events, event]
+   end subroutine add_contact_events
+
    subroutine record_state(model, state, record)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(step_record_t), intent(inout) :: record
+      type(contact_summary_t) :: summary
       call nodal_displacements(model, state, record%displacement)
       record%step = state%point%step
       record%lambda = state%lambda
       record%iterations = state%point%iterations
       record%neg_pivots = state%point%neg_pivots
+      record%lcp_pivots = state%point%lcp_pivots
+      record%lcp_residual = state%point%lcp_residual
+      record%reactions = candidate_reactions(model, state)
+      summary = summarize_contact(model, record%reactions, state%active)
+      record%n_contact = summary%n_contact
+      record%contact_regions = summary%regions
+      record%s_contact = summary%s_contact
+      record%reaction_max = summary%reaction_max
+      record%reaction_sum = summary%reaction_sum
    end subroutine record_state
 
    pure subroutine stop_criteria(model, record, tracked, done, reason)

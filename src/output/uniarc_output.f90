@@ -19,6 +19,7 @@ module uniarc_output
       integer :: step = 0
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: displacement(:, :)   !< (3, n_nodes) total nodal displacements
+      real(dp), allocatable :: reactions(:)         !< (n_contacts) reaction of every contact candidate
       integer :: n_contact = 0            !< candidates in contact
       integer :: contact_regions = 0      !< number of contiguous contact regions
       real(dp) :: s_contact(2) = 0.0_dp   !< ends of the first contact region
@@ -63,7 +64,7 @@ contains
       call open_table(files%crit, base//'.crit', '# kind step lambda'//track_names(model), error)
       if (allocated(error)) return
       call open_table(files%shape, base//'.shape', &
-                      '# step lambda node x0 y0 ux uy rz x y', error)
+                      '# step lambda node x0 y0 ux uy rz x y reaction', error)
    end subroutine open_outputs
 
    !> Header line of the path file: `# step lambda <tracks> <contact and solver columns>`.
@@ -126,21 +127,27 @@ contains
       call write_numbers(files%crit%unit, kind, [position, lambda, tracked])
    end subroutine write_crit_row
 
-   !> A snapshot of the deformed shape: one line per node, snapshots separated by two blank lines
-   !> (gnuplot's `index`).
-   subroutine write_shape(files, model, step, lambda, displacement)
+   !> A snapshot of the deformed shape: one line per node (the last column the sum of the contact
+   !> reactions at the node), snapshots separated by two blank lines (gnuplot's `index`).
+   subroutine write_shape(files, model, record)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
-      integer, intent(in) :: step
-      real(dp), intent(in) :: lambda
-      real(dp), intent(in) :: displacement(:, :)
-      integer :: i, k
+      type(step_record_t), intent(in) :: record
+      real(dp), allocatable :: nodal_reaction(:)
+      integer :: i, k, c
+      allocate (nodal_reaction(model%n_nodes), source=0.0_dp)
+      if (allocated(record%reactions) .and. allocated(model%contacts)) then
+         do c = 1, min(size(record%reactions), size(model%contacts))
+            nodal_reaction(model%contacts(c)%node) = nodal_reaction(model%contacts(c)%node) + record%reactions(c)
+         end do
+      end if
       do i = 1, model%n_nodes
-         write (files%shape%unit, '(i0,*(1x,a))') step, trim(format_number(lambda)), &
+         write (files%shape%unit, '(i0,*(1x,a))') record%step, trim(format_number(record%lambda)), &
             trim(int_text(model%node_label(i))), &
             (trim(format_number(model%coordinates(k, i))), k=1, 2), &
-            (trim(format_number(displacement(k, i))), k=1, 3), &
-            (trim(format_number(model%coordinates(k, i) + displacement(k, i))), k=1, 2)
+            (trim(format_number(record%displacement(k, i))), k=1, 3), &
+            (trim(format_number(model%coordinates(k, i) + record%displacement(k, i))), k=1, 2), &
+            trim(format_number(nodal_reaction(i)))
       end do
       write (files%shape%unit, '(/)')
       flush (files%shape%unit)

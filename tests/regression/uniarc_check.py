@@ -6,8 +6,26 @@ Usage (one CTest per call):
                   [--reference REF --rtol R --atol A]          # numeric diff of the whole path file
                   [--expect COLUMN=VALUE:RTOL]...               # value of a column in the last row
                   [--expect-exit N]
+                  [--expect-row-where KEY=VALUE:COLUMN=EXPECTED:RTOL]... [--where-exact]
+                  [--expect-max COLUMN>=VALUE]... [--expect-min COLUMN<=VALUE]...
+                  [--expect-snap-back COLUMN]...
+                  [--expect-crit KIND[#k]=EXPECTED]...            # lambda of the k-th event of a kind
+                  [--expect-crit-column KIND[#k]:COLUMN=EXPECTED]...
+                  [--expect-crit-count KIND=N]... [--expect-crit-before KIND[#k]<KIND[#j]]...
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
+EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
+
+--expect-row-where interpolates COLUMN linearly at the first place along the path where KEY (a column,
+e.g. lambda) reaches VALUE; with --where-exact a row must have KEY = VALUE (to 1e-12 relative), as in a
+load-controlled run that is meant to stop exactly at the tabulated loads.
+--expect-max / --expect-min bound the largest / smallest value of a column along the whole path.
+--expect-snap-back COLUMN asks for a snap-back seen in COLUMN: a row where COLUMN has a strict local
+maximum while lambda falls through it (rows before and after), i.e. the path turns back in that
+displacement with the load still decreasing.
+STEM.crit events are counted per kind in file order, #1 (the default) being the first; the tracked
+columns of an event are those of the path file. --expect-crit-before checks the order along the path
+(the fractional step numbers) of two events that must both be present.
 """
 import argparse
 import os
@@ -54,6 +72,173 @@ def numeric_diff(result, reference, rtol, atol):
     return problems
 
 
+def parse_expected(text):
+    """(low, high, description) of an EXPECTED: `VALUE:RTOL` or `LOW..HIGH`."""
+    if '..' in text:
+        low, high = (float(x) for x in text.split('..'))
+        return min(low, high), max(low, high), f'in [{min(low, high)!r}, {max(low, high)!r}]'
+    value, tolerance = (float(x) for x in text.split(':'))
+    spread = tolerance * abs(value)
+    return value - spread, value + spread, f'{value!r} to {tolerance:.1e} relative'
+
+
+def check_value(label, got, expected_text):
+    """Messages (status line, failure or None) for one value against an EXPECTED."""
+    low, high, description = parse_expected(expected_text)
+    ok = low <= got <= high
+    if '..' not in expected_text:
+        value = float(expected_text.split(':')[0])
+        description += f' (relative error {abs(got - value) / max(abs(value), 1e-300):.3e})'
+    print(f'{"ok" if ok else "FAIL"}: {label} = {got!r}, expected {description}')
+    return None if ok else f'{label} = {got!r} not {description}'
+
+
+def split_event(text):
+    """(kind, k) of `KIND` or `KIND#k`, k counted from 1."""
+    if '#' in text:
+        kind, k = text.split('#', 1)
+        return kind.strip(), int(k)
+    return text.strip(), 1
+
+
+def read_events(path):
+    """Column names (after `kind`) and the events of a STEM.crit file as (kind, [numbers])."""
+    with open(path) as handle:
+        lines = handle.read().splitlines()
+    if not lines or not lines[0].startswith('#'):
+        raise SystemExit(f'{path}: no header line')
+    names = lines[0][1:].split()[1:]
+    events = []
+    for number, line in enumerate(lines[1:], start=2):
+        fields = line.split()
+        if not fields:
+            continue
+        if len(fields) != len(names) + 1:
+            raise SystemExit(f'{path}:{number}: {len(fields)} fields, header has {len(names) + 1}')
+        events.append((fields[0], [float(x) for x in fields[1:]]))
+    return names, events
+
+
+def find_event(events, kind, k):
+    """The k-th event of a kind (numbers), or None."""
+    matching = [numbers for event_kind, numbers in events if event_kind == kind]
+    return matching[k - 1] if len(matching) >= k else None
+
+
+def value_where(names, rows, key, target, exact):
+    """COLUMN values of the row where `key` reaches `target` (interpolated), or an error message."""
+    index = names.index(key)
+    for i, row in enumerate(rows):
+        if abs(row[index] - target) <= 1e-12 * max(abs(target), 1.0):
+            return row, None
+    if exact:
+        return None, f'no row with {key} = {target!r} exactly'
+    for before, after in zip(rows, rows[1:]):
+        a, b = before[index], after[index]
+        if (a - target) * (b - target) < 0.0:
+            t = (target - a) / (b - a)
+            return [x + t * (y - x) for x, y in zip(before, after)], None
+    return None, f'{key} never reaches {target!r}'
+
+
+def check_path_features(args, names, rows):
+    """Failures of the --expect-row-where, --expect-max/min and --expect-snap-back checks."""
+    failures = []
+    for expectation in args.expect_row_where:
+        where, rest = expectation.split(':', 1)
+        key, target = where.split('=', 1)
+        column, expected = rest.split('=', 1)
+        for name in (key, column):
+            if name not in names:
+                failures.append(f'no column {name} in {names}')
+        if failures:
+            continue
+        row, problem = value_where(names, rows, key, float(target), args.where_exact)
+        if problem:
+            print('FAIL:', problem)
+            failures.append(problem)
+            continue
+        failure = check_value(f'{column} at {key} = {target}', row[names.index(column)], expected)
+        if failure:
+            failures.append(failure)
+    for expectation, is_max in [(e, True) for e in args.expect_max] + [(e, False) for e in args.expect_min]:
+        column, bound = expectation.split('>=' if is_max else '<=')
+        if column not in names:
+            failures.append(f'no column {column} in {names}')
+            continue
+        values = [row[names.index(column)] for row in rows]
+        extreme = max(values) if is_max else min(values)
+        ok = extreme >= float(bound) if is_max else extreme <= float(bound)
+        label = f'{"max" if is_max else "min"} of {column} = {extreme!r}, expected {"≥" if is_max else "≤"} {bound}'
+        print(f'{"ok" if ok else "FAIL"}: {label}')
+        if not ok:
+            failures.append(label)
+    for column in args.expect_snap_back:
+        if column not in names:
+            failures.append(f'no column {column} in {names}')
+            continue
+        c = [row[names.index(column)] for row in rows]
+        lam = [row[names.index('lambda')] for row in rows]
+        turns = [i for i in range(1, len(rows) - 1)
+                 if c[i - 1] < c[i] > c[i + 1] and lam[i - 1] > lam[i] > lam[i + 1]]
+        if turns:
+            i = turns[0]
+            print(f'ok: snap-back in {column}: maximum {c[i]!r} at step {rows[i][0]:g} (lambda {lam[i]!r}), '
+                  f'then {c[i + 1]!r} with lambda falling to {lam[i + 1]!r}')
+        else:
+            failures.append(f'no snap-back in {column}: no local maximum with lambda falling through it')
+    return failures
+
+
+def check_events(args, crit_file):
+    """Failures of the --expect-crit* checks on STEM.crit."""
+    failures = []
+    names, events = read_events(crit_file)
+    print(f'{crit_file}: ' + (', '.join(f'{kind} at lambda {numbers[1]:.6g}' for kind, numbers in events)
+                              or 'no events'))
+    for expectation in args.expect_crit:
+        event, expected = expectation.split('=', 1)
+        kind, k = split_event(event)
+        numbers = find_event(events, kind, k)
+        if numbers is None:
+            failures.append(f'no event {kind}#{k} in {crit_file}')
+            continue
+        failure = check_value(f'lambda of {kind}#{k}', numbers[names.index('lambda')], expected)
+        if failure:
+            failures.append(failure)
+    for expectation in args.expect_crit_column:
+        left, expected = expectation.split('=', 1)
+        event, column = left.rsplit(':', 1)
+        kind, k = split_event(event)
+        numbers = find_event(events, kind, k)
+        if numbers is None or column not in names:
+            failures.append(f'no event {kind}#{k} or no column {column} in {crit_file}')
+            continue
+        failure = check_value(f'{column} at {kind}#{k}', numbers[names.index(column)], expected)
+        if failure:
+            failures.append(failure)
+    for expectation in args.expect_crit_count:
+        kind, count = expectation.split('=')
+        found = sum(1 for event_kind, _ in events if event_kind == kind)
+        print(f'{"ok" if found == int(count) else "FAIL"}: {found} events {kind}, expected {count}')
+        if found != int(count):
+            failures.append(f'{found} events {kind}, expected {count}')
+    for expectation in args.expect_crit_before:
+        first, second = (split_event(x) for x in expectation.split('<'))
+        a, b = find_event(events, *first), find_event(events, *second)
+        if a is None or b is None:
+            failures.append(f'{expectation}: an event is missing')
+            continue
+        step = names.index('step')
+        ok = a[step] < b[step]
+        print(f'{"ok" if ok else "FAIL"}: {first[0]}#{first[1]} at step {a[step]:.4f} (lambda {a[1]:.6g}) '
+              f'{"before" if ok else "not before"} {second[0]}#{second[1]} at step {b[step]:.4f} '
+              f'(lambda {b[1]:.6g})')
+        if not ok:
+            failures.append(f'{expectation}: wrong order')
+    return failures
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--uniarc', required=True)
@@ -65,9 +250,20 @@ def main():
     parser.add_argument('--atol', type=float, default=1e-12)
     parser.add_argument('--expect', action='append', default=[])
     parser.add_argument('--expect-exit', type=int, default=0)
+    parser.add_argument('--expect-row-where', action='append', default=[])
+    parser.add_argument('--where-exact', action='store_true')
+    parser.add_argument('--expect-max', action='append', default=[])
+    parser.add_argument('--expect-min', action='append', default=[])
+    parser.add_argument('--expect-snap-back', action='append', default=[])
+    parser.add_argument('--expect-crit', action='append', default=[])
+    parser.add_argument('--expect-crit-column', action='append', default=[])
+    parser.add_argument('--expect-crit-count', action='append', default=[])
+    parser.add_argument('--expect-crit-before', action='append', default=[])
     args = parser.parse_args()
 
     shutil.rmtree(args.out, ignore_errors=True)
+    # uniarc creates OUTDIR but not its parents (a fresh build tree has no out/ yet)
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     command = [args.uniarc, args.deck, '-o', args.out, '-q']
     for definition in args.define:
         command += ['-D', definition]
@@ -99,6 +295,14 @@ def main():
                   f'(tolerance {tolerance:.1e})')
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
+    if args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back:
+        names, rows = read_table(path_file)
+        if len(rows) < 2:
+            failures.append('path file has fewer than two rows')
+        else:
+            failures += check_path_features(args, names, rows)
+    if args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before:
+        failures += check_events(args, os.path.join(args.out, stem + '.crit'))
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0

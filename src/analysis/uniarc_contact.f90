@@ -1,0 +1,157 @@
+!> Unilateral contact of the structure with foundations and obstacles: gaps, their derivatives, and the
+!> contact rows of the augmented system (docs/theory.md §3).
+!>
+!> Every candidate c has a gap g_c(u) ≥ 0 (positive = open), a reaction r_c ≥ 0 acting on its node along
+!> a_c = ∂g_c/∂u (the direction in which the gap opens), and a flexibility t_c (1/k; 0 = rigid), with
+!> the complementarity conditions of the paper (Eqs. 25, 32):
+!>     w_c = g_c + t_c r_c ≥ 0,   r_c ≥ 0,   w_c r_c = 0.
+!> For a given working set S (the candidates taken in contact) the equations are smooth: the reactions
+!> are unknowns of an augmented system, numbered with their nodes so that it stays banded:
+!>     [ K_T − Σ r_c ∂a_c/∂u   −a_c ] [δu]   [ λR − F + Σ a_c r_c ]
+!>     [ −a_cᵀ                 −t_c ] [δr] = [ g_c + t_c r_c      ]   for c ∈ S (w_c = 0 enforced)
+!>     [ 0                      1   ]        [ −r_c               ]   for c ∉ S (r_c = 0)
+!> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
+module uniarc_contact
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, contact_candidate_t, gap_fixed_direction, gap_circle_inside, &
+                           gap_circle_outside, dofs_per_node
+   use uniarc_dof_map, only: dof_map_t
+   use uniarc_band, only: band_matrix_t, band_add
+   implicit none
+   private
+   public :: candidate_gap, assemble_contact, contact_summary_t, summarize_contact
+
+   !> What the path file reports of the contact state (SPEC.md columns).
+   type :: contact_summary_t
+      integer :: n_contact = 0
+      integer :: regions = 0
+      real(dp) :: s_contact(2) = 0.0_dp
+      real(dp) :: reaction_max = 0.0_dp
+      real(dp) :: reaction_sum = 0.0_dp
+   end type contact_summary_t
+
+contains
+
+   !> Gap g, its gradient a = ∂g/∂u (2) and Hessian h = ∂²g/∂u² (2×2) of a candidate whose node has
+   !> initial position x0 and displacement u (translations).
+   pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: x0(2), u(2)
+      real(dp), intent(out) :: gap, gradient(2), hessian(2, 2)
+      real(dp) :: d(2), distance, n(2), projector(2, 2)
+      hessian = 0.0_dp
+      select case (candidate%gap_kind)
+      case (gap_circle_inside, gap_circle_outside)
+         d = x0 + u - candidate%centre
+         distance = max(norm2(d), tiny(1.0_dp))
+         n = d/distance
+         projector = reshape([1.0_dp - n(1)**2, -n(1)*n(2), -n(1)*n(2), 1.0_dp - n(2)**2], [2, 2])
+         if (candidate%gap_kind == gap_circle_inside) then
+            gap = candidate%radius - distance
+            gradient = -n
+            hessian = -projector/distance
+         else
+            gap = distance - candidate%radius
+            gradient = n
+            hessian = projector/distance
+         end if
+      case default
+         gap = candidate%offset + dot_product(candidate%direction, u)
+         gradient = candidate%direction
+      end select
+   end subroutine candidate_gap
+
+   !> Add the contact rows and columns of the augmented system at nodal displacements u (3, n) and
+   !> reactions r (one per candidate) for the working set `active`; `internal` receives the contact
+   !> part of F_aug so that the residual is λR − F_aug (see the module header for the rows).
+   subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: reactions(:)
+      logical, intent(in) :: active(:)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: internal(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, i, j, row, node, eq(2)
+      do c = 1, size(map%candidate_equation)
+         row = map%candidate_equation(c)
+         if (row == 0) cycle
+         associate (candidate => model%contacts(c))
+            node = candidate%node
+            eq = map%equation(1:2, node)
+            call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
+                               gradient, hessian)
+            do i = 1, 2
+               if (eq(i) == 0) cycle
+               ! Equilibrium rows: −a_c r_c in F_aug; its derivative −r ∂a/∂u in the tangent.
+               internal(eq(i)) = internal(eq(i)) - gradient(i)*reactions(c)
+               call band_add(tangent, eq(i), row, -gradient(i))
+               do j = 1, 2
+                  if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), -reactions(c)*hessian(i, j))
+               end do
+            end do
+            if (active(c)) then
+               internal(row) = -(gap + candidate%flexibility*reactions(c))
+               do i = 1, 2
+                  if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
+               end do
+               call band_add(tangent, row, row, -candidate%flexibility)
+            else
+               internal(row) = reactions(c)
+               call band_add(tangent, row, row, 1.0_dp)
+            end if
+         end associate
+      end do
+   end subroutine assemble_contact
+
+   !> Contact columns of the path file: candidates in contact (r > 0), contiguous regions along each
+   !> group, the ends of the first region (smallest coordinate), largest and total reaction.
+   pure function summarize_contact(model, reactions, active) result(summary)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: reactions(:)
+      logical, intent(in) :: active(:)
+      type(contact_summary_t) :: summary
+      integer :: g, k, c
+      logical :: inside, first_found
+      real(dp) :: region_start, previous_coordinate
+      first_found = .false.
+      if (.not. allocated(model%contact_groups)) return
+      do g = 1, size(model%contact_groups)
+         inside = .false.
+         previous_coordinate = 0.0_dp
+         region_start = 0.0_dp
+         do k = 1, size(model%contact_groups(g)%candidates)
+            c = model%contact_groups(g)%candidates(k)
+            if (active(c) .and. reactions(c) > 0.0_dp) then
+               summary%n_contact = summary%n_contact + 1
+               summary%reaction_max = max(summary%reaction_max, reactions(c))
+               summary%reaction_sum = summary%reaction_sum + reactions(c)
+               if (.not. inside) then
+                  summary%regions = summary%regions + 1
+                  region_start = model%contacts(c)%coordinate
+               end if
+               inside = .true.
+            else if (inside) then
+               call close_region(summary, first_found, region_start, previous_coordinate)
+               inside = .false.
+            end if
+            previous_coordinate = model%contacts(c)%coordinate
+         end do
+         if (inside) call close_region(summary, first_found, region_start, previous_coordinate)
+      end do
+
+   end function summarize_contact
+
+   !> A region [start, finish] becomes the first region if it lies before the one found so far.
+   pure subroutine close_region(summary, first_found, start, finish)
+      type(contact_summary_t), intent(inout) :: summary
+      logical, intent(inout) :: first_found
+      real(dp), intent(in) :: start, finish
+      if (.not. first_found .or. min(start, finish) < minval(summary%s_contact)) then
+         summary%s_contact = [min(start, finish), max(start, finish)]
+         first_found = .true.
+      end if
+   end subroutine close_region
+
+end module uniarc_contact
