@@ -10,7 +10,7 @@ module uniarc_critical_points
    use uniarc_path_following, only: path_point_t
    implicit none
    private
-   public :: critical_event_t, find_critical_events
+   public :: critical_event_t, find_critical_events, find_contact_events
 
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
@@ -53,6 +53,54 @@ contains
          events = [events, event]
       end if
    end subroutine find_critical_events
+
+   !> Contact start (no candidate in contact before, some after) and loss (the reverse) between two
+   !> converged points. Each candidate's gap (free) or reaction (in contact) is extrapolated along the
+   !> path from `before` with its rate: the start is where the first gap closes, the loss where the last
+   !> reaction vanishes; λ there is read on the Hermite interpolant.
+   pure subroutine find_contact_events(before, after, events)
+      type(path_point_t), intent(in) :: before, after
+      type(critical_event_t), allocatable, intent(inout) :: events(:)
+      type(critical_event_t) :: event
+      real(dp) :: h
+      integer :: c
+      logical :: starts, ends
+      if (.not. allocated(before%in_contact) .or. .not. allocated(after%in_contact)) return
+      starts = .not. any(before%in_contact) .and. any(after%in_contact)
+      ends = any(before%in_contact) .and. .not. any(after%in_contact)
+      if (.not. (starts .or. ends)) return
+      h = after%s - before%s
+      if (starts) then
+         event%kind = 'contact_start'
+         event%fraction = 1.0_dp
+         do c = 1, size(after%in_contact)
+            if (.not. after%in_contact(c)) cycle
+            event%fraction = min(event%fraction, crossing(c))
+         end do
+      else
+         event%kind = 'contact_lost'
+         event%fraction = 0.0_dp
+         do c = 1, size(before%in_contact)
+            if (.not. before%in_contact(c)) cycle
+            event%fraction = max(event%fraction, crossing(c))
+         end do
+      end if
+      event%lambda = hermite_lambda(before, after, event%fraction)
+      event%position = before%step + event%fraction
+      events = [events, event]
+
+   contains
+
+      !> Fraction of the interval where candidate c's value, extrapolated from `before`, reaches 0.
+      pure real(dp) function crossing(c)
+         integer, intent(in) :: c
+         crossing = 1.0_dp
+         if (before%contact_rate(c) < 0.0_dp .and. h > 0.0_dp) then
+            crossing = min(1.0_dp, max(0.0_dp, -before%contact_value(c)/(before%contact_rate(c)*h)))
+         end if
+      end function crossing
+
+   end subroutine find_contact_events
 
    !> λ on the cubic Hermite interpolant at fraction t of the interval.
    pure function hermite_lambda(a, b, t) result(lambda)

@@ -41,6 +41,9 @@ module uniarc_path_following
       integer :: lcp_pivots = 0             !< Lemke pivots spent on the step
       real(dp) :: lcp_residual = 0.0_dp     !< complementarity residual at the converged state
       integer :: n_active = 0               !< candidates in the working set
+      logical, allocatable :: in_contact(:)       !< per candidate: in the working set with r > 0
+      real(dp), allocatable :: contact_value(:)   !< per candidate: reaction if in contact, else gap
+      real(dp), allocatable :: contact_rate(:)    !< d(contact_value)/ds in the direction of travel
    end type path_point_t
 
    !> The committed state of the path and what the next step needs.
@@ -316,8 +319,12 @@ contains
             end select
             increment = increment + rhs(:, 1) + dl*rhs(:, 2)
             dlambda = dlambda + dl
+            ! Correction small relative to the increment; a step cut very short meets the round-off of
+            ! the solve first, which is some 1e3 ε of the total displacement: below that is converged.
             small_correction = masked_norm(state%map, rhs(:, 1) + dl*rhs(:, 2)) <= &
-                               options%displacement_tolerance*max(masked_norm(state%map, increment), tiny(1.0_dp))
+                               max(options%displacement_tolerance*masked_norm(state%map, increment), &
+                                   1.0e3_dp*epsilon(1.0_dp)*masked_norm(state%map, state%u + increment), &
+                                   tiny(1.0_dp))
          end do
       end associate
    end subroutine try_step
@@ -400,21 +407,20 @@ contains
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), reaction(:), gap(:)
       logical, intent(in) :: active(:)
-      real(dp) :: r_scale, g_scale, w
+      real(dp) :: r_scale, g_scale, w, r
       integer :: c
       worst = 0.0_dp
       if (size(reaction) == 0) return
-      r_scale = max(maxval(abs(reaction)), tiny(1.0_dp))
+      ! Scales: the largest reaction in contact, at least the load scale (reactions of free candidates
+      ! are round-off of zero and must not set it); the largest displacement.
+      r_scale = max(maxval(abs(reaction), mask=active), state%load_norm, tiny(1.0_dp))
       g_scale = max(maxval(abs(state%map%metric*x)), 1.0e-12_dp*state%length_scale)
       do c = 1, size(reaction)
          if (state%map%candidate_equation(c) == 0 .or. model%contacts(c)%bilateral) cycle
-         w = gap(c) + model%contacts(c)%flexibility*reaction(c)
-         if (active(c)) then
-            worst = max(worst, -reaction(c)/r_scale)
-         else
-            worst = max(worst, -gap(c)/g_scale)
-         end if
-         worst = max(worst, abs(reaction(c)*w)/(r_scale*g_scale), -w/g_scale)
+         r = 0.0_dp
+         if (active(c)) r = reaction(c)
+         w = gap(c) + model%contacts(c)%flexibility*r
+         worst = max(worst, -r/r_scale, -w/g_scale, abs(r*w)/(r_scale*g_scale))
       end do
    end function violation
 
@@ -589,7 +595,8 @@ contains
       type(path_state_t), intent(inout) :: state
       integer, intent(in) :: step, iterations, lcp_pivots
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
-      real(dp) :: norm
+      real(dp) :: norm, g, gradient(2), hessian(2, 2)
+      integer :: m, c, row, node
       state%point%step = step
       state%point%lambda = state%lambda
       state%point%iterations = iterations
@@ -600,11 +607,44 @@ contains
       state%point%dlambda_ds = real(state%direction, dp)/norm
       state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
       state%point%lcp_residual = 0.0_dp
-      if (size(state%map%candidate_equation) > 0) then
+      m = size(state%map%candidate_equation)
+      state%point%in_contact = [(.false., c=1, m)]
+      state%point%contact_value = [(0.0_dp, c=1, m)]
+      state%point%contact_rate = [(0.0_dp, c=1, m)]
+      if (m > 0) then
          call nodal_displacements(model, state, nodal)
          call candidate_state(model, state%map, state%u, nodal, reaction, gap)
          state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active)
+         ! Reaction (in contact) or gap (free) of each candidate and its rate along the path, from the
+         ! tangent: where a contact starts or ends between two steps is found from them.
+         do c = 1, m
+            row = state%map%candidate_equation(c)
+            if (row == 0) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
+                               hessian)
+            state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
+            if (state%point%in_contact(c)) then
+               state%point%contact_value(c) = reaction(c)
+               state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
+            else
+               state%point%contact_value(c) = g
+               state%point%contact_rate(c) = state%direction*along(state%tangent_displacement)/norm
+            end if
+         end do
       end if
+
+   contains
+
+      !> a_cᵀ v at the candidate's node for an augmented vector v.
+      pure real(dp) function along(v)
+         real(dp), intent(in) :: v(:)
+         integer :: i
+         along = 0.0_dp
+         do i = 1, 2
+            if (state%map%equation(i, node) > 0) along = along + gradient(i)*v(state%map%equation(i, node))
+         end do
+      end function along
    end subroutine describe_point
 
    !> Dot product over the displacement unknowns only.

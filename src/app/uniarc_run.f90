@@ -8,7 +8,7 @@ module uniarc_run
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, candidate_reactions
    use uniarc_contact, only: contact_summary_t, summarize_contact
-   use uniarc_critical_points, only: critical_event_t, find_critical_events
+   use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, commit_outputs, tracked_values, format_number
    implicit none
@@ -75,7 +75,7 @@ contains
       real(dp), allocatable :: tracked_before(:), tracked_after(:)
       character(len=:), allocatable :: stop_reason
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
-      integer :: k, n_events, previous_contacts
+      integer :: k, n_events
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
@@ -87,7 +87,6 @@ contains
       call write_path_row(files, model, record)
       call write_shape(files, model, record)
       n_events = 0
-      previous_contacts = record%n_contact
       stop_reason = 'an error'
       done = .false.
       do while (.not. done)
@@ -99,8 +98,7 @@ contains
          call write_path_row(files, model, record)
          tracked_after = tracked_values(model, record%displacement)
          call find_critical_events(previous, state%point, events)
-         call add_contact_events(previous_contacts, record, events)
-         previous_contacts = record%n_contact
+         call find_contact_events(previous, state%point, events)
          do k = 1, size(events)
             ! Tracked values at the event: linear between the steps (the event's λ is on the Hermite
             ! interpolant; the displacements vary slowly there).
@@ -137,25 +135,6 @@ contains
          write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
       end if
    end subroutine run_path
-
-   !> Contact start (no contact → some) and loss (some → none) between two steps, placed at the step
-   !> where they are first seen.
-   pure subroutine add_contact_events(before, record, events)
-      integer, intent(in) :: before
-      type(step_record_t), intent(in) :: record
-      type(critical_event_t), allocatable, intent(inout) :: events(:)
-      type(critical_event_t) :: event
-      if ((before == 0) .eqv. (record%n_contact == 0)) return
-      if (before == 0) then
-         event%kind = 'contact_start'
-      else
-         event%kind = 'contact_lost'
-      end if
-      event%position = real(record%step, dp)
-      event%lambda = record%lambda
-      event%fraction = 1.0_dp
-      events = [events, event]
-   end subroutine add_contact_events
 
    subroutine record_state(model, state, record)
       type(model_t), intent(in) :: model
