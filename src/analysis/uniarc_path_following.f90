@@ -414,7 +414,8 @@ contains
       ! Scales: the largest reaction in contact, at least the load scale (reactions of free candidates
       ! are round-off of zero and must not set it); the largest displacement.
       r_scale = max(maxval(abs(reaction), mask=active), state%load_norm, tiny(1.0_dp))
-      g_scale = max(maxval(abs(state%map%metric*x)), 1.0e-12_dp*state%length_scale)
+      ! (at least 1e-6 of the model size: gaps computed from coordinates carry round-off of ε × size)
+      g_scale = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
       do c = 1, size(reaction)
          if (state%map%candidate_equation(c) == 0 .or. model%contacts(c)%bilateral) cycle
          r = 0.0_dp

@@ -1187,9 +1187,10 @@ contains
       if (stiffness_option > 0) then
          call option_real(source, card, builder, stiffness_option, 'a stiffness', stiffness, error)
          if (allocated(error)) return
-         if (.not. stiffness > 0.0_dp) then
+         ! STIFFNESS=0 is the rigid obstacle, so that a sweep over k (-D k=...) can include it.
+         if (stiffness < 0.0_dp .or. .not. stiffness < huge(1.0_dp)) then
             call raise(source, card%line, card%options(stiffness_option)%value_column, 'expected a ' // &
-                       'positive STIFFNESS (leave it out for a rigid obstacle), found '// &
+                       'STIFFNESS >= 0 (0 or none: a rigid obstacle), found '// &
                        real_to_string(stiffness), error)
             return
          end if
@@ -1273,7 +1274,7 @@ contains
          if (stiffness_option > 0) then
             factor = 1.0_dp
             if (i == 1 .or. i == size(nodes)) factor = end_factor
-            candidates(i)%flexibility = 1.0_dp/(factor*stiffness)
+            if (stiffness > 0.0_dp) candidates(i)%flexibility = 1.0_dp/(factor*stiffness)
          end if
       end do
       s = scale*path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
