@@ -31,8 +31,15 @@ contains
       allocate (events(0))
       unexplained = abs(after%neg_pivots - before%neg_pivots)
       if (before%dlambda_ds*after%dlambda_ds < 0.0_dp) then
-         event%fraction = hermite_stationary_point(before, after)
-         event%lambda = hermite_lambda(before, after, event%fraction)
+         if (contact_changes(before, after)) then
+            ! The load turns where a contact starts or ends (a kink of the path, not a smooth limit):
+            ! the extremum is at the contact event, on the branch that leads to it.
+            event%fraction = first_contact_change(before, after)
+            event%lambda = before%lambda + event%fraction*(after%s - before%s)*before%dlambda_ds
+         else
+            event%fraction = hermite_stationary_point(before, after)
+            event%lambda = hermite_lambda(before, after, event%fraction)
+         end if
          if (before%dlambda_ds > 0.0_dp) then
             event%kind = 'limit_max'
          else
@@ -85,7 +92,9 @@ contains
             event%fraction = max(event%fraction, crossing(c))
          end do
       end if
-      event%lambda = hermite_lambda(before, after, event%fraction)
+      ! The path has a kink where the contact set changes: λ is extrapolated along the tangent at
+      ! `before`, on the smooth branch that leads to the event, not read on a cubic across the kink.
+      event%lambda = before%lambda + event%fraction*h*before%dlambda_ds
       event%position = before%step + event%fraction
       events = [events, event]
 
@@ -101,6 +110,31 @@ contains
       end function crossing
 
    end subroutine find_contact_events
+
+   !> Whether any candidate enters or leaves contact between the two points.
+   pure logical function contact_changes(before, after)
+      type(path_point_t), intent(in) :: before, after
+      contact_changes = .false.
+      if (.not. allocated(before%in_contact) .or. .not. allocated(after%in_contact)) return
+      if (size(before%in_contact) /= size(after%in_contact)) return
+      contact_changes = any(before%in_contact .neqv. after%in_contact)
+   end function contact_changes
+
+   !> Fraction of the interval where the first candidate that changes state reaches zero (its gap or
+   !> reaction extrapolated from `before` with its rate along the path).
+   pure real(dp) function first_contact_change(before, after) result(fraction)
+      type(path_point_t), intent(in) :: before, after
+      real(dp) :: h
+      integer :: c
+      h = after%s - before%s
+      fraction = 1.0_dp
+      do c = 1, size(before%in_contact)
+         if (before%in_contact(c) .eqv. after%in_contact(c)) cycle
+         if (before%contact_rate(c) < 0.0_dp .and. h > 0.0_dp) then
+            fraction = min(fraction, max(0.0_dp, -before%contact_value(c)/(before%contact_rate(c)*h)))
+         end if
+      end do
+   end function first_contact_change
 
    !> λ on the cubic Hermite interpolant at fraction t of the interval.
    pure function hermite_lambda(a, b, t) result(lambda)

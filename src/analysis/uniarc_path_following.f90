@@ -190,7 +190,7 @@ contains
       integer, intent(out) :: iterations, lcp_pivots
       logical, intent(out) :: converged
       character(len=:), allocatable, intent(out) :: reason
-      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :), trial(:), ut(:)
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :), trial(:), ut(:), predictor(:)
       logical, allocatable :: new_active(:)
       real(dp) :: lambda, dl, force_scale, element_scale
       type(error_t), allocatable :: error
@@ -244,6 +244,7 @@ contains
             end if
          end if
          increment = dlambda*ut
+         predictor = increment
          small_correction = .false.
          do while (iterations <= options%max_iterations)
             lambda = state%lambda + dlambda
@@ -260,6 +261,13 @@ contains
                 masked_norm(state%map, rhs(:, 1)) <= options%force_tolerance*force_scale .and. &
                 constraint_residual(state%map, rhs(:, 1)) <= options%displacement_tolerance* &
                 max(maxval(abs(state%map%metric*trial)), 1.0e-12_dp*state%length_scale)) then
+               ! A step must go forward: a correction that lands behind the predictor (possible with
+               ! Chan's constraint-free correction when the contact set changes within the step) would
+               ! make the path turn back on itself. Such an attempt is cut instead.
+               if (masked_dot(state%map, increment, predictor) <= 0.0_dp) then
+                  reason = 'the corrected step turned back'
+                  exit
+               end if
                if (.not. has_contacts) then
                   converged = .true.
                   exit
@@ -330,13 +338,19 @@ contains
    end subroutine try_step
 
    !> Load increment of the predictor along the tangent ut for a step of the given length.
+   !> For arc length the sign follows the direction of travel: positive angle with the last increment
+   !> (the committed `direction` was chosen so for the committed tangent; a predictor tangent computed
+   !> with another contact set may point the other way, so the angle is taken again).
    pure real(dp) function predictor_dlambda(options, state, ut, length) result(dlambda)
       type(analysis_options_t), intent(in) :: options
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: ut(:), length
+      real(dp) :: cosine
       select case (options%control)
       case (control_arclength)
          dlambda = state%direction*length/masked_norm(state%map, ut)
+         cosine = masked_dot(state%map, state%last_increment, ut)
+         if (cosine*dlambda < 0.0_dp) dlambda = -dlambda
       case (control_displacement)
          dlambda = state%direction*length/ut(state%control_equation)
       case default
