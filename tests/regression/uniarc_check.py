@@ -12,12 +12,14 @@ Usage (one CTest per call):
                   [--expect-crit KIND[#k]=EXPECTED]...            # lambda of the k-th event of a kind
                   [--expect-crit-column KIND[#k]:COLUMN=EXPECTED]...
                   [--expect-crit-count KIND=N]... [--expect-crit-before KIND[#k]<KIND[#j]]...
+                  [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
+                  [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
 EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
 
 --expect-row-where interpolates COLUMN linearly at the first place along the path where KEY (a column,
-e.g. lambda) reaches VALUE; with --where-exact a row must have KEY = VALUE (to 1e-12 relative), as in a
+e.g. lambda) reaches VALUE (KEY=VALUE#n: the n-th place, e.g. the same load on the unstable branch); with --where-exact a row must have KEY = VALUE (to 1e-12 relative), as in a
 load-controlled run that is meant to stop exactly at the tabulated loads.
 --expect-max / --expect-min bound the largest / smallest value of a column along the whole path.
 --expect-snap-back COLUMN asks for a snap-back seen in COLUMN: a row where COLUMN has a strict local
@@ -125,20 +127,23 @@ def find_event(events, kind, k):
     return matching[k - 1] if len(matching) >= k else None
 
 
-def value_where(names, rows, key, target, exact):
-    """COLUMN values of the row where `key` reaches `target` (interpolated), or an error message."""
+def value_where(names, rows, key, target, exact, occurrence=1):
+    """Values of the row where `key` reaches `target` the n-th time (interpolated), or an error message."""
     index = names.index(key)
     for i, row in enumerate(rows):
         if abs(row[index] - target) <= 1e-12 * max(abs(target), 1.0):
             return row, None
     if exact:
         return None, f'no row with {key} = {target!r} exactly'
+    found = 0
     for before, after in zip(rows, rows[1:]):
         a, b = before[index], after[index]
         if (a - target) * (b - target) < 0.0:
-            t = (target - a) / (b - a)
-            return [x + t * (y - x) for x, y in zip(before, after)], None
-    return None, f'{key} never reaches {target!r}'
+            found += 1
+            if found == occurrence:
+                t = (target - a) / (b - a)
+                return [x + t * (y - x) for x, y in zip(before, after)], None
+    return None, f'{key} reaches {target!r} only {found} times, not {occurrence}'
 
 
 def check_path_features(args, names, rows):
@@ -147,13 +152,17 @@ def check_path_features(args, names, rows):
     for expectation in args.expect_row_where:
         where, rest = expectation.split(':', 1)
         key, target = where.split('=', 1)
+        occurrence = 1
+        if '#' in target:
+            target, occurrence = target.split('#')
+            occurrence = int(occurrence)
         column, expected = rest.split('=', 1)
         for name in (key, column):
             if name not in names:
                 failures.append(f'no column {name} in {names}')
         if failures:
             continue
-        row, problem = value_where(names, rows, key, float(target), args.where_exact)
+        row, problem = value_where(names, rows, key, float(target), args.where_exact, occurrence)
         if problem:
             print('FAIL:', problem)
             failures.append(problem)
@@ -173,6 +182,16 @@ def check_path_features(args, names, rows):
         print(f'{"ok" if ok else "FAIL"}: {label}')
         if not ok:
             failures.append(label)
+    for expectation in args.expect_all:
+        column, bound = expectation.split('<=')
+        if column not in names:
+            failures.append(f'no column {column} in {names}')
+            continue
+        largest = max(row[names.index(column)] for row in rows)
+        ok = largest <= float(bound)
+        print(f'{"ok" if ok else "FAIL"}: every {column} <= {bound} (largest {largest!r})')
+        if not ok:
+            failures.append(f'{column} reaches {largest!r} > {bound}')
     for column in args.expect_snap_back:
         if column not in names:
             failures.append(f'no column {column} in {names}')
@@ -190,10 +209,30 @@ def check_path_features(args, names, rows):
     return failures
 
 
-def check_events(args, crit_file):
+def check_events(args, crit_file, path_names=None, path_rows=None):
     """Failures of the --expect-crit* checks on STEM.crit."""
     failures = []
     names, events = read_events(crit_file)
+    for expectation in args.expect_crit_path:
+        left, expected = expectation.split('=', 1)
+        event, column = left.rsplit(':', 1)
+        kind, k = split_event(event)
+        numbers = find_event(events, kind, k)
+        if numbers is None or path_names is None or column not in path_names:
+            failures.append(f'no event {kind}#{k} or no path column {column}')
+            continue
+        # the path column between the two steps around the event, at the event's fraction
+        position = numbers[names.index('step')]
+        steps = [row[0] for row in path_rows]
+        after = next((i for i, step in enumerate(steps) if step >= position), len(steps) - 1)
+        before = max(after - 1, 0)
+        span = steps[after] - steps[before]
+        t = (position - steps[before]) / span if span > 0 else 0.0
+        index = path_names.index(column)
+        value = path_rows[before][index] + t * (path_rows[after][index] - path_rows[before][index])
+        failure = check_value(f'{column} of the path at {kind}#{k}', value, expected)
+        if failure:
+            failures.append(failure)
     print(f'{crit_file}: ' + (', '.join(f'{kind} at lambda {numbers[1]:.6g}' for kind, numbers in events)
                               or 'no events'))
     for expectation in args.expect_crit:
@@ -259,6 +298,8 @@ def main():
     parser.add_argument('--expect-crit-column', action='append', default=[])
     parser.add_argument('--expect-crit-count', action='append', default=[])
     parser.add_argument('--expect-crit-before', action='append', default=[])
+    parser.add_argument('--expect-crit-path', action='append', default=[])
+    parser.add_argument('--expect-all', action='append', default=[])
     args = parser.parse_args()
 
     shutil.rmtree(args.out, ignore_errors=True)
@@ -295,14 +336,16 @@ def main():
                   f'(tolerance {tolerance:.1e})')
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
-    if args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back:
+    if args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all:
         names, rows = read_table(path_file)
         if len(rows) < 2:
             failures.append('path file has fewer than two rows')
         else:
             failures += check_path_features(args, names, rows)
-    if args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before:
-        failures += check_events(args, os.path.join(args.out, stem + '.crit'))
+    if (args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before
+            or args.expect_crit_path):
+        path_names, path_rows = read_table(path_file)
+        failures += check_events(args, os.path.join(args.out, stem + '.crit'), path_names, path_rows)
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
