@@ -115,9 +115,10 @@ contains
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
              (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
-            write (error_unit, '(a,i0,a,a,a,i0,a,i0)') 'step ', record%step, '  lambda ', &
+            write (error_unit, '(a,i0,a,a,a,i0,a,i0,a,i0,a,f0.1,a)') 'step ', record%step, '  lambda ', &
                trim(format_number(record%lambda)), '  iterations ', record%iterations, &
-               '  neg_pivots ', record%neg_pivots
+               '  contacts ', record%n_contact, '  neg_pivots ', record%neg_pivots, '  (', &
+               real(record%step, dp)/max(real(clock_now - clock_start, dp)/real(clock_rate, dp), 1.0e-3_dp), ' steps/s)'
             clock_last = clock_now
          end if
       end do
