@@ -38,7 +38,8 @@ program bench_path
       integer :: cuts = 0                 !< step halvings (their iterations are not in `iterations`)
       real(dp) :: seconds = 0.0_dp        !< path_initialize + every path_advance
       real(dp) :: lambda = 0.0_dp         !< at the last step
-      real(dp) :: limit_lambda = 0.0_dp   !< first limit point (Hermite interpolation), 0 if none
+      real(dp) :: limit_lambda = 0.0_dp   !< first limit point (Hermite interpolation)
+      logical :: has_limit = .false.
       character(len=:), allocatable :: stop_reason
    end type path_run_t
 
@@ -335,7 +336,9 @@ contains
          run%lambda = state%lambda
          call find_critical_events(previous, state%point, events)
          do k = 1, size(events)
-            if (run%limit_lambda == 0.0_dp .and. events(k)%kind(1:5) == 'limit') run%limit_lambda = events(k)%lambda
+            if (run%has_limit .or. events(k)%kind(1:5) /= 'limit') cycle
+            run%limit_lambda = events(k)%lambda
+            run%has_limit = .true.
          end do
          if (abs(state%lambda) >= model%analysis%lambda_max) then
             run%stop_reason = 'lambda_max'
