@@ -138,7 +138,7 @@ contains
          write (text, '(i0)') sizes(k)
          call load_model(deck, [override('n', trim(text))], model, read_seconds)
          read_times(k) = read_seconds
-         call trace_fastest(model, max(1, min(20, 20000/sizes(k))), run, state)
+         call trace_fastest(model, max(3, min(20, 20000/sizes(k))), run, state)
          bandwidths(k) = state%map%half_bandwidth
          per_iteration = run%seconds/max(run%iterations, 1)
          write (output_unit, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,es9.2,a,es9.2,a,es9.2,a)') &
@@ -146,7 +146,7 @@ contains
             ' | ', run%iterations, ' | ', run%cuts, ' | ', run%seconds, ' | ', per_iteration, ' | ', &
             per_iteration/sizes(k), ' |'
          flush (output_unit)
-         call time_iteration_parts(model, state, max(3, 200000/sizes(k)), parts)
+         call time_iteration_parts(model, state, max(5, 200000/sizes(k)), parts)
          part_rows(:, k) = [parts%assembly, parts%factorization, parts%solve, parts%inertia, parts%eigenvalue]
       end do
       write (output_unit, '(a)') ''
