@@ -180,6 +180,7 @@ contains
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :), vector(:, :)
       type(error_t), allocatable :: error
       integer(int64) :: start
+      real(dp) :: element_scale
       integer :: r, n, k, negative
       logical :: singular
       n = state%map%n_equations
@@ -194,7 +195,7 @@ contains
       do r = 1, repeats
          start = clock()
          call assemble_equilibrium(model, state%map, nodal, state%lambda, state%fixed_load, assembled, &
-                                   internal, reference)
+                                   internal, reference, element_scale)
          parts%assembly = min(parts%assembly, seconds_since(start))
       end do
       do r = 1, repeats
@@ -251,7 +252,7 @@ contains
       type(path_state_t) :: state
       type(error_t), allocatable :: error
       real(dp), allocatable :: u(:), nodal(:, :), internal(:), reference(:), rhs(:, :)
-      real(dp) :: read_seconds, ratios(0:iterations), plateau(iterations - 10), floor, slenderness
+      real(dp) :: read_seconds, ratios(0:iterations), plateau(iterations - 10), floor, slenderness, element_scale
       integer :: n, k
       character(len=16) :: text
       write (output_unit, '(a)') '## Round-off floor: bench/bench_pinched_ring.inp, ring of fixed R, load factor 0.3'
@@ -269,7 +270,7 @@ contains
          do k = 0, iterations
             call gather_nodal(state%map, u, nodal)
             call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%tangent, &
-                                      internal, reference)
+                                      internal, reference, element_scale)
             rhs(:, 1) = lambda*reference - internal
             ratios(k) = norm2(rhs(:, 1))/norm2(lambda*reference)
             call band_factorize(state%tangent, error)
