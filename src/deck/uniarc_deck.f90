@@ -62,6 +62,7 @@ module uniarc_deck
       logical, allocatable :: fixed(:, :)
       real(dp), allocatable :: nodal_load(:, :)
       integer :: largest_node_label = 0
+      integer, allocatable :: node_of_label(:)        !< label → index (0: none), for labels up to its size
 
       integer :: n_elements = 0
       integer, allocatable :: connectivity(:, :)
@@ -69,6 +70,7 @@ module uniarc_deck
       integer, allocatable :: element_section(:)
       integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
       integer :: largest_element_label = 0
+      integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
 
       integer :: n_sections = 0
       type(section_t), allocatable :: sections(:)
@@ -1968,6 +1970,7 @@ contains
       builder%fixed(:, builder%n_nodes) = .false.
       builder%nodal_load(:, builder%n_nodes) = 0.0_dp
       builder%largest_node_label = max(builder%largest_node_label, label)
+      call record_label(builder%node_of_label, label, builder%n_nodes)
    end subroutine add_node
 
    subroutine add_element(builder, label, ends, section)
@@ -1987,6 +1990,7 @@ contains
       builder%element_section(builder%n_elements) = section
       builder%load_index(:, builder%n_elements) = 0
       builder%largest_element_label = max(builder%largest_element_label, label)
+      call record_label(builder%element_of_label, label, builder%n_elements)
    end subroutine add_element
 
    subroutine add_load(builder, element, kind, follower)
@@ -2116,6 +2120,12 @@ contains
       integer, intent(in) :: label
       integer :: i
       index = 0
+      if (allocated(builder%node_of_label)) then
+         if (label >= 1 .and. label <= size(builder%node_of_label)) then
+            index = builder%node_of_label(label)
+            return
+         end if
+      end if
       do i = 1, builder%n_nodes
          if (builder%node_label(i) == label) then
             index = i
@@ -2129,6 +2139,12 @@ contains
       integer, intent(in) :: label
       integer :: i
       index = 0
+      if (allocated(builder%element_of_label)) then
+         if (label >= 1 .and. label <= size(builder%element_of_label)) then
+            index = builder%element_of_label(label)
+            return
+         end if
+      end if
       do i = 1, builder%n_elements
          if (builder%element_label(i) == label) then
             index = i
@@ -2245,6 +2261,31 @@ contains
       grown(:, 1:size(array, 2)) = array
       call move_alloc(grown, array)
    end subroutine grow_integers_2
+
+   !> Remember that `label` is entry `index`, so that label look-ups are O(1) instead of a scan.
+   !> Labels are kept in a direct table while they stay below 4 × (entries) + 1000; a table that would
+   !> grow larger than that (very sparse labels) is dropped and look-ups fall back to the scan.
+   pure subroutine record_label(table, label, index)
+      integer, allocatable, intent(inout) :: table(:)
+      integer, intent(in) :: label, index
+      integer, allocatable :: grown(:)
+      integer :: capacity
+      if (.not. allocated(table)) then
+         if (index > 1) return                   ! the table was dropped: stay with the scan
+         allocate (table(1024), source=0)
+      end if
+      if (label > size(table)) then
+         capacity = max(2*size(table), label)
+         if (capacity > 4*index + 1000) then
+            deallocate (table)
+            return
+         end if
+         allocate (grown(capacity), source=0)
+         grown(1:size(table)) = table
+         call move_alloc(grown, table)
+      end if
+      if (label >= 1) table(label) = index
+   end subroutine record_label
 
    pure subroutine grow_real_2(array, columns)
       real(dp), allocatable, intent(inout) :: array(:, :)
