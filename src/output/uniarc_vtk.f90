@@ -1,12 +1,16 @@
-!> ParaView output of `*OUTPUT, VTK`: one legacy VTK file per snapshot, `STEM_NNNN.vtk`, and the
-!> collection `STEM.pvd` that lists them with their time values.
+!> ParaView output of `*OUTPUT, VTK`: each snapshot as a legacy VTK file `STEM_NNNN.vtk` and as the
+!> same grid in VTK's XML format, `STEM_NNNN.vtu`, and the collection `STEM.pvd` that lists the
+!> `.vtu` files with their time values. Both are needed: ParaView's pvd reader (vtkXMLCollectionReader)
+!> builds its readers from the XML extensions only (vtu, vtp, vti, ...), so a pvd cannot list legacy
+!> files, while the legacy files are what most other tools read.
 !>
-!> A snapshot is an UNSTRUCTURED_GRID of VTK_LINE cells (one per element) on the deformed geometry
+!> A snapshot is an unstructured grid of VTK_LINE cells (one per element) on the deformed geometry
 !> x0 + u, with z = 0. Point data: `displacement` (u_x, u_y, 0), `rotation` θ_z, `contact_reaction`
 !> (the sum of the reactions of the node's contact candidates) and `node_label`; cell data:
 !> `axial_force` N (tension positive), `bending_moment_start`, `bending_moment_end` and their mean
-!> `bending_moment`, and `element_label`. Field data: `lambda` and `step`. The format is the "simple
-!> legacy format" of "VTK File Formats" (Kitware, The VTK User's Guide, 11th ed., 2010).
+!> `bending_moment`, and `element_label`. Field data: `lambda` and `step`. The formats are the
+!> "simple legacy" and the "XML" formats of "VTK File Formats" (Kitware, The VTK User's Guide, 11th ed.,
+!> 2010), the XML one with ASCII data arrays.
 !>
 !> Bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2: positive when
 !> the element bends towards its left normal. With the corotational end moments (M1, M2) acting on the
@@ -37,6 +41,9 @@ module uniarc_vtk
    private
    public :: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, finish_vtk_series
    public :: vtk_file_name, nodal_reactions, element_moments
+
+   !> The two files of a snapshot.
+   integer, parameter :: legacy_format = 1, xml_format = 2
 
    !> The snapshots of one run: where they go and what has been written.
    type :: vtk_series_t
@@ -72,34 +79,23 @@ contains
       vtk_snapshot_due = series%active .and. mod(step, series%every) == 0
    end function vtk_snapshot_due
 
-   !> Write the snapshot of `record` as `STEM_NNNN.vtk` (NNNN the step). Does nothing when the series
-   !> is inactive or the step is already its last snapshot.
+   !> Write the snapshot of `record` as `STEM_NNNN.vtk` and `STEM_NNNN.vtu` (NNNN the step). Does
+   !> nothing when the series is inactive or the step is already its last snapshot.
    subroutine write_vtk_snapshot(series, model, record, error)
       type(vtk_series_t), intent(inout) :: series
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: final_path, part_path
-      integer :: unit, status
-      character(len=256) :: message
+      character(len=:), allocatable :: name
       if (.not. series%active) return
       if (series%count > 0) then
          if (series%steps(series%count) == record%step) return
       end if
-      final_path = series%directory//'/'//vtk_file_name(series%stem, record%step)
-      part_path = final_path//'.part'
-      open (newunit=unit, file=part_path, status='replace', action='write', iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot write '//part_path//': '//trim(message), error_analysis)
-         return
-      end if
-      call write_legacy_vtk(unit, model, record, series%stem)
-      close (unit, iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot close '//part_path//': '//trim(message), error_analysis)
-         return
-      end if
-      call rename_file(part_path, final_path, error)
+      name = vtk_file_name(series%stem, record%step)
+      call write_snapshot_file(series%directory//'/'//name, legacy_format, model, record, series%stem, error)
+      if (allocated(error)) return
+      call write_snapshot_file(series%directory//'/'//xml_twin(name), xml_format, model, record, &
+                               series%stem, error)
       if (allocated(error)) return
       series%count = series%count + 1
       series%steps = [series%steps, record%step]
@@ -118,6 +114,42 @@ contains
       if (allocated(error)) return
       call write_collection(series, error)
    end subroutine finish_vtk_series
+
+   !> One file of a snapshot, written under `path.part` and renamed to `path` once closed.
+   subroutine write_snapshot_file(path, file_format, model, record, stem, error)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: file_format
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      character(len=*), intent(in) :: stem
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, status
+      character(len=256) :: message
+      open (newunit=unit, file=path//'.part', status='replace', action='write', iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot write '//path//'.part: '//trim(message), error_analysis)
+         return
+      end if
+      select case (file_format)
+      case (legacy_format)
+         call write_legacy_vtk(unit, model, record, stem)
+      case default
+         call write_xml_vtu(unit, model, record)
+      end select
+      close (unit, iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot close '//path//'.part: '//trim(message), error_analysis)
+         return
+      end if
+      call rename_file(path//'.part', path, error)
+   end subroutine write_snapshot_file
+
+   !> The `.vtu` name of a `.vtk` snapshot.
+   pure function xml_twin(name) result(twin)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: twin
+      twin = name(1:len(name) - 1)//'u'
+   end function xml_twin
 
    !> Name of the snapshot of step `step`: `STEM_NNNN.vtk`, at least four digits.
    pure function vtk_file_name(stem, step) result(name)
@@ -242,6 +274,89 @@ contains
       end do
    end subroutine write_legacy_vtk
 
+   !> The XML file of one snapshot (VTKFile type UnstructuredGrid, ASCII data arrays): the same
+   !> grid and arrays as the legacy file, in VTK's order Piece → PointData, CellData, Points, Cells.
+   subroutine write_xml_vtu(unit, model, record)
+      integer, intent(in) :: unit
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      real(dp), allocatable :: forces(:, :), deformed(:, :), vectors(:, :)
+      integer :: e
+
+      write (unit, '(a)') '<?xml version="1.0"?>'
+      write (unit, '(a)') '<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">'
+      write (unit, '(a)') '<UnstructuredGrid>'
+      write (unit, '(a)') '<FieldData>'
+      call write_xml_reals(unit, 'lambda', 1, [record%lambda])
+      call write_xml_integers(unit, 'step', 'Int32', [record%step])
+      write (unit, '(a)') '</FieldData>'
+      write (unit, '(a)') '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfCells="'// &
+         integer_text(model%n_elements)//'">'
+
+      write (unit, '(a)') '<PointData Vectors="displacement" Scalars="contact_reaction">'
+      allocate (vectors(3, model%n_nodes), source=0.0_dp)
+      vectors(1:2, :) = record%displacement(1:2, :)
+      call write_xml_reals(unit, 'displacement', 3, reshape(vectors, [3*model%n_nodes]))
+      call write_xml_reals(unit, 'rotation', 1, record%displacement(3, :))
+      call write_xml_reals(unit, 'contact_reaction', 1, nodal_reactions(model, record%reactions))
+      call write_xml_integers(unit, 'node_label', 'Int32', model%node_label)
+      write (unit, '(a)') '</PointData>'
+
+      forces = element_moments(model, record%displacement)
+      write (unit, '(a)') '<CellData Scalars="bending_moment">'
+      call write_xml_reals(unit, 'axial_force', 1, forces(1, :))
+      call write_xml_reals(unit, 'bending_moment', 1, 0.5_dp*(forces(2, :) + forces(3, :)))
+      call write_xml_reals(unit, 'bending_moment_start', 1, forces(2, :))
+      call write_xml_reals(unit, 'bending_moment_end', 1, forces(3, :))
+      call write_xml_integers(unit, 'element_label', 'Int32', model%element_label)
+      write (unit, '(a)') '</CellData>'
+
+      write (unit, '(a)') '<Points>'
+      allocate (deformed(3, model%n_nodes), source=0.0_dp)
+      deformed(1:2, :) = model%coordinates + record%displacement(1:2, :)
+      call write_xml_reals(unit, 'points', 3, reshape(deformed, [3*model%n_nodes]))
+      write (unit, '(a)') '</Points>'
+
+      ! Cells as VTK stores them: the point indices (from 0) of all cells one after the other, the
+      ! offset just past each cell's last index, and the cell types (3, VTK_LINE).
+      write (unit, '(a)') '<Cells>'
+      call write_xml_integers(unit, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
+      call write_xml_integers(unit, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      call write_xml_integers(unit, 'types', 'UInt8', [(3, e=1, model%n_elements)])
+      write (unit, '(a)') '</Cells>'
+      write (unit, '(a)') '</Piece>'
+      write (unit, '(a)') '</UnstructuredGrid>'
+      write (unit, '(a)') '</VTKFile>'
+   end subroutine write_xml_vtu
+
+   !> An XML DataArray of doubles, `components` to a tuple, one tuple a line.
+   subroutine write_xml_reals(unit, name, components, values)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: components
+      real(dp), intent(in) :: values(:)
+      integer :: i, k
+      write (unit, '(a)') '<DataArray type="Float64" Name="'//name//'" NumberOfComponents="'// &
+         integer_text(components)//'" format="ascii">'
+      do i = 1, size(values), components
+         write (unit, '(*(a,:,1x))') (trim(format_number(values(k))), k=i, min(i + components - 1, size(values)))
+      end do
+      write (unit, '(a)') '</DataArray>'
+   end subroutine write_xml_reals
+
+   !> An XML DataArray of integers of VTK type `type_name`, one value a line.
+   subroutine write_xml_integers(unit, name, type_name, values)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name, type_name
+      integer, intent(in) :: values(:)
+      integer :: i
+      write (unit, '(a)') '<DataArray type="'//type_name//'" Name="'//name//'" format="ascii">'
+      do i = 1, size(values)
+         write (unit, '(a)') integer_text(values(i))
+      end do
+      write (unit, '(a)') '</DataArray>'
+   end subroutine write_xml_integers
+
    !> One SCALARS array of doubles.
    subroutine write_scalars(unit, name, values)
       integer, intent(in) :: unit
@@ -288,7 +403,7 @@ contains
             time = real(series%steps(k), dp)
          end if
          write (unit, '(a)') '    <DataSet timestep="'//trim(format_number(time))//'" group="" part="0" file="'// &
-            xml_escaped(vtk_file_name(series%stem, series%steps(k)))//'"/>'
+            xml_escaped(xml_twin(vtk_file_name(series%stem, series%steps(k))))//'"/>'
       end do
       write (unit, '(a)') '  </Collection>'
       write (unit, '(a)') '</VTKFile>'

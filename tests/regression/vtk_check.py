@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Run uniarc on a deck with `*OUTPUT, VTK` and check the ParaView files it writes.
 
+A snapshot is written twice, as legacy `STEM_NNNN.vtk` and as XML `STEM_NNNN.vtu`; `STEM.pvd` lists
+the `.vtu` files (ParaView's pvd reader reads XML files only).
+
 Usage (one CTest per call):
   vtk_check.py --uniarc BIN --deck DECK --out DIR [--define NAME=VALUE]...
                --every N                         # the snapshot interval the deck asks for
@@ -13,13 +16,16 @@ What is checked, from the files alone:
 - the snapshots are those of the shape file's rule with EVERY: the first step, every N-th step, the
   last step of the path file, no more and no fewer, and no `.part` file is left;
 - STEM.pvd is well-formed XML (xml.etree): a VTKFile of type Collection whose DataSets reference
-  existing files, with strictly increasing timesteps that are lambda when lambda increases strictly
+  the existing .vtu files, with strictly increasing timesteps that are lambda when lambda increases strictly
   over the snapshots and the step numbers otherwise (and --timestep says which this deck must give);
 - every STEM_NNNN.vtk is a legacy ASCII UNSTRUCTURED_GRID: header, POINTS n with 3n finite numbers,
   CELLS m 3m of two-point lines with valid point indices, CELL_TYPES m all 3 (VTK_LINE), POINT_DATA n
   with displacement (3-vector), rotation, contact_reaction, node_label, CELL_DATA m with axial_force,
   bending_moment, bending_moment_start, bending_moment_end, element_label, all finite; its field data
   lambda and step match the path file;
+- every STEM_NNNN.vtu is well-formed XML (xml.etree), a VTKFile of type UnstructuredGrid with one
+  Piece of the same numbers of points and cells, whose Points, Cells (connectivity, offsets, types),
+  FieldData, PointData and CellData arrays hold the same numbers as the legacy file;
 - the points are the deformed geometry x0 + u of the shape file's snapshot of the same step (for
   the steps the shape file has: always the first and the last), and the point arrays are the shape file's u_x, u_y, rz and reaction; the sum of contact_reaction is the path
   file's reaction_sum; bending_moment is the mean of the two end moments.
@@ -209,6 +215,55 @@ def check_snapshot(path, data, n, shape_rows, path_row, path_names, problems):
                    f'{where}: sum of contact_reaction {sum(reactions)!r}, path reaction_sum {reaction_sum!r}')
 
 
+def check_xml_twin(path, data, problems):
+    """The .vtu of a snapshot holds the grid and arrays of its legacy file (`data`)."""
+    where = os.path.basename(path)
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (OSError, ElementTree.ParseError) as failure:
+        problems.append(f'{where}: {failure}')
+        return
+    if not problems.check(root.tag == 'VTKFile' and root.get('type') == 'UnstructuredGrid',
+                          f'{where}: root is not an UnstructuredGrid VTKFile'):
+        return
+    pieces = root.findall('./UnstructuredGrid/Piece')
+    if not problems.check(len(pieces) == 1, f'{where}: {len(pieces)} Pieces, expected 1'):
+        return
+    piece = pieces[0]
+    n = len(data['points']) // 3
+    m = len(data['cell_types'])
+    problems.check(piece.get('NumberOfPoints') == str(n) and piece.get('NumberOfCells') == str(m),
+                   f'{where}: Piece of {piece.get("NumberOfPoints")} points and {piece.get("NumberOfCells")} cells, '
+                   f'the legacy file has {n} and {m}')
+
+    def array(parent, name, components=1):
+        found = [a for a in root.findall(f'./UnstructuredGrid/{parent}/DataArray') if a.get('Name') == name]
+        if not problems.check(len(found) == 1, f'{where}: {parent} has {len(found)} arrays {name}'):
+            return None
+        element = found[0]
+        problems.check(element.get('format') == 'ascii', f'{where}: {name} is not ascii')
+        problems.check(int(element.get('NumberOfComponents', '1')) == components,
+                       f'{where}: {name} has {element.get("NumberOfComponents")} components, expected {components}')
+        kind = int if element.get('type', '').startswith(('Int', 'UInt')) else float
+        return [kind(x) for x in (element.text or '').split()]
+
+    expected = {('Piece/Points', 'points', 3): data['points'],
+                ('FieldData', 'lambda', 1): data['field'].get('lambda'),
+                ('FieldData', 'step', 1): data['field'].get('step')}
+    for name, components in POINT_ARRAYS.items():
+        expected[('Piece/PointData', name, components)] = data['point_data'][name]
+    for name, components in CELL_ARRAYS.items():
+        expected[('Piece/CellData', name, components)] = data['cell_data'][name]
+    legacy_cells = data['cells']
+    expected[('Piece/Cells', 'connectivity', 1)] = [x for c in range(m) for x in legacy_cells[3 * c + 1:3 * c + 3]]
+    expected[('Piece/Cells', 'offsets', 1)] = [2 * (c + 1) for c in range(m)]
+    expected[('Piece/Cells', 'types', 1)] = data['cell_types']
+    for (parent, name, components), values in expected.items():
+        got = array(parent, name, components)
+        if got is not None:
+            problems.check(got == values, f'{where}: {parent} {name} differs from the legacy file')
+
+
 def read_with_vtk(vtk_module, path, data, problems):
     """Read one file with VTK's own legacy reader and compare counts and arrays."""
     reader = vtk_module.vtkUnstructuredGridReader()
@@ -250,11 +305,13 @@ def main():
         return 1
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     vtk_files = sorted(glob.glob(os.path.join(args.out, '*.vtk')))
+    vtu_files = sorted(glob.glob(os.path.join(args.out, '*.vtu')))
     pvd_file = os.path.join(args.out, stem + '.pvd')
     problems = Problems()
     problems.check(not glob.glob(os.path.join(args.out, '*.part')), 'a .part file is left in the output directory')
     if args.no_vtk:
-        problems.check(not vtk_files and not os.path.exists(pvd_file), 'VTK files written without *OUTPUT, VTK')
+        problems.check(not vtk_files and not vtu_files and not os.path.exists(pvd_file),
+                       'VTK files written without *OUTPUT, VTK')
         return report(problems)
 
     path_names, path_rows = read_table(os.path.join(args.out, stem + '.path'))
@@ -279,9 +336,11 @@ def main():
     problems.check(all(b > a for a, b in zip(times, times[1:])), f'{stem}.pvd: timesteps not strictly increasing: {times}')
     referenced = [os.path.join(args.out, f) for f in files]
     problems.check(all(os.path.isfile(f) for f in referenced), f'{stem}.pvd: references missing files')
-    problems.check(sorted(referenced) == vtk_files, f'{stem}.pvd lists {files}, the directory has {vtk_files}')
-    expected_files = [f'{stem}_{s:04d}.vtk' for s in wanted]
+    problems.check(sorted(referenced) == vtu_files, f'{stem}.pvd lists {files}, the directory has {vtu_files}')
+    expected_files = [f'{stem}_{s:04d}.vtu' for s in wanted]
     problems.check(files == expected_files, f'snapshots {files}, expected {expected_files} (every {args.every})')
+    legacy = [os.path.join(args.out, f'{stem}_{s:04d}.vtk') for s in wanted]
+    problems.check(legacy == vtk_files, f'legacy snapshots {vtk_files}, expected {legacy}')
     if problems:
         return report(problems)
     lambdas = [path_by_step[s][1] for s in wanted]
@@ -305,12 +364,14 @@ def main():
     n_nodes = len(shape_by_step[steps[0]])
     any_contact = False
     compared = 0
-    for step, name in zip(wanted, referenced):
+    for step, name, twin in zip(wanted, legacy, referenced):
         data = read_legacy_vtk(name, problems)
         if data is None:
             continue
         check_snapshot(name, data, n_nodes, shape_by_step.get(step), path_by_step[step], path_names, problems)
         compared += step in shape_by_step
+        if not problems:
+            check_xml_twin(twin, data, problems)
         if problems:
             continue
         any_contact = any_contact or max(data['point_data']['contact_reaction']) > 0.0
