@@ -73,6 +73,28 @@ contains
       dlambda = bordered_dlambda(constraint, du_residual, du_tangent, constraint%target)
       particular = du_residual + dlambda*du_tangent
 
+      ! q first: when the working set is already right (q >= 0, the usual case along a path) the LCP's
+      ! answer is r' = 0 and the matrix is never needed, so a step costs O(N) as without contact. This
+      ! is the warm start that the paper's form cannot have.
+      allocate (matrix(m, m), q(m), r_in(m), w_out(m))
+      do j = 1, m
+         c = unilateral(j)
+         row = map%candidate_equation(c)
+         node = model%contacts(c)%node
+         if (active(c)) then
+            q(j) = x(row) + particular(row)
+         else
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, &
+                               gradient, hessian)
+            q(j) = g + displacement_along(particular) + model%contacts(c)%flexibility*(x(row) + particular(row))
+         end if
+      end do
+      if (all(q >= 0.0_dp)) then
+         report%status = lemke_solved
+         report%pivots = 0
+         return
+      end if
+
       ! One response per LCP input: a unit reaction (c ∉ S) or a unit gap opening (c ∈ S).
       allocate (responses(size(x), m), source=0.0_dp)
       do k = 1, m
@@ -94,18 +116,15 @@ contains
       end do
 
       ! Outputs: the gap w_c (c ∉ S) or the reaction r_c (c ∈ S), affine in the inputs.
-      allocate (matrix(m, m), q(m), r_in(m), w_out(m))
       do j = 1, m
          c = unilateral(j)
          row = map%candidate_equation(c)
          node = model%contacts(c)%node
          if (active(c)) then
-            q(j) = x(row) + particular(row)
             matrix(j, :) = responses(row, :)
          else
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, &
                                gradient, hessian)
-            q(j) = g + displacement_along(particular) + model%contacts(c)%flexibility*(x(row) + particular(row))
             do k = 1, m
                matrix(j, k) = displacement_along(responses(:, k)) + model%contacts(c)%flexibility*responses(row, k)
             end do

@@ -19,8 +19,12 @@ contains
    !> and load factor λ (λ enters K_T only through the load stiffness of follower pressure).
    !> `force_scale` = sqrt(Σ_e ‖f_e‖²), the size of the element forces that cancel in F: round-off in
    !> the residual is proportional to it, so convergence tests measure the residual against it too.
+   !> `roundoff` (optional) = 100 ε sqrt(Σ_e ((EA/L0 + 12 EI/L0³) |x_e|)²): the residual that round-off
+   !> of the node positions alone leaves (a chord computed from coordinates of size |x| carries ε|x|,
+   !> times the largest axial or bending stiffness of the element); no iteration can go below it, so it
+   !> is a floor of the convergence test (it matters for rings of many short elements far from the origin).
    subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
-                                   force_scale)
+                                   force_scale, roundoff)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -30,12 +34,15 @@ contains
       real(dp), intent(out) :: internal(:)
       real(dp), intent(out) :: reference(:)
       real(dp), intent(out) :: force_scale
+      real(dp), intent(out), optional :: roundoff
+      real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node), length
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), basic_force(3)
       integer :: e, i
       call band_zero(tangent)
       internal = 0.0_dp
       reference = fixed_load
       force_scale = 0.0_dp
+      position_noise = 0.0_dp
       do e = 1, model%n_elements
          associate (section => model%sections(model%element_section(e)))
             call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
@@ -44,8 +51,16 @@ contains
          call band_add_element(tangent, element_equations(model, map, e), k)
          call scatter_add(element_equations(model, map, e), f, internal)
          force_scale = force_scale + dot_product(f, f)
+         x = element_coordinates(model, e)
+         u = element_displacements(model, e, displacement)
+         length = norm2(x(:, 2) - x(:, 1))
+         associate (section => model%sections(model%element_section(e)))
+            position_noise = position_noise + ((section%ea/length + 12.0_dp*section%ei/length**3) &
+                                               *max(maxval(abs(x(:, 1) + u(1:2))), maxval(abs(x(:, 2) + u(4:5)))))**2
+         end associate
       end do
       force_scale = sqrt(force_scale)
+      if (present(roundoff)) roundoff = 100.0_dp*epsilon(1.0_dp)*sqrt(position_noise)
       if (.not. allocated(model%distributed_loads)) return
       do i = 1, size(model%distributed_loads)
          associate (dload => model%distributed_loads(i))

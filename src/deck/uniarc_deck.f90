@@ -958,9 +958,10 @@ contains
       if (allocated(error)) return
       call option_real(source, card, builder, modulus_option, 'a modulus', modulus, error)
       if (allocated(error)) return
-      if (.not. modulus > 0.0_dp) then
+      ! MODULUS = 0 is no foundation (a group without candidates), so that a sweep over k can start at 0.
+      if (modulus < 0.0_dp .or. .not. modulus < huge(1.0_dp)) then
          call raise(source, card%line, card%options(modulus_option)%value_column, &
-                    'expected a positive MODULUS, found '//real_to_string(modulus), error)
+                    'expected a MODULUS >= 0 (0: no foundation), found '//real_to_string(modulus), error)
          return
       end if
       call contact_scale(source, card, builder, scale, error)
@@ -1035,10 +1036,12 @@ contains
          candidates(i)%gap_kind = gap_fixed_direction
          candidates(i)%direction = normals(:, i)
          candidates(i)%offset = 0.0_dp
-         candidates(i)%flexibility = 1.0_dp/(modulus*lengths(i))
+         if (modulus > 0.0_dp) candidates(i)%flexibility = 1.0_dp/(modulus*lengths(i))
          candidates(i)%bilateral = option_index(card, 'BILATERAL') > 0
          candidates(i)%coordinate = s(i)
       end do
+      if (.not. modulus > 0.0_dp) deallocate (candidates)
+      if (.not. allocated(candidates)) allocate (candidates(0))
       call add_contact_group(builder, name, candidates)
    end subroutine read_foundation
 
