@@ -11,6 +11,8 @@ module uniarc_run
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, commit_outputs, tracked_values, format_number
+   use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
+                         finish_vtk_series
    implicit none
    private
    public :: run_options_t, run_model
@@ -45,6 +47,7 @@ contains
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
+      type(vtk_series_t) :: vtk
       type(step_record_t) :: record
       type(error_t), allocatable :: commit_error
       call solve_linear_static(model, record%displacement, record%neg_pivots, error)
@@ -54,10 +57,12 @@ contains
       record%iterations = 1
       call open_outputs(model, options%output_directory, options%stem, files, error)
       if (allocated(error)) return
+      call open_vtk_series(model, options%output_directory, options%stem, vtk)
       call write_path_row(files, model, record)
       call write_shape(files, model, record)
+      call finish_vtk_series(vtk, model, record, error)
       call commit_outputs(files, commit_error)
-      if (allocated(commit_error)) call move_alloc(commit_error, error)
+      if (allocated(commit_error) .and. .not. allocated(error)) call move_alloc(commit_error, error)
       if (.not. options%quiet) call print_tracks(model, record)
    end subroutine run_linear
 
@@ -67,6 +72,7 @@ contains
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
+      type(vtk_series_t) :: vtk
       type(path_state_t) :: state
       type(path_point_t) :: previous
       type(step_record_t) :: record
@@ -83,12 +89,14 @@ contains
       if (allocated(error)) return
       call open_outputs(model, options%output_directory, options%stem, files, error)
       if (allocated(error)) return
+      call open_vtk_series(model, options%output_directory, options%stem, vtk)
       call record_state(model, state, record)
       call write_path_row(files, model, record)
       call write_shape(files, model, record)
       n_events = 0
       stop_reason = 'an error'
-      done = .false.
+      call write_vtk_snapshot(vtk, model, record, error)
+      done = allocated(error)
       do while (.not. done)
          previous = state%point
          tracked_before = tracked_values(model, record%displacement)
@@ -111,6 +119,10 @@ contains
          end do
          if (mod(record%step, model%analysis%shape_every) == 0) &
             call write_shape(files, model, record)
+         if (vtk_snapshot_due(vtk, record%step)) then
+            call write_vtk_snapshot(vtk, model, record, error)
+            if (allocated(error)) exit
+         end if
          call stop_criteria(model, record, tracked_after, done, stop_reason)
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
@@ -124,6 +136,10 @@ contains
       end do
       if (mod(record%step, model%analysis%shape_every) /= 0) &
          call write_shape(files, model, record)
+      ! The last converged step closes the VTK series, also when the path failed after it; an error
+      ! of the analysis comes first in the report.
+      call finish_vtk_series(vtk, model, record, commit_error)
+      if (allocated(commit_error) .and. .not. allocated(error)) call move_alloc(commit_error, error)
       call commit_outputs(files, commit_error)
       if (allocated(error)) return
       if (allocated(commit_error)) then

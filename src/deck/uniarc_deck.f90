@@ -16,7 +16,7 @@ module uniarc_deck
                                  require_field_count, field_real, field_integer
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            dof_ux, dof_uy, dof_rz, load_fixed_direction, load_pressure, &
-                           analysis_options_t, analysis_nonlinear, control_load, control_displacement, &
+                           analysis_options_t, output_options_t, analysis_nonlinear, control_load, control_displacement, &
                            control_arclength, iteration_chan, iteration_cylindrical, iteration_riks, &
                            contact_candidate_t, contact_group_t, gap_fixed_direction, gap_circle_inside, &
                            gap_circle_outside
@@ -90,6 +90,9 @@ module uniarc_deck
       type(analysis_options_t) :: analysis            !< linear static unless a *PATH card says otherwise
       character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
       integer :: stop_track_line = 0, stop_track_column = 0
+
+      type(output_options_t) :: output                !< extra result files (*OUTPUT)
+      integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
    end type builder_t
 
 contains
@@ -169,10 +172,12 @@ contains
          call read_path(source, card, builder, error)
       case ('STATIC')
          call read_static(source, card, builder, error)
+      case ('OUTPUT')
+         call read_output(source, card, builder, error)
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH), found ''*'//card%keyword//'''', error)
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH, *OUTPUT), found ''*'//card%keyword//'''', error)
       end select
    end subroutine dispatch
 
@@ -1486,6 +1491,70 @@ contains
       end select
    end subroutine set_path_value
 
+   !> *OUTPUT, FORMAT [, EVERY=n]: an extra result file format (docs/input.md). The format is the card's
+   !> one option without a value, so that further formats are further names here; VTK is the first
+   !> (ParaView snapshots, uniarc_vtk). EVERY= is the snapshot interval in steps; without it the
+   !> snapshots are those of the shape file. Step 0 and the last step are always written.
+   subroutine read_output(source, card, builder, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(builder_t), intent(inout) :: builder
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, k, every
+      character(len=:), allocatable :: format_name
+      integer :: format_column
+
+      ! The format first, so that an unknown one gets a message about formats, not about options.
+      format_name = ''
+      format_column = card%column
+      do i = 1, size(card%options)
+         if (card%options(i)%has_value .or. card%options(i)%name == 'EVERY') cycle
+         select case (card%options(i)%name)
+         case ('VTK')
+            if (len(format_name) == 0) then
+               format_name = card%options(i)%name
+               format_column = card%options(i)%column
+            end if
+         case default
+            call raise(source, card%line, card%options(i)%column, 'expected an output format (VTK) on '// &
+                       '*OUTPUT, found '''//clip(card%options(i)%name)//'''', error)
+            return
+         end select
+      end do
+      call check_options(source, card, [character(len=6) :: 'VTK', 'EVERY='], error)
+      if (allocated(error)) return
+      if (len(format_name) == 0) then
+         call raise(source, card%line, card%column, 'expected an output format after *OUTPUT '// &
+                    '(*OUTPUT, VTK), found none', error)
+         return
+      end if
+      if (card%n_data > 0) then
+         call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
+                    'expected no data line after *OUTPUT, found one', error)
+         return
+      end if
+      if (builder%vtk_line > 0) then
+         call raise(source, card%line, format_column, 'expected one *OUTPUT, VTK card, found another '// &
+                    'after the one at line '//integer_to_string(builder%vtk_line), error)
+         return
+      end if
+      builder%vtk_line = card%line
+      builder%output%vtk = .true.
+      builder%output%vtk_every = 0
+      k = option_index(card, 'EVERY')
+      if (k > 0) then
+         call field_integer(source, builder%parameters, card%line, option_field(card, k), &
+                            'a number of steps for EVERY=', every, error)
+         if (allocated(error)) return
+         if (every <= 0) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a positive number '// &
+                       'of steps for EVERY=, found '//integer_to_string(every), error)
+            return
+         end if
+         builder%output%vtk_every = every
+      end if
+   end subroutine read_output
+
    ! ================================================================================================
    ! Shared pieces of the cards
    ! ================================================================================================
@@ -1916,6 +1985,7 @@ contains
          allocate (model%contact_groups(0))
       end if
       model%analysis = builder%analysis
+      model%output = builder%output
    end subroutine finish_model
 
    ! ================================================================================================

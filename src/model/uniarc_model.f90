@@ -8,7 +8,7 @@ module uniarc_model
    implicit none
    private
    public :: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t
-   public :: analysis_options_t
+   public :: analysis_options_t, output_options_t
    public :: dofs_per_node, dof_ux, dof_uy, dof_rz
    public :: load_fixed_direction, load_pressure
    public :: analysis_linear, analysis_nonlinear
@@ -124,6 +124,13 @@ module uniarc_model
       integer :: shape_every = 10            !< write a shape snapshot every so many steps
    end type analysis_options_t
 
+   !> Extra result files a deck asks for with `*OUTPUT` (docs/input.md); the path, critical-point and
+   !> shape files are always written.
+   type :: output_options_t
+      logical :: vtk = .false.   !< ParaView snapshots `STEM_NNNN.vtk` and their collection `STEM.pvd`
+      integer :: vtk_every = 0   !< a VTK snapshot every so many steps; 0: as the shape file (shape_every)
+   end type output_options_t
+
    !> The whole model.
    type :: model_t
       character(len=:), allocatable :: deck_path   !< file it was read from (messages)
@@ -145,6 +152,7 @@ module uniarc_model
       type(contact_candidate_t), allocatable :: contacts(:)  !< every contact candidate (may be empty)
       type(contact_group_t), allocatable :: contact_groups(:)
       type(analysis_options_t) :: analysis
+      type(output_options_t) :: output
    end type model_t
 
 contains

@@ -1,0 +1,462 @@
+!> ParaView output of `*OUTPUT, VTK`: each snapshot as a legacy VTK file `STEM_NNNN.vtk` and as the
+!> same grid in VTK's XML format, `STEM_NNNN.vtu`, and the collection `STEM.pvd` that lists the
+!> `.vtu` files with their time values. Both are needed: ParaView's pvd reader (vtkXMLCollectionReader)
+!> builds its readers from the XML extensions only (vtu, vtp, vti, ...), so a pvd cannot list legacy
+!> files, while the legacy files are what most other tools read.
+!>
+!> A snapshot is an unstructured grid of VTK_LINE cells (one per element) on the deformed geometry
+!> x0 + u, with z = 0. Point data: `displacement` (u_x, u_y, 0), `rotation` θ_z, `contact_reaction`
+!> (the sum of the reactions of the node's contact candidates) and `node_label`; cell data:
+!> `axial_force` N (tension positive), `bending_moment_start`, `bending_moment_end` and their mean
+!> `bending_moment`, and `element_label`. Field data: `lambda` and `step`. The formats are the
+!> "simple legacy" and the "XML" formats of "VTK File Formats" (Kitware, The VTK User's Guide, 11th ed.,
+!> 2010), the XML one with ASCII data arrays.
+!>
+!> Bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2: positive when
+!> the element bends towards its left normal. With the corotational end moments (M1, M2) acting on the
+!> element counter-clockwise (uniarc_corotational), the moment at node 1 is −M1 and at node 2 is M2:
+!> a uniform κ has θ̄1 = −κL/2, θ̄2 = κL/2, and the basic law [M1; M2] = EI/L [4 2; 2 4] [θ̄1; θ̄2]
+!> (Crisfield 1991, vol. 1, §7.2) gives M1 = −EIκ, M2 = EIκ. Between the ends the moment of the
+!> element's cubic field is linear, so the mean is the moment at mid-element. Like every moment of a
+!> displacement-based element it leaves out the fixed-end moments of a load distributed on the
+!> element itself, a difference that vanishes as the mesh is refined.
+!>
+!> The pvd's `timestep` is λ when λ increases strictly over the snapshots (ParaView sorts and indexes
+!> by timestep); otherwise (snap-through under arc length, unloading, a negative increment) it is the
+!> step number, and the file says so in a comment. λ is in every snapshot's field data either way.
+!>
+!> Every file is written under `NAME.part` and renamed once closed, like the other result files: a
+!> crash never leaves a half file under its final name. The snapshots are renamed as they are written,
+!> the pvd when the series is finished.
+module uniarc_vtk
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_foreign, only: rename_file
+   use uniarc_model, only: model_t, analysis_linear
+   use uniarc_frame_linear, only: basic_stiffness, basic_to_global
+   use uniarc_assembly, only: element_coordinates
+   use uniarc_equilibrium, only: element_basic_forces, element_displacements
+   use uniarc_output, only: step_record_t, format_number
+   implicit none
+   private
+   public :: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, finish_vtk_series
+   public :: vtk_file_name, nodal_reactions, element_moments
+
+   !> The two files of a snapshot.
+   integer, parameter :: legacy_format = 1, xml_format = 2
+
+   !> The snapshots of one run: where they go and what has been written.
+   type :: vtk_series_t
+      logical :: active = .false.                  !< the deck asked for VTK output
+      character(len=:), allocatable :: directory
+      character(len=:), allocatable :: stem
+      integer :: every = 1                         !< snapshot interval in steps
+      integer :: count = 0                         !< snapshots written
+      integer, allocatable :: steps(:)             !< (count) step of each snapshot
+      real(dp), allocatable :: lambdas(:)          !< (count) λ of each snapshot
+   end type vtk_series_t
+
+contains
+
+   !> Start the series of a run. Nothing is written yet: the series is inactive when the deck has no
+   !> `*OUTPUT, VTK`, and its interval is the deck's EVERY= or else the shape file's.
+   subroutine open_vtk_series(model, directory, stem, series)
+      type(model_t), intent(in) :: model
+      character(len=*), intent(in) :: directory, stem
+      type(vtk_series_t), intent(out) :: series
+      series%active = model%output%vtk
+      series%directory = directory
+      series%stem = stem
+      series%every = model%output%vtk_every
+      if (series%every <= 0) series%every = max(model%analysis%shape_every, 1)
+      allocate (series%steps(0), series%lambdas(0))
+   end subroutine open_vtk_series
+
+   !> Whether step `step` is one of the series' regular snapshots (every n-th step, step 0 included).
+   pure logical function vtk_snapshot_due(series, step)
+      type(vtk_series_t), intent(in) :: series
+      integer, intent(in) :: step
+      vtk_snapshot_due = series%active .and. mod(step, series%every) == 0
+   end function vtk_snapshot_due
+
+   !> Write the snapshot of `record` as `STEM_NNNN.vtk` and `STEM_NNNN.vtu` (NNNN the step). Does
+   !> nothing when the series is inactive or the step is already its last snapshot.
+   subroutine write_vtk_snapshot(series, model, record, error)
+      type(vtk_series_t), intent(inout) :: series
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: name
+      if (.not. series%active) return
+      if (series%count > 0) then
+         if (series%steps(series%count) == record%step) return
+      end if
+      name = vtk_file_name(series%stem, record%step)
+      call write_snapshot_file(series%directory//'/'//name, legacy_format, model, record, series%stem, error)
+      if (allocated(error)) return
+      call write_snapshot_file(series%directory//'/'//xml_twin(name), xml_format, model, record, &
+                               series%stem, error)
+      if (allocated(error)) return
+      series%count = series%count + 1
+      series%steps = [series%steps, record%step]
+      series%lambdas = [series%lambdas, record%lambda]
+   end subroutine write_vtk_snapshot
+
+   !> End the series with the last step `record` (written unless it already is the last snapshot) and
+   !> write the collection `STEM.pvd`.
+   subroutine finish_vtk_series(series, model, record, error)
+      type(vtk_series_t), intent(inout) :: series
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. series%active) return
+      call write_vtk_snapshot(series, model, record, error)
+      if (allocated(error)) return
+      call write_collection(series, error)
+   end subroutine finish_vtk_series
+
+   !> One file of a snapshot, written under `path.part` and renamed to `path` once closed.
+   subroutine write_snapshot_file(path, file_format, model, record, stem, error)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: file_format
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      character(len=*), intent(in) :: stem
+      type(error_t), allocatable, intent(out) :: error
+      integer :: unit, status
+      character(len=256) :: message
+      open (newunit=unit, file=path//'.part', status='replace', action='write', iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot write '//path//'.part: '//trim(message), error_analysis)
+         return
+      end if
+      select case (file_format)
+      case (legacy_format)
+         call write_legacy_vtk(unit, model, record, stem)
+      case default
+         call write_xml_vtu(unit, model, record)
+      end select
+      close (unit, iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot close '//path//'.part: '//trim(message), error_analysis)
+         return
+      end if
+      call rename_file(path//'.part', path, error)
+   end subroutine write_snapshot_file
+
+   !> The `.vtu` name of a `.vtk` snapshot.
+   pure function xml_twin(name) result(twin)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: twin
+      twin = name(1:len(name) - 1)//'u'
+   end function xml_twin
+
+   !> Name of the snapshot of step `step`: `STEM_NNNN.vtk`, at least four digits.
+   pure function vtk_file_name(stem, step) result(name)
+      character(len=*), intent(in) :: stem
+      integer, intent(in) :: step
+      character(len=:), allocatable :: name
+      character(len=12) :: digits
+      write (digits, '(i4.4)') step
+      if (step > 9999 .or. step < 0) write (digits, '(i0)') step
+      name = stem//'_'//trim(digits)//'.vtk'
+   end function vtk_file_name
+
+   !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
+   pure function nodal_reactions(model, reactions) result(nodal)
+      type(model_t), intent(in) :: model
+      real(dp), allocatable, intent(in) :: reactions(:)
+      real(dp) :: nodal(model%n_nodes)
+      integer :: c
+      nodal = 0.0_dp
+      if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
+      do c = 1, min(size(reactions), size(model%contacts))
+         nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
+      end do
+   end function nodal_reactions
+
+   !> Axial force and bending moments at both ends of every element: rows (N, M_start, M_end).
+   !>
+   !> A nonlinear analysis takes the corotational basic forces (N, M1, M2) of the deformed element
+   !> (uniarc_equilibrium); a linear one the small-displacement forces Kb B0 u_e on the initial chord,
+   !> which are the forces its solution is in equilibrium with. M_start = −M1 and M_end = M2 turn the
+   !> counter-clockwise end moments into the beam convention M = EI κ (see the module header).
+   pure function element_moments(model, displacement) result(forces)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp) :: forces(3, model%n_elements)
+      real(dp) :: x(2, 2), d(2), length
+      integer :: e
+      if (model%analysis%kind == analysis_linear) then
+         do e = 1, model%n_elements
+            x = element_coordinates(model, e)
+            d = x(:, 2) - x(:, 1)
+            length = norm2(d)
+            associate (section => model%sections(model%element_section(e)))
+               forces(:, e) = matmul(basic_stiffness(length, section%ea, section%ei), &
+                                     matmul(basic_to_global(d(1)/length, d(2)/length, length), &
+                                            element_displacements(model, e, displacement)))
+            end associate
+         end do
+      else
+         call element_basic_forces(model, displacement, forces)
+      end if
+      forces(2, :) = -forces(2, :)
+   end function element_moments
+
+   !> The legacy VTK file of one snapshot (ASCII, UNSTRUCTURED_GRID, VTK_LINE cells).
+   subroutine write_legacy_vtk(unit, model, record, stem)
+      integer, intent(in) :: unit
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      character(len=*), intent(in) :: stem
+      real(dp), allocatable :: reaction(:), forces(:, :)
+      character(len=:), allocatable :: title
+      integer :: i, e
+
+      ! The second line is the title, at most 256 characters (the legacy reader's line buffer).
+      title = 'uniarc '//stem//' step '//integer_text(record%step)//' lambda '// &
+              trim(format_number(record%lambda))
+      if (allocated(model%title)) then
+         if (len_trim(model%title) > 0) title = title//': '//trim(model%title)
+      end if
+      write (unit, '(a)') '# vtk DataFile Version 3.0'
+      write (unit, '(a)') title(1:min(len(title), 255))
+      write (unit, '(a)') 'ASCII'
+      write (unit, '(a)') 'DATASET UNSTRUCTURED_GRID'
+      write (unit, '(a)') 'FIELD FieldData 2'
+      write (unit, '(a)') 'lambda 1 1 double'
+      write (unit, '(a)') trim(format_number(record%lambda))
+      write (unit, '(a)') 'step 1 1 int'
+      write (unit, '(a)') integer_text(record%step)
+
+      write (unit, '(a)') 'POINTS '//integer_text(model%n_nodes)//' double'
+      do i = 1, model%n_nodes
+         write (unit, '(a)') trim(format_number(model%coordinates(1, i) + record%displacement(1, i)))//' '// &
+            trim(format_number(model%coordinates(2, i) + record%displacement(2, i)))//' 0'
+      end do
+      ! A VTK_LINE cell lists its two points, numbered from 0.
+      write (unit, '(a)') 'CELLS '//integer_text(model%n_elements)//' '//integer_text(3*model%n_elements)
+      do e = 1, model%n_elements
+         write (unit, '(a)') '2 '//integer_text(model%connectivity(1, e) - 1)//' '// &
+            integer_text(model%connectivity(2, e) - 1)
+      end do
+      write (unit, '(a)') 'CELL_TYPES '//integer_text(model%n_elements)
+      do e = 1, model%n_elements
+         write (unit, '(a)') '3'
+      end do
+
+      reaction = nodal_reactions(model, record%reactions)
+      write (unit, '(a)') 'POINT_DATA '//integer_text(model%n_nodes)
+      write (unit, '(a)') 'VECTORS displacement double'
+      do i = 1, model%n_nodes
+         write (unit, '(a)') trim(format_number(record%displacement(1, i)))//' '// &
+            trim(format_number(record%displacement(2, i)))//' 0'
+      end do
+      call write_scalars(unit, 'rotation', record%displacement(3, :))
+      call write_scalars(unit, 'contact_reaction', reaction)
+      write (unit, '(a)') 'SCALARS node_label int 1'
+      write (unit, '(a)') 'LOOKUP_TABLE default'
+      do i = 1, model%n_nodes
+         write (unit, '(a)') integer_text(model%node_label(i))
+      end do
+
+      forces = element_moments(model, record%displacement)
+      write (unit, '(a)') 'CELL_DATA '//integer_text(model%n_elements)
+      call write_scalars(unit, 'axial_force', forces(1, :))
+      call write_scalars(unit, 'bending_moment', 0.5_dp*(forces(2, :) + forces(3, :)))
+      call write_scalars(unit, 'bending_moment_start', forces(2, :))
+      call write_scalars(unit, 'bending_moment_end', forces(3, :))
+      write (unit, '(a)') 'SCALARS element_label int 1'
+      write (unit, '(a)') 'LOOKUP_TABLE default'
+      do e = 1, model%n_elements
+         write (unit, '(a)') integer_text(model%element_label(e))
+      end do
+   end subroutine write_legacy_vtk
+
+   !> The XML file of one snapshot (VTKFile type UnstructuredGrid, ASCII data arrays): the same
+   !> grid and arrays as the legacy file, in VTK's order Piece → PointData, CellData, Points, Cells.
+   subroutine write_xml_vtu(unit, model, record)
+      integer, intent(in) :: unit
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      real(dp), allocatable :: forces(:, :), deformed(:, :), vectors(:, :)
+      integer :: e
+
+      write (unit, '(a)') '<?xml version="1.0"?>'
+      write (unit, '(a)') '<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">'
+      write (unit, '(a)') '<UnstructuredGrid>'
+      write (unit, '(a)') '<FieldData>'
+      call write_xml_reals(unit, 'lambda', 1, [record%lambda])
+      call write_xml_integers(unit, 'step', 'Int32', [record%step])
+      write (unit, '(a)') '</FieldData>'
+      write (unit, '(a)') '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfCells="'// &
+         integer_text(model%n_elements)//'">'
+
+      write (unit, '(a)') '<PointData Vectors="displacement" Scalars="contact_reaction">'
+      allocate (vectors(3, model%n_nodes), source=0.0_dp)
+      vectors(1:2, :) = record%displacement(1:2, :)
+      call write_xml_reals(unit, 'displacement', 3, reshape(vectors, [3*model%n_nodes]))
+      call write_xml_reals(unit, 'rotation', 1, record%displacement(3, :))
+      call write_xml_reals(unit, 'contact_reaction', 1, nodal_reactions(model, record%reactions))
+      call write_xml_integers(unit, 'node_label', 'Int32', model%node_label)
+      write (unit, '(a)') '</PointData>'
+
+      forces = element_moments(model, record%displacement)
+      write (unit, '(a)') '<CellData Scalars="bending_moment">'
+      call write_xml_reals(unit, 'axial_force', 1, forces(1, :))
+      call write_xml_reals(unit, 'bending_moment', 1, 0.5_dp*(forces(2, :) + forces(3, :)))
+      call write_xml_reals(unit, 'bending_moment_start', 1, forces(2, :))
+      call write_xml_reals(unit, 'bending_moment_end', 1, forces(3, :))
+      call write_xml_integers(unit, 'element_label', 'Int32', model%element_label)
+      write (unit, '(a)') '</CellData>'
+
+      write (unit, '(a)') '<Points>'
+      allocate (deformed(3, model%n_nodes), source=0.0_dp)
+      deformed(1:2, :) = model%coordinates + record%displacement(1:2, :)
+      call write_xml_reals(unit, 'points', 3, reshape(deformed, [3*model%n_nodes]))
+      write (unit, '(a)') '</Points>'
+
+      ! Cells as VTK stores them: the point indices (from 0) of all cells one after the other, the
+      ! offset just past each cell's last index, and the cell types (3, VTK_LINE).
+      write (unit, '(a)') '<Cells>'
+      call write_xml_integers(unit, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
+      call write_xml_integers(unit, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      call write_xml_integers(unit, 'types', 'UInt8', [(3, e=1, model%n_elements)])
+      write (unit, '(a)') '</Cells>'
+      write (unit, '(a)') '</Piece>'
+      write (unit, '(a)') '</UnstructuredGrid>'
+      write (unit, '(a)') '</VTKFile>'
+   end subroutine write_xml_vtu
+
+   !> An XML DataArray of doubles, `components` to a tuple, one tuple a line.
+   subroutine write_xml_reals(unit, name, components, values)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: components
+      real(dp), intent(in) :: values(:)
+      integer :: i, k
+      write (unit, '(a)') '<DataArray type="Float64" Name="'//name//'" NumberOfComponents="'// &
+         integer_text(components)//'" format="ascii">'
+      do i = 1, size(values), components
+         write (unit, '(*(a,:,1x))') (trim(format_number(values(k))), k=i, min(i + components - 1, size(values)))
+      end do
+      write (unit, '(a)') '</DataArray>'
+   end subroutine write_xml_reals
+
+   !> An XML DataArray of integers of VTK type `type_name`, one value a line.
+   subroutine write_xml_integers(unit, name, type_name, values)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name, type_name
+      integer, intent(in) :: values(:)
+      integer :: i
+      write (unit, '(a)') '<DataArray type="'//type_name//'" Name="'//name//'" format="ascii">'
+      do i = 1, size(values)
+         write (unit, '(a)') integer_text(values(i))
+      end do
+      write (unit, '(a)') '</DataArray>'
+   end subroutine write_xml_integers
+
+   !> One SCALARS array of doubles.
+   subroutine write_scalars(unit, name, values)
+      integer, intent(in) :: unit
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: values(:)
+      integer :: i
+      write (unit, '(a)') 'SCALARS '//name//' double 1'
+      write (unit, '(a)') 'LOOKUP_TABLE default'
+      do i = 1, size(values)
+         write (unit, '(a)') trim(format_number(values(i)))
+      end do
+   end subroutine write_scalars
+
+   !> The ParaView collection `STEM.pvd` of the snapshots written (VTKFile type "Collection").
+   subroutine write_collection(series, error)
+      type(vtk_series_t), intent(in) :: series
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: final_path, part_path
+      integer :: unit, status, k
+      character(len=256) :: message
+      logical :: by_lambda
+      real(dp) :: time
+      final_path = series%directory//'/'//series%stem//'.pvd'
+      part_path = final_path//'.part'
+      by_lambda = strictly_increasing(series%lambdas)
+      open (newunit=unit, file=part_path, status='replace', action='write', iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot write '//part_path//': '//trim(message), error_analysis)
+         return
+      end if
+      write (unit, '(a)') '<?xml version="1.0"?>'
+      write (unit, '(a)') '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">'
+      if (by_lambda) then
+         write (unit, '(a)') '  <!-- uniarc: timestep is the load factor lambda -->'
+      else
+         write (unit, '(a)') '  <!-- uniarc: timestep is the step number, as lambda does not increase '// &
+            'along this path; lambda is in each file''s field data -->'
+      end if
+      write (unit, '(a)') '  <Collection>'
+      do k = 1, series%count
+         if (by_lambda) then
+            time = series%lambdas(k)
+         else
+            time = real(series%steps(k), dp)
+         end if
+         write (unit, '(a)') '    <DataSet timestep="'//trim(format_number(time))//'" group="" part="0" file="'// &
+            xml_escaped(xml_twin(vtk_file_name(series%stem, series%steps(k))))//'"/>'
+      end do
+      write (unit, '(a)') '  </Collection>'
+      write (unit, '(a)') '</VTKFile>'
+      close (unit, iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, 'cannot close '//part_path//': '//trim(message), error_analysis)
+         return
+      end if
+      call rename_file(part_path, final_path, error)
+   end subroutine write_collection
+
+   pure logical function strictly_increasing(values)
+      real(dp), intent(in) :: values(:)
+      integer :: k
+      strictly_increasing = .true.
+      do k = 2, size(values)
+         if (.not. values(k) > values(k - 1)) then
+            strictly_increasing = .false.
+            return
+         end if
+      end do
+   end function strictly_increasing
+
+   !> Text as the value of an XML attribute: the five special characters as entities.
+   pure function xml_escaped(text) result(escaped)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: escaped
+      integer :: i
+      escaped = ''
+      do i = 1, len(text)
+         select case (text(i:i))
+         case ('&')
+            escaped = escaped//'&amp;'
+         case ('<')
+            escaped = escaped//'&lt;'
+         case ('>')
+            escaped = escaped//'&gt;'
+         case ('"')
+            escaped = escaped//'&quot;'
+         case ('''')
+            escaped = escaped//'&apos;'
+         case default
+            escaped = escaped//text(i:i)
+         end select
+      end do
+   end function xml_escaped
+
+   pure function integer_text(i) result(text)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: text
+      character(len=12) :: buffer
+      write (buffer, '(i0)') i
+      text = trim(buffer)
+   end function integer_text
+
+end module uniarc_vtk
