@@ -165,7 +165,7 @@ contains
       record%neg_pivots = state%point%neg_pivots
       record%lcp_pivots = state%point%lcp_pivots
       record%lcp_residual = state%point%lcp_residual
-      record%reactions = candidate_reactions(model, state)
+      record%reactions = candidate_reactions(state)
       summary = summarize_contact(model, record%reactions, state%active)
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
