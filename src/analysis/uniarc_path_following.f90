@@ -460,7 +460,6 @@ contains
 
    !> Reactions of every candidate at the committed state (0 for those out of contact).
    pure function candidate_reactions(state) result(reaction)
-      type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), allocatable :: reaction(:)
       integer :: c
