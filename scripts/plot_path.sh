@@ -2,7 +2,7 @@
 # Equilibrium paths as a PNG: the load parameter lambda (y) against any column (x) of one or several
 # uniarc path files, with the limit points and bifurcations of the STEM.crit beside each path file.
 #
-#   scripts/plot_path.sh [-x COLUMN] [-y COLUMN] [-o OUT.png] [-t TITLE] [-C] FILE.path...
+#   scripts/plot_path.sh [-x COLUMN] [-y COLUMN] [-o OUT.png] [-t TITLE] [-C] [-l LABEL]... FILE.path...
 #
 #   -x COLUMN   x axis: a column name of the path header (default: the first tracked column, the one
 #               after lambda) or a column number (1 = step)
@@ -10,6 +10,7 @@
 #   -o OUT.png  the picture (default: the first file with .png for .path)
 #   -t TITLE    the title (default: the deck stem, or "equilibrium paths" for several decks)
 #   -C          also mark the contact events (contact_start, contact_lost)
+#   -l LABEL    legend of the next file, in the order of the files (repeatable; the rest as below)
 #
 # Legend: for a run of scripts/sweep.sh (FOLDER/sweep_<stem>_<name>/<value>/STEM.path) "name = value",
 # otherwise the file's stem (with its folder when two files share a stem). Events are placed at the
@@ -21,7 +22,7 @@ usage() { sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
 fail() { echo "plot_path.sh: $*" >&2; exit 2; }
 
 xcolumn="" ycolumn=lambda out="" title="" contact=no
-files=()
+files=() labels=()
 while [ $# -gt 0 ]; do
   case $1 in
     -x) [ $# -ge 2 ] || fail "-x needs a value"; xcolumn=$2; shift 2 ;;
@@ -29,6 +30,7 @@ while [ $# -gt 0 ]; do
     -o) [ $# -ge 2 ] || fail "-o needs a value"; out=$2; shift 2 ;;
     -t) [ $# -ge 2 ] || fail "-t needs a value"; title=$2; shift 2 ;;
     -C) contact=yes; shift ;;
+    -l) [ $# -ge 2 ] || fail "-l needs a value"; labels+=("$2"); shift 2 ;;
     -h|--help) usage; exit 0 ;;
     --) shift; files+=("$@"); break ;;
     -?*) fail "unknown option $1 (see -h)" ;;
@@ -41,7 +43,8 @@ for file in "$@"; do [ -f "$file" ] || fail "$file: no such file"; done
 command -v gnuplot >/dev/null 2>&1 || fail "gnuplot not found (scripts/install_deps.sh installs it)"
 [ -n "$out" ] || out=${1%.path}.png
 
-script=$(python3 - "$xcolumn" "$ycolumn" "$out" "$title" "$contact" "$@" <<'PYTHON'
+label_list=$(printf '%s\n' "${labels[@]}")
+script=$(LABELS="$label_list" python3 - "$xcolumn" "$ycolumn" "$out" "$title" "$contact" "$@" <<'PYTHON'
 import os, sys
 
 xcolumn, ycolumn, out, title, contact = sys.argv[1:6]
@@ -100,6 +103,7 @@ def quote(text):
     return '"' + text.replace('\\', '\\\\').replace('"', '\\"') + '"'
 
 
+labels = [l for l in os.environ.get('LABELS', '').split('\n') if l]
 stems = [os.path.splitext(os.path.basename(f))[0] for f in files]
 first_names = header(files[0])
 if not xcolumn:
@@ -115,7 +119,7 @@ for number, path in enumerate(files):
     ix, iy = resolve(names, xcolumn, path), resolve(names, ycolumn, path)
     colour = colours[number % len(colours)]
     plots.append(f'{quote(os.path.abspath(path))} using {ix + 1}:{iy + 1} with lines lw 2 '
-                 f'lc rgb "{colour}" title {quote(legend(path, stems))} noenhanced')
+                 f'lc rgb "{colour}" title {quote(labels[number] if number < len(labels) else legend(path, stems))} noenhanced')
     crit = os.path.splitext(path)[0] + '.crit'
     if not os.path.isfile(crit):
         continue
