@@ -458,14 +458,16 @@ contains
       end do
    end subroutine candidate_state
 
-   !> Reactions of every candidate at the committed state (0 for those out of contact).
+   !> Reactions of every candidate at the committed state (exactly 0 for those out of contact).
    pure function candidate_reactions(state) result(reaction)
       type(path_state_t), intent(in) :: state
       real(dp), allocatable :: reaction(:)
       integer :: c
       allocate (reaction(size(state%map%candidate_equation)), source=0.0_dp)
+      ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
       do c = 1, size(state%map%candidate_equation)
-         if (state%map%candidate_equation(c) > 0) reaction(c) = state%u(state%map%candidate_equation(c))
+         if (state%map%candidate_equation(c) > 0 .and. state%active(c)) &
+            reaction(c) = state%u(state%map%candidate_equation(c))
       end do
    end function candidate_reactions
 
