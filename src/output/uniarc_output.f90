@@ -12,7 +12,7 @@ module uniarc_output
    private
    public :: step_record_t, output_files_t
    public :: open_outputs, write_path_row, write_crit_row, write_shape, commit_outputs
-   public :: path_header, tracked_values, format_number
+   public :: path_header, tracked_values, format_number, nodal_reactions
 
    !> What a converged step reports (one row of the path file).
    type :: step_record_t
@@ -134,13 +134,8 @@ contains
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       real(dp), allocatable :: nodal_reaction(:)
-      integer :: i, k, c
-      allocate (nodal_reaction(model%n_nodes), source=0.0_dp)
-      if (allocated(record%reactions) .and. allocated(model%contacts)) then
-         do c = 1, min(size(record%reactions), size(model%contacts))
-            nodal_reaction(model%contacts(c)%node) = nodal_reaction(model%contacts(c)%node) + record%reactions(c)
-         end do
-      end if
+      integer :: i, k
+      nodal_reaction = nodal_reactions(model, record%reactions)
       do i = 1, model%n_nodes
          write (files%shape%unit, '(i0,*(1x,a))') record%step, trim(format_number(record%lambda)), &
             trim(int_text(model%node_label(i))), &
@@ -152,6 +147,19 @@ contains
       write (files%shape%unit, '(/)')
       flush (files%shape%unit)
    end subroutine write_shape
+
+   !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
+   pure function nodal_reactions(model, reactions) result(nodal)
+      type(model_t), intent(in) :: model
+      real(dp), allocatable, intent(in) :: reactions(:)
+      real(dp) :: nodal(model%n_nodes)
+      integer :: c
+      nodal = 0.0_dp
+      if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
+      do c = 1, min(size(reactions), size(model%contacts))
+         nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
+      end do
+   end function nodal_reactions
 
    !> Close every file and rename it to its final name.
    subroutine commit_outputs(files, error)

@@ -36,11 +36,11 @@ module uniarc_vtk
    use uniarc_frame_linear, only: basic_stiffness, basic_to_global
    use uniarc_assembly, only: element_coordinates
    use uniarc_equilibrium, only: element_basic_forces, element_displacements
-   use uniarc_output, only: step_record_t, format_number
+   use uniarc_output, only: step_record_t, format_number, nodal_reactions
    implicit none
    private
    public :: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, finish_vtk_series
-   public :: vtk_file_name, nodal_reactions, element_moments
+   public :: vtk_file_name, element_moments
 
    !> The two files of a snapshot.
    integer, parameter :: legacy_format = 1, xml_format = 2
@@ -162,18 +162,6 @@ contains
       name = stem//'_'//trim(digits)//'.vtk'
    end function vtk_file_name
 
-   !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
-   pure function nodal_reactions(model, reactions) result(nodal)
-      type(model_t), intent(in) :: model
-      real(dp), allocatable, intent(in) :: reactions(:)
-      real(dp) :: nodal(model%n_nodes)
-      integer :: c
-      nodal = 0.0_dp
-      if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
-      do c = 1, min(size(reactions), size(model%contacts))
-         nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
-      end do
-   end function nodal_reactions
 
    !> Axial force and bending moments at both ends of every element: rows (N, M_start, M_end).
    !>
