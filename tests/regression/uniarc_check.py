@@ -57,6 +57,19 @@ def read_table(path):
     return names, rows
 
 
+def run_uniarc(uniarc, deck, out, defines):
+    """Run uniarc quietly on a deck into a fresh OUTDIR (it creates the folder and its parents) with
+    -D overrides; echo its output; return the command and the finished process."""
+    shutil.rmtree(out, ignore_errors=True)
+    command = [uniarc, deck, '-o', out, '-q']
+    for definition in defines:
+        command += ['-D', definition]
+    run = subprocess.run(command, capture_output=True, text=True)
+    sys.stdout.write(run.stdout)
+    sys.stderr.write(run.stderr)
+    return command, run
+
+
 def numeric_diff(result, reference, rtol, atol):
     """List of differences between two table files beyond the tolerance."""
     names_r, rows_r = read_table(result)
@@ -302,15 +315,7 @@ def main():
     parser.add_argument('--expect-all', action='append', default=[])
     args = parser.parse_args()
 
-    shutil.rmtree(args.out, ignore_errors=True)
-    # uniarc creates OUTDIR but not its parents (a fresh build tree has no out/ yet)
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    command = [args.uniarc, args.deck, '-o', args.out, '-q']
-    for definition in args.define:
-        command += ['-D', definition]
-    run = subprocess.run(command, capture_output=True, text=True)
-    sys.stdout.write(run.stdout)
-    sys.stderr.write(run.stderr)
+    command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
     if run.returncode != args.expect_exit:
         print(f'FAIL: exit code {run.returncode}, expected {args.expect_exit}: {" ".join(command)}')
         return 1

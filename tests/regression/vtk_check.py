@@ -37,10 +37,11 @@ import glob
 import math
 import os
 import re
-import shutil
-import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from uniarc_check import run_uniarc  # noqa: E402
 
 POINT_ARRAYS = {'displacement': 3, 'rotation': 1, 'contact_reaction': 1, 'node_label': 1}
 CELL_ARRAYS = {'axial_force': 1, 'bending_moment': 1, 'bending_moment_start': 1, 'bending_moment_end': 1,
@@ -292,14 +293,7 @@ def main():
     parser.add_argument('--no-vtk', action='store_true')
     args = parser.parse_args()
 
-    shutil.rmtree(args.out, ignore_errors=True)
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    command = [args.uniarc, args.deck, '-o', args.out, '-q']
-    for definition in args.define:
-        command += ['-D', definition]
-    run = subprocess.run(command, capture_output=True, text=True)
-    sys.stdout.write(run.stdout)
-    sys.stderr.write(run.stderr)
+    command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
     if run.returncode != 0:
         print(f'FAIL: exit code {run.returncode}: {" ".join(command)}')
         return 1
