@@ -12,7 +12,7 @@ module uniarc_band
    private
    public :: band_matrix_t
    public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
-   public :: band_factorize, band_solve, band_inertia
+   public :: band_factorize, band_solve, band_solve_transpose, band_inertia, band_set
 
    !> A square band matrix, its LU factors once factorised, and what the factorisation tells.
    type :: band_matrix_t
@@ -57,6 +57,14 @@ contains
       row = matrix%kl + matrix%ku + 1 + i - j
       matrix%ab(row, j) = matrix%ab(row, j) + value
    end subroutine band_add
+
+   !> Set one entry A(i, j) = value (i, j inside the band) of an unfactorised matrix.
+   pure subroutine band_set(matrix, i, j, value)
+      type(band_matrix_t), intent(inout) :: matrix
+      integer, intent(in) :: i, j
+      real(dp), intent(in) :: value
+      matrix%ab(matrix%kl + matrix%ku + 1 + i - j, j) = value
+   end subroutine band_set
 
    !> Entry A(i, j) of an unfactorised matrix (zero outside the band).
    pure function band_get(matrix, i, j) result(value)
@@ -138,6 +146,18 @@ contains
                   matrix%pivots, rhs, size(rhs, 1), info)
       call lapack_check('dgbtrs', info, error)
    end subroutine band_solve
+
+   !> Solve Aᵀ X = B with the factors of band_factorize; B (n × nrhs) is overwritten by X.
+   subroutine band_solve_transpose(matrix, rhs, error)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: info
+      if (matrix%n == 0) return
+      call dgbtrs('T', matrix%n, matrix%kl, matrix%ku, size(rhs, 2), matrix%ab, matrix%ldab, &
+                  matrix%pivots, rhs, size(rhs, 1), info)
+      call lapack_check('dgbtrs', info, error)
+   end subroutine band_solve_transpose
 
    !> Number of negative pivots of Gaussian elimination WITHOUT interchanges of an unfactorised matrix.
    !>

@@ -1,26 +1,32 @@
-!> The contact LCP of a step (paper Eqs. 26–32), in a form that stays solvable where K_T is singular or
-!> indefinite (docs/theory.md §3.3).
+!> The contact LCP of a step (paper Eqs. 26–32), solved on the banded tangent without ever forming
+!> its matrix (docs/theory.md §3.3, docs/lemke.md).
 !>
-!> The paper condenses the structure on the candidates, M = A K⁻¹ Aᵀ + T, which needs K positive
-!> definite. uniarc condenses instead with the factorised augmented tangent K_S of the current working
-!> set S (candidates in contact enforced as equalities, the others free), bordered with the linearised
-!> path constraint that fixes δλ. In the LCP unknowns this is a principal pivot transform of the
-!> paper's LCP with respect to S: for c ∉ S the input is the reaction r_c and the output the gap w_c,
-!> for c ∈ S the roles are exchanged. A principal pivot transform has the same solutions and keeps
-!> P-matrix properties (Cottle, Pang & Stone 1992, §2.3), and K_S is regular where K alone is not:
-!> when the contacts of S hold a rigid-body mode (a ring resting in a cavity) or the path constraint
-!> borders a limit point. When S is already the right set, q ≥ 0 and Lemke returns at once.
+!> The paper condenses the structure on the candidates, M = A K⁻¹ Aᵀ + T, a dense m × m matrix that
+!> needs K positive definite. uniarc keeps the LCP implicit: its matrix is the operator of the
+!> augmented tangent K_S of a working set S (candidates in contact enforced as equalities, the others
+!> free), bordered with the linearised path constraint that fixes δλ. In the LCP unknowns this is the
+!> principal pivot transform (PPT) of the paper's LCP with respect to S: for c ∉ S the input is the
+!> reaction r_c and the output the gap w_c; for c ∈ S the roles are exchanged. A PPT has the same
+!> solutions and keeps P-matrix properties (Cottle, Pang & Stone 1992, §2.3), and K_S is regular where
+!> K alone is not (a ring resting in a cavity; a path constraint bordering a limit point).
+!>
+!> `contact_lcp_operator_t` is that LCP as an `lcp_operator_t`: a column or row of M is one banded
+!> solve (with K_S or K_Sᵀ), an exchange of candidates is an edit of their rows of K_S and one banded
+!> refactorisation, and q of a frame comes afresh from the nonlinear residual. Memory: two band
+!> matrices and O(N) vectors, nothing of size m² or N·m. The solver is `uniarc_lcp_implicit`.
 module uniarc_contact_lcp
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_matrix_t, band_solve
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set
    use uniarc_contact, only: candidate_gap
-   use uniarc_lemke, only: lemke_solve, lemke_report_t, lemke_solved, lemke_status_name
+   use uniarc_lcp_operator, only: lcp_operator_t
+   use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
+   use uniarc_lemke, only: lemke_solved, lemke_status_name
    implicit none
    private
-   public :: path_constraint_t, select_contact_set
+   public :: path_constraint_t, contact_scales_t, select_contact_set
    public :: constraint_arclength, constraint_load, constraint_displacement
 
    integer, parameter :: constraint_arclength = 1     !< tᵀδu = target (δu the displacement part)
@@ -35,140 +41,337 @@ module uniarc_contact_lcp
       integer :: equation = 0         !< displacement control
    end type path_constraint_t
 
+   !> Units of the contact quantities: a gap (length) and a reaction (force) are round-off below
+   !> `tolerance` times these (the LCP's acceptance test, docs/lemke.md).
+   type :: contact_scales_t
+      real(dp) :: gap = 1.0_dp
+      real(dp) :: force = 1.0_dp
+   end type contact_scales_t
+
+   !> The contact LCP at a state, in the frame of a working set (module header).
+   type, extends(lcp_operator_t) :: contact_lcp_operator_t
+      integer :: m = 0
+      integer, allocatable :: row(:)          !< (m) equation of the candidate's reaction
+      integer, allocatable :: eq(:, :)        !< (2, m) equations of its node's translations (0: held)
+      real(dp), allocatable :: gradient(:, :) !< (2, m) a_c = ∂g/∂u at the state
+      real(dp), allocatable :: flexibility(:) !< (m) t_c = 1/k_c (0: rigid)
+      real(dp), allocatable :: gap(:)         !< (m) g_c at the state
+      real(dp), allocatable :: reaction(:)    !< (m) r_c, the unknown at the state
+      logical, allocatable :: active(:)       !< (m) the frame: in the working set
+      type(band_matrix_t) :: matrix           !< K_S assembled (unfactorised) for the frame
+      type(band_matrix_t) :: factors          !< its band LU
+      real(dp), allocatable :: residual(:)    !< (n) augmented residual g of the frame
+      real(dp), allocatable :: reference(:)   !< (n) reference load R
+      real(dp), allocatable :: du_residual(:), du_tangent(:)  !< (n) K_S⁻¹ g, K_S⁻¹ R
+      real(dp), allocatable :: border(:)      !< (n) c of the bordering projector P = I − K_S⁻¹R cᵀ
+      type(path_constraint_t) :: constraint
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: work(:, :)     !< (n, 1) solve buffer
+   contains
+      procedure :: order => contact_order
+      procedure :: frame_q => contact_frame_q
+      procedure :: scales => contact_scales
+      procedure :: apply => contact_apply
+      procedure :: apply_transpose => contact_apply_transpose
+      procedure :: exchange => contact_exchange
+   end type contact_lcp_operator_t
+
 contains
 
    !> Solve the contact LCP linearised at the current state and return the new working set.
    !>
-   !> In: the augmented tangent K_S factorised for the set `active`; x the current unknowns
-   !> (displacements and reactions); nodal the current nodal displacements; du_residual = K_S⁻¹ g
-   !> (g the augmented residual) and du_tangent = K_S⁻¹ R; the path constraint.
-   !> Out: `new_active`, the Lemke report. A Lemke outcome other than solved is an error (category
-   !> analysis): the caller cuts the step rather than accept a contact set that is not a solution.
-   subroutine select_contact_set(model, map, tangent, x, nodal, du_residual, du_tangent, constraint, &
-                                 active, new_active, report, error)
+   !> In: `assembled`, the augmented tangent K_S for the set `active` (unfactorised), and `tangent`,
+   !> its band LU; x the current unknowns (displacements and reactions, n); nodal the current nodal
+   !> displacements (3, n_nodes); residual g = λR − F_aug (n) and reference R (n) for that set;
+   !> du_residual = K_S⁻¹ g and du_tangent = K_S⁻¹ R (n); the path constraint; units of gaps and forces.
+   !> Out: `new_active`, the report (pivots, exchanges, solves). An LCP that is not solved to the
+   !> stated accuracy is an error (category analysis): the caller cuts the step rather than accept a
+   !> contact set that is not a solution. When the working set is already right (q ≥ 0, the usual case
+   !> along a path) nothing is factorised and no matrix is copied: the step costs what it would
+   !> without contact.
+   subroutine select_contact_set(model, map, assembled, tangent, x, nodal, residual, reference, du_residual, &
+                                 du_tangent, constraint, units, active, new_active, report, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(band_matrix_t), intent(in) :: tangent
-      real(dp), intent(in) :: x(:), nodal(:, :), du_residual(:), du_tangent(:)
+      type(band_matrix_t), intent(in) :: assembled, tangent
+      real(dp), intent(in) :: x(:), nodal(:, :), residual(:), reference(:), du_residual(:), du_tangent(:)
       type(path_constraint_t), intent(in) :: constraint
+      type(contact_scales_t), intent(in) :: units
       logical, intent(in) :: active(:)
       logical, intent(out) :: new_active(:)
-      type(lemke_report_t), intent(out) :: report
+      type(implicit_lcp_report_t), intent(out) :: report
       type(error_t), allocatable, intent(out) :: error
+      type(contact_lcp_operator_t) :: lcp
       integer, allocatable :: unilateral(:)
-      real(dp), allocatable :: responses(:, :), particular(:), matrix(:, :), q(:), r_in(:), w_out(:)
-      real(dp), allocatable :: reaction(:), gap(:)
-      real(dp) :: dlambda, g, gradient(2), hessian(2, 2), r_scale, w_scale
-      integer :: m, j, k, c, row, node
-      type(error_t), allocatable :: solve_error
+      real(dp), allocatable :: q(:), w(:), scale(:), reaction(:), gap(:)
+      type(implicit_lcp_options_t) :: options
+      real(dp) :: r_scale, w_scale
+      integer :: c, j
 
       new_active = active
       unilateral = pack([(c, c=1, size(map%candidate_equation))], &
                         [(map%candidate_equation(c) > 0 .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
-      m = size(unilateral)
-      if (m == 0) return
+      call candidate_data(model, map, x, nodal, unilateral, active, lcp)
+      report%status = lemke_solved
+      report%message = 'solved'
+      if (lcp%m == 0) return
+      lcp%du_residual = du_residual
+      lcp%du_tangent = du_tangent
+      lcp%constraint = constraint
+      lcp%units = units
+      call border_vector(lcp)
 
-      ! Particular solution: the current residual and the constraint's own target.
-      dlambda = bordered_dlambda(constraint, du_residual, du_tangent, constraint%target)
-      particular = du_residual + dlambda*du_tangent
-
-      ! q first: when the working set is already right (q >= 0, the usual case along a path) the LCP's
-      ! answer is r' = 0 and the matrix is never needed, so a step costs O(N) as without contact. This
-      ! is the warm start that the paper's form cannot have.
-      allocate (matrix(m, m), q(m), r_in(m), w_out(m))
-      do j = 1, m
-         c = unilateral(j)
-         row = map%candidate_equation(c)
-         node = model%contacts(c)%node
-         if (active(c)) then
-            q(j) = x(row) + particular(row)
-         else
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, &
-                               gradient, hessian)
-            q(j) = g + displacement_along(particular) + model%contacts(c)%flexibility*(x(row) + particular(row))
-         end if
-      end do
-      if (all(q >= 0.0_dp)) then
-         report%status = lemke_solved
-         report%pivots = 0
+      ! q first: when the working set is already right (q ≥ 0 within round-off) the LCP's answer is
+      ! the frame itself and nothing more is needed (the warm start that the paper's form cannot have).
+      allocate (q(lcp%m), scale(lcp%m), w(lcp%m))
+      call lcp%frame_q(q, error)
+      call lcp%scales(scale)
+      if (all(q >= -options%tolerance*scale)) then
+         report%solves = 1
          return
       end if
 
-      ! One response per LCP input: a unit reaction (c ∉ S) or a unit gap opening (c ∈ S).
-      allocate (responses(size(x), m), source=0.0_dp)
-      do k = 1, m
-         row = map%candidate_equation(unilateral(k))
-         if (active(unilateral(k))) then
-            responses(row, k) = -1.0_dp
-         else
-            responses(row, k) = 1.0_dp
-         end if
-      end do
-      call band_solve(tangent, responses, solve_error)
-      if (allocated(solve_error)) then
-         call move_alloc(solve_error, error)
-         return
-      end if
-      do k = 1, m
-         dlambda = bordered_dlambda(constraint, responses(:, k), du_tangent, 0.0_dp)
-         responses(:, k) = responses(:, k) + dlambda*du_tangent
-      end do
-
-      ! Outputs: the gap w_c (c ∉ S) or the reaction r_c (c ∈ S), affine in the inputs.
-      do j = 1, m
-         c = unilateral(j)
-         row = map%candidate_equation(c)
-         node = model%contacts(c)%node
-         if (active(c)) then
-            matrix(j, :) = responses(row, :)
-         else
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, &
-                               gradient, hessian)
-            do k = 1, m
-               matrix(j, k) = displacement_along(responses(:, k)) + model%contacts(c)%flexibility*responses(row, k)
-            end do
-         end if
-      end do
-
-      call lemke_solve(matrix, q, r_in, w_out, report, error)
+      lcp%matrix = assembled
+      lcp%factors = tangent
+      lcp%residual = residual
+      lcp%reference = reference
+      allocate (lcp%work(size(x), 1))
+      call implicit_lcp_solve(lcp, w, report, error, options)
       if (allocated(error)) return
       if (report%status /= lemke_solved) then
          call make_error(error, 'the contact LCP has no solution found by Lemke ('// &
-                         lemke_status_name(report%status)//')', error_analysis)
+                         lemke_status_name(report%status)//': '//report%message//')', error_analysis)
          return
       end if
 
-      ! Back to reactions and gaps; in contact where the reaction dominates its complement.
-      allocate (reaction(m), gap(m))
-      do j = 1, m
-         if (active(unilateral(j))) then
-            reaction(j) = w_out(j)
-            gap(j) = r_in(j)
+      ! The solution's frame: reactions (outputs of candidates in the set) and gaps (of the others);
+      ! in contact where the reaction dominates its complement.
+      allocate (reaction(lcp%m), gap(lcp%m))
+      do j = 1, lcp%m
+         if (lcp%active(j)) then
+            reaction(j) = w(j)
+            gap(j) = 0.0_dp
          else
-            reaction(j) = r_in(j)
-            gap(j) = w_out(j)
+            reaction(j) = 0.0_dp
+            gap(j) = w(j)
          end if
       end do
       r_scale = max(maxval(abs(reaction)), tiny(1.0_dp))
       w_scale = max(maxval(abs(gap)), tiny(1.0_dp))
-      do j = 1, m
+      do j = 1, lcp%m
          new_active(unilateral(j)) = reaction(j)/r_scale > gap(j)/w_scale
       end do
-
-   contains
-
-      !> a_cᵀ δu at candidate c's node for an augmented vector v.
-      pure real(dp) function displacement_along(v)
-         real(dp), intent(in) :: v(:)
-         integer :: i
-         displacement_along = 0.0_dp
-         do i = 1, 2
-            if (map%equation(i, node) > 0) displacement_along = displacement_along + gradient(i)*v(map%equation(i, node))
-         end do
-      end function displacement_along
-
    end subroutine select_contact_set
+
+   !> The per-candidate data of the operator for the unilateral candidates `unilateral`.
+   subroutine candidate_data(model, map, x, nodal, unilateral, active, lcp)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      integer, intent(in) :: unilateral(:)
+      logical, intent(in) :: active(:)
+      type(contact_lcp_operator_t), intent(inout) :: lcp
+      real(dp) :: hessian(2, 2)
+      integer :: j, c, node
+      lcp%m = size(unilateral)
+      allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%gradient(2, lcp%m), lcp%flexibility(lcp%m), &
+                lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m))
+      do j = 1, lcp%m
+         c = unilateral(j)
+         node = model%contacts(c)%node
+         lcp%row(j) = map%candidate_equation(c)
+         lcp%eq(:, j) = map%equation(1:2, node)
+         lcp%flexibility(j) = model%contacts(c)%flexibility
+         lcp%reaction(j) = x(lcp%row(j))
+         lcp%active(j) = active(c)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), lcp%gap(j), &
+                            lcp%gradient(:, j), hessian)
+      end do
+   end subroutine candidate_data
+
+   pure integer function contact_order(self)
+      class(contact_lcp_operator_t), intent(in) :: self
+      contact_order = self%m
+   end function contact_order
+
+   !> q of the frame: with the particular solution p = K_S⁻¹g + δλ K_S⁻¹R (δλ from the constraint),
+   !> q_c = g_c + a_cᵀp + t_c (r_c + p_r) (the linearised gap) for c ∉ S, r_c + p_r for c ∈ S.
+   subroutine contact_frame_q(self, q, error)
+      class(contact_lcp_operator_t), intent(inout) :: self
+      real(dp), intent(out) :: q(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: particular(:)
+      real(dp) :: dlambda
+      integer :: j
+      dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)
+      particular = self%du_residual + dlambda*self%du_tangent
+      do j = 1, self%m
+         if (self%active(j)) then
+            q(j) = self%reaction(j) + particular(self%row(j))
+         else
+            q(j) = self%gap(j) + along(self, j, particular) + &
+                   self%flexibility(j)*(self%reaction(j) + particular(self%row(j)))
+         end if
+      end do
+   end subroutine contact_frame_q
+
+   !> A gap is measured against the gap unit, a reaction against the force unit.
+   subroutine contact_scales(self, scale)
+      class(contact_lcp_operator_t), intent(in) :: self
+      real(dp), intent(out) :: scale(:)
+      where (self%active)
+         scale = self%units%force
+      elsewhere
+         scale = self%units%gap
+      end where
+   end subroutine contact_scales
+
+   !> v = M_S y: unit inputs (a reaction for c ∉ S, a gap opening for c ∈ S) weighted by y, one
+   !> banded solve, the bordering projection, then the outputs (gap or reaction).
+   subroutine contact_apply(self, y, v, error)
+      class(contact_lcp_operator_t), intent(inout) :: self
+      real(dp), intent(in) :: y(:)
+      real(dp), intent(out) :: v(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: j
+      self%work = 0.0_dp
+      do j = 1, self%m
+         if (self%active(j)) then
+            self%work(self%row(j), 1) = -y(j)
+         else
+            self%work(self%row(j), 1) = y(j)
+         end if
+      end do
+      call band_solve(self%factors, self%work, error)
+      if (allocated(error)) return
+      self%work(:, 1) = self%work(:, 1) - self%du_tangent*dot_product(self%border, self%work(:, 1))
+      do j = 1, self%m
+         if (self%active(j)) then
+            v(j) = self%work(self%row(j), 1)
+         else
+            v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*self%work(self%row(j), 1)
+         end if
+      end do
+   end subroutine contact_apply
+
+   !> v = M_Sᵀ y: the output functionals weighted by y, the transposed projection, one solve with
+   !> K_Sᵀ, then the input entries.
+   subroutine contact_apply_transpose(self, y, v, error)
+      class(contact_lcp_operator_t), intent(inout) :: self
+      real(dp), intent(in) :: y(:)
+      real(dp), intent(out) :: v(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: j, i
+      self%work = 0.0_dp
+      do j = 1, self%m
+         if (self%active(j)) then
+            self%work(self%row(j), 1) = self%work(self%row(j), 1) + y(j)
+         else
+            do i = 1, 2
+               if (self%eq(i, j) > 0) self%work(self%eq(i, j), 1) = self%work(self%eq(i, j), 1) + &
+                                                                     y(j)*self%gradient(i, j)
+            end do
+            self%work(self%row(j), 1) = self%work(self%row(j), 1) + y(j)*self%flexibility(j)
+         end if
+      end do
+      self%work(:, 1) = self%work(:, 1) - self%border*dot_product(self%du_tangent, self%work(:, 1))
+      call band_solve_transpose(self%factors, self%work, error)
+      if (allocated(error)) return
+      do j = 1, self%m
+         if (self%active(j)) then
+            v(j) = -self%work(self%row(j), 1)
+         else
+            v(j) = self%work(self%row(j), 1)
+         end if
+      end do
+   end subroutine contact_apply_transpose
+
+   !> Move the flipped candidates in or out of the working set: their rows of K_S and of the residual
+   !> change (module uniarc_contact: a_cᵀ, t_c and g_c + t_c r_c in the set; the identity and −r_c out
+   !> of it), K_S is refactorised and K_S⁻¹g, K_S⁻¹R are solved again. On a singular K_S the rows are
+   !> restored and refactorised, and the error returned.
+   subroutine contact_exchange(self, flip, error)
+      class(contact_lcp_operator_t), intent(inout) :: self
+      logical, intent(in) :: flip(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: restore_error
+      call toggle(self, flip)
+      call refactorize(self, error)
+      if (.not. allocated(error)) return
+      call toggle(self, flip)
+      call refactorize(self, restore_error)
+      if (allocated(restore_error)) error%message = error%message//'; restoring the frame: '//restore_error%message
+   end subroutine contact_exchange
+
+   !> Toggle the working-set membership of the flipped candidates in the matrix and the residual.
+   subroutine toggle(self, flip)
+      type(contact_lcp_operator_t), intent(inout) :: self
+      logical, intent(in) :: flip(:)
+      integer :: j, i, row
+      do j = 1, self%m
+         if (.not. flip(j)) cycle
+         self%active(j) = .not. self%active(j)
+         row = self%row(j)
+         if (self%active(j)) then
+            do i = 1, 2
+               if (self%eq(i, j) > 0) call band_set(self%matrix, row, self%eq(i, j), -self%gradient(i, j))
+            end do
+            call band_set(self%matrix, row, row, -self%flexibility(j))
+            self%residual(row) = self%gap(j) + self%flexibility(j)*self%reaction(j)
+         else
+            do i = 1, 2
+               if (self%eq(i, j) > 0) call band_set(self%matrix, row, self%eq(i, j), 0.0_dp)
+            end do
+            call band_set(self%matrix, row, row, 1.0_dp)
+            self%residual(row) = -self%reaction(j)
+         end if
+      end do
+   end subroutine toggle
+
+   !> Factorise the frame's matrix and solve for K_S⁻¹g and K_S⁻¹R.
+   subroutine refactorize(self, error)
+      type(contact_lcp_operator_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: rhs(:, :)
+      self%factors = self%matrix
+      call band_factorize(self%factors, error)
+      if (allocated(error)) return
+      allocate (rhs(size(self%residual), 2))
+      rhs(:, 1) = self%residual
+      rhs(:, 2) = self%reference
+      call band_solve(self%factors, rhs, error)
+      if (allocated(error)) return
+      self%du_residual = rhs(:, 1)
+      self%du_tangent = rhs(:, 2)
+      call border_vector(self)
+   end subroutine refactorize
+
+   !> c of the bordering: a response v = K_S⁻¹b is projected to v − K_S⁻¹R (cᵀv) so that it keeps the
+   !> linearised path constraint (δλ = −cᵀv).
+   subroutine border_vector(self)
+      type(contact_lcp_operator_t), intent(inout) :: self
+      if (.not. allocated(self%border)) allocate (self%border(size(self%du_tangent)))
+      self%border = 0.0_dp
+      select case (self%constraint%kind)
+      case (constraint_arclength)
+         self%border = self%constraint%t/dot_product(self%constraint%t, self%du_tangent)
+      case (constraint_displacement)
+         self%border(self%constraint%equation) = 1.0_dp/self%du_tangent(self%constraint%equation)
+      end select
+   end subroutine border_vector
+
+   !> a_cᵀ v at candidate j's node for an augmented vector v.
+   pure real(dp) function along(self, j, v)
+      type(contact_lcp_operator_t), intent(in) :: self
+      integer, intent(in) :: j
+      real(dp), intent(in) :: v(:)
+      integer :: i
+      along = 0.0_dp
+      do i = 1, 2
+         if (self%eq(i, j) > 0) along = along + self%gradient(i, j)*v(self%eq(i, j))
+      end do
+   end function along
 
    !> δλ of the bordered system for a response v = K_S⁻¹(·): the constraint with the given target.
    pure real(dp) function bordered_dlambda(constraint, v, du_tangent, target) result(dlambda)

@@ -20,9 +20,9 @@ module uniarc_path_following
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
    use uniarc_contact, only: candidate_gap, assemble_contact
-   use uniarc_contact_lcp, only: path_constraint_t, select_contact_set, constraint_arclength, &
+   use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, constraint_arclength, &
                                  constraint_load, constraint_displacement
-   use uniarc_lemke, only: lemke_report_t
+   use uniarc_lcp_implicit, only: implicit_lcp_report_t
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -195,7 +195,9 @@ contains
       real(dp) :: lambda, dl, force_scale, element_scale, roundoff
       type(error_t), allocatable :: error
       type(path_constraint_t) :: constraint
-      type(lemke_report_t) :: report
+      type(implicit_lcp_report_t) :: report
+      type(band_matrix_t) :: assembled
+      real(dp), allocatable :: residual(:)
       logical :: small_correction, has_contacts
       integer :: n, set_changes
       integer, parameter :: max_set_changes = 40
@@ -216,15 +218,18 @@ contains
          if (has_contacts) then
             call gather_nodal(state%map, state%u, nodal)
             call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, element_scale)
-            call factorize_and_solve(state%tangent, state%lambda*reference - internal, reference, rhs, error)
+            residual = state%lambda*reference - internal
+            assembled = state%tangent
+            call factorize_and_solve(state%tangent, residual, reference, rhs, error)
             if (allocated(error)) then
                reason = 'singular tangent at the start of the step'
                return
             end if
             call step_constraint(options, state, ut, dlambda, constraint)
             allocate (new_active(size(active)))
-            call select_contact_set(model, state%map, state%tangent, state%u, nodal, rhs(:, 1), rhs(:, 2), &
-                                    constraint, active, new_active, report, error)
+            call select_contact_set(model, state%map, assembled, state%tangent, state%u, nodal, residual, reference, &
+                                    rhs(:, 1), rhs(:, 2), constraint, contact_units(state, state%u, active), &
+                                    active, new_active, report, error)
             lcp_pivots = lcp_pivots + report%pivots
             if (allocated(error)) then
                reason = error%message
@@ -283,15 +288,18 @@ contains
                   reason = 'the contact set does not settle'
                   exit
                end if
-               call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+               residual = rhs(:, 1)
+               assembled = state%tangent
+               call factorize_and_solve(state%tangent, residual, reference, rhs, error)
                if (allocated(error)) then
                   reason = 'singular tangent'
                   exit
                end if
                call correction_constraint(options, state, increment, constraint)
                if (.not. allocated(new_active)) allocate (new_active(size(active)))
-               call select_contact_set(model, state%map, state%tangent, trial, nodal, rhs(:, 1), rhs(:, 2), &
-                                       constraint, active, new_active, report, error)
+               call select_contact_set(model, state%map, assembled, state%tangent, trial, nodal, residual, &
+                                       reference, rhs(:, 1), rhs(:, 2), constraint, contact_units(state, trial, active), &
+                                       active, new_active, report, error)
                lcp_pivots = lcp_pivots + report%pivots
                if (allocated(error)) then
                   reason = error%message
@@ -423,14 +431,15 @@ contains
       real(dp), intent(in) :: x(:), reaction(:), gap(:)
       logical, intent(in) :: active(:)
       real(dp) :: r_scale, g_scale, w, r
+      type(contact_scales_t) :: units
       integer :: c
       worst = 0.0_dp
       if (size(reaction) == 0) return
       ! Scales: the largest reaction in contact, at least the load scale (reactions of free candidates
       ! are round-off of zero and must not set it); the largest displacement.
-      r_scale = max(maxval(abs(reaction), mask=active), state%load_norm, tiny(1.0_dp))
-      ! (at least 1e-6 of the model size: gaps computed from coordinates carry round-off of ε × size)
-      g_scale = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
+      units = contact_units(state, x, active)
+      r_scale = units%force
+      g_scale = units%gap
       do c = 1, size(reaction)
          if (state%map%candidate_equation(c) == 0 .or. model%contacts(c)%bilateral) cycle
          r = 0.0_dp
@@ -439,6 +448,26 @@ contains
          worst = max(worst, -r/r_scale, -w/g_scale, abs(r*w)/(r_scale*g_scale))
       end do
    end function violation
+
+   !> Units of contact forces and gaps at unknowns x with working set `active`: the largest reaction in
+   !> contact, at least the load scale (reactions of free candidates are round-off of zero and must not
+   !> set it); the largest displacement, at least 1e-6 of the model size (gaps computed from
+   !> coordinates carry round-off of ε × size).
+   pure function contact_units(state, x, active) result(units)
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:)
+      logical, intent(in) :: active(:)
+      type(contact_scales_t) :: units
+      real(dp) :: largest
+      integer :: c, row
+      largest = 0.0_dp
+      do c = 1, size(active)
+         row = state%map%candidate_equation(c)
+         if (row > 0 .and. active(c)) largest = max(largest, abs(x(row)))
+      end do
+      units%force = max(largest, state%load_norm, tiny(1.0_dp))
+      units%gap = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
+   end function contact_units
 
    !> Reactions (from the unknowns) and current gaps of every candidate.
    pure subroutine candidate_state(model, map, x, nodal, reaction, gap)

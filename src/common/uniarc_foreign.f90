@@ -9,7 +9,7 @@ module uniarc_foreign
    use uniarc_error, only: error_t, make_error, error_analysis, error_internal
    implicit none
    private
-   public :: dgbtrf, dgbtrs
+   public :: dgbtrf, dgbtrs, dgetrf, dgetrs
    public :: lapack_check, rename_file, make_directory, exit_program
 
    interface
@@ -32,6 +32,26 @@ module uniarc_foreign
          real(dp), intent(inout) :: b(ldb, *)
          integer, intent(out) :: info
       end subroutine dgbtrs
+
+      !> LU factorisation of a general dense matrix with partial pivoting (LAPACK).
+      subroutine dgetrf(m, n, a, lda, ipiv, info)
+         import :: dp
+         integer, intent(in) :: m, n, lda
+         real(dp), intent(inout) :: a(lda, *)
+         integer, intent(out) :: ipiv(*)
+         integer, intent(out) :: info
+      end subroutine dgetrf
+
+      !> Solve with the dense LU factors of dgetrf (LAPACK).
+      subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+         import :: dp
+         character(len=1), intent(in) :: trans
+         integer, intent(in) :: n, nrhs, lda, ldb
+         real(dp), intent(in) :: a(lda, *)
+         integer, intent(in) :: ipiv(*)
+         real(dp), intent(inout) :: b(ldb, *)
+         integer, intent(out) :: info
+      end subroutine dgetrs
 
       function c_rename(old_path, new_path) bind(c, name='rename') result(status)
          import :: c_int, c_char
