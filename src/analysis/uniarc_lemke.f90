@@ -15,20 +15,31 @@
 !> - The basis is carried as an explicit inverse B^-1 (n x n) together with the basic values
 !>   x_B = B^-1 q, updated by one Gauss-Jordan pivot per exchange. This is O(n^2) per pivot (the
 !>   entering column B^-1 a_e costs one matrix-vector product, the update one rank-1 correction)
-!>   and, unlike an LU factorisation with product-form updates, it hands the lexicographic ratio
-!>   test the rows of B^-1 directly, which it needs at every degenerate tie. A full tableau with
-!>   2n+1 columns would cost the same order but twice the memory and work.
+!>   and hands the lexicographic ratio test the columns of B^-1 directly, which it reads at every
+!>   degenerate tie. An LU factorisation alone would need either a factorisation update
+!>   (Bartels-Golub / Forrest-Tomlin) or an O(n^3) refactorisation per pivot, plus one extra
+!>   triangular solve per column the lexicographic test reads; so the explicit inverse is kept for
+!>   the pivoting, and LAPACK's LU (dgetrf/dgetrs) is used where a basis is built from scratch.
 !> - The problem is equilibrated first (Ruiz row/column scaling by powers of two, so the scaling
 !>   itself is exact in floating point and exact ties stay exact). A positive diagonal scaling
 !>   maps the LCP to an equivalent LCP and Lemke's path to the same path, so the tolerances can be
 !>   absolute in the scaled problem: that is what makes them relative to the scale of M and q.
-!> - After the last pivot the basic solution is improved by one step of iterative refinement
-!>   against the original basis columns (O(n^2)); if the verification from the original M and q
-!>   still fails, B^-1 is recomputed from scratch (O(n^3), only then) and the check repeated.
+!>   The scale factors are kept as integer exponents and applied with `scale`, so data spanning
+!>   the whole exponent range never overflow in the scaling (and a solution that does not fit in
+!>   real(dp) is reported as a breakdown, never written as Inf).
+!> - Every tolerance is relative to a round-off bound of the quantity it tests: a pivot entry
+!>   (B^-1 a_e)_i to ||row i of B^-1||_1 ||a_e||_inf, a basic value produced by a pivot to the
+!>   terms it was computed from. Entries and values that pass are never rejected for being small
+!>   compared with the other rows (near-singular P-matrices have legitimately small pivots).
+!> - After the last pivot the basic solution is improved by iterative refinement against the
+!>   original basis columns (O(n^2) per step); if the verification from the original M and q still
+!>   fails, the basis is factorised afresh by LAPACK's LU, the basic solution is solved and refined
+!>   with the factors, and the check is repeated.
 module uniarc_lemke
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_foreign, only: dgetrf, dgetrs
    implicit none
    private
    public :: lemke_options_t, lemke_report_t, lemke_solve, lemke_status_name
@@ -41,27 +52,61 @@ module uniarc_lemke
    integer, parameter :: lemke_ray_termination = 1
    !> Outcome: the pivot cap was reached before z0 left the basis.
    integer, parameter :: lemke_pivot_limit = 2
-   !> Outcome: numerical breakdown (singular basis, non-finite values, or failed verification).
+   !> Outcome: numerical breakdown (singular basis, values that would overflow, a solution that is
+   !> not representable in real(dp), or failed verification).
    integer, parameter :: lemke_breakdown = 3
+
+   !> Bound on |B^-1| entries and basic values in the equilibrated problem (2^960, about 1e289).
+   !> Below it every sum of up to 2^31 such numbers times an equilibrated entry (<= 2) is finite;
+   !> a pivot whose result would exceed it is a numerical breakdown, detected before computing.
+   real(dp), parameter :: value_limit = 2.0_dp**960
+   !> Ratios of the ratio test are saturated at this magnitude, so differences and relative ties
+   !> of two ratios stay finite.
+   real(dp), parameter :: ratio_cap = huge(1.0_dp)/8.0_dp
+   !> At most this many steps of iterative refinement: each step multiplies the residual by about
+   !> cond(B) eps (Higham 2002, *Accuracy and Stability of Numerical Algorithms*, Ch. 12), so a
+   !> few steps reach the rounding level whenever cond(B) eps < 1/10.
+   integer, parameter :: max_refinement_steps = 5
+
+   !> Outcomes of the ratio test.
+   integer, parameter :: select_found = 0, select_ray = 1, select_failed = 2
+   !> Outcomes of the final extraction and verification of a point.
+   integer, parameter :: point_verified = 0, point_inaccurate = 1, point_overflow = 2, &
+                         point_not_finite = 3
 
    !> Options of `lemke_solve`; every component has a usable default.
    type :: lemke_options_t
       !> Covering vector d > 0 of the artificial column (default: all ones).
       real(dp), allocatable :: covering(:)
-      !> Pivot cap; 0 means automatic: max(10000, 20 n), enough for Murty's 2^n example to n = 13.
+      !> Pivot cap, >= 0; 0 means automatic: max(10000, 20 n), enough for Murty's 2^n example to
+      !> n = 13. A negative value is misuse (`error`).
       integer :: max_pivots = 0
-      !> Pivot entries below this fraction of the entering column's largest entry are not
-      !> eligible (they would be round-off of exact zeros).
-      real(dp) :: pivot_tolerance = 1.0e-11_dp
-      !> Zero level in the equilibrated problem (where |q| <= 1 and M has unit row/column
-      !> max-norms): basic values below it are flushed to zero, ratios within it relative are
-      !> ties, and z0 below it times its first value counts as having left.
-      real(dp) :: zero_tolerance = 1.0e-12_dp
+      !> An entry a_i of the entering column a = B^-1 a_e is an eligible pivot only if
+      !> sense*a_i > pivot_tolerance * ||(B^-1)_i.||_1 * ||a_e||_inf, with a_e the entering
+      !> variable's column in the equilibrated problem. The right-hand side (without the factor)
+      !> bounds the terms of the dot product that computes a_i, so its round-off is a small
+      !> multiple of eps times it: gamma_n = n eps/2 for the product itself (Higham 2002, Sec. 3.1)
+      !> plus the drift of the updated B^-1. 1e-13 (about 450 ulps) is above gamma_n up to
+      !> n ~ 900 and above the typical sqrt(n) eps/2 for any n, yet below the 5e-13 relative size
+      !> of the legitimate pivots of a P-matrix singular to 1e-12 (tests/unit/test_lemke.pf,
+      !> test_near_singular_p_matrix). Every entry above this round-off level is eligible however
+      !> small it is compared with the column's other entries, so a secondary ray is declared only
+      !> when each positive entry is indistinguishable from round-off.
+      real(dp) :: pivot_tolerance = 1.0e-13_dp
+      !> Relative zero level (dimensionless): a basic value computed by a pivot as x_i - f_i x_t is
+      !> set to zero when it is at most zero_tolerance * (|x_i| + |f_i x_t|) (cancellation down to
+      !> round-off: an exact zero of a degenerate basis); ratios within it relative are ties of the
+      !> lexicographic test; z0 below it times its first value counts as having left. 1e-14 (about
+      !> 45 ulps) covers the 3 ulps of one update with margin for the drift of the operands, and
+      !> resolves data that differ in the 13th digit (5e-13 relative in
+      !> test_near_singular_p_matrix).
+      real(dp) :: zero_tolerance = 1.0e-14_dp
       !> A solution is reported `lemke_solved` only if its verification residual (see
       !> `lemke_report_t%residual`) is at most this.
       real(dp) :: residual_tolerance = 1.0e-9_dp
-      !> Recompute B^-1 from the basis columns every this many pivots (0: never; the final
-      !> verification still recomputes it when needed). Costs O(n^3) each time.
+      !> Refactorise the basis (LAPACK LU, B^-1 and x_B from the factors, x_B refined) every this
+      !> many pivots, >= 0 (0: never; the final verification still refactorises when needed).
+      !> Costs O(n^3) each time. A negative value is misuse (`error`).
       integer :: refactor_interval = 0
       !> Equilibrate M and q before pivoting (switch off only to study the plain algorithm).
       logical :: scaling = .true.
@@ -75,10 +120,14 @@ module uniarc_lemke
       integer :: pivots = 0
       !> Number of components with r_i > 0.
       integer :: active = 0
-      !> Verification residual max_i |min(r_i/|r|_inf, w_i/|q|_inf)| (dimensionless; 0 for an
-      !> exact solution; it measures sign violations and complementarity alike).
+      !> Verification residual (dimensionless; 0 for an exact solution):
+      !>     max_i |min(r_i / s_r, w_i / s_w)|,  s_r = ||r||_inf,  s_w = ||M||_inf ||r||_inf + ||q||_inf
+      !> (inf-norms; ||M||_inf the largest absolute row sum; a scale that is 0 is replaced by 1),
+      !> with w = q + M r recomputed from the original data. s_w bounds every term of q + M r, so
+      !> the round-off of w is a small multiple of eps s_w whatever the sizes of M, r and q: the
+      !> residual is scale-aware and measures sign violations and complementarity alike.
       real(dp) :: residual = 0.0_dp
-      !> |r^T w| with w recomputed as q + M r.
+      !> |r^T w| with w recomputed as q + M r (saturated at huge(1.0_dp)).
       real(dp) :: complementarity = 0.0_dp
       !> min_i r_i (0 for n = 0).
       real(dp) :: min_r = 0.0_dp
@@ -113,7 +162,9 @@ contains
    !> minimum-ratio rule of the same chapter applied from the first pivot).
    !>
    !> In: M (n x n), q (n), options. Out: r, w (size n; w = q + M r recomputed from the original
-   !> data), report (status, pivots, residuals). `error` is allocated only for misuse.
+   !> data), report (status, pivots, residuals). `error` is allocated only for misuse. On an outcome
+   !> other than `lemke_solved`, r and w are the last point reached, or r = 0 and w = q when that
+   !> point is not representable in real(dp); they are always finite.
    subroutine lemke_solve(matrix, q, r, w, report, error, options)
       real(dp), intent(in) :: matrix(:, :)
       real(dp), intent(in) :: q(:)
@@ -125,11 +176,12 @@ contains
 
       type(lemke_options_t) :: opts
       integer :: n, max_pivots
-      real(dp), allocatable :: row_scale(:), column_scale(:), scaled_matrix(:, :), scaled_q(:)
-      real(dp), allocatable :: covering(:), inverse(:, :), basic(:), column(:)
-      integer, allocatable :: basis(:), position(:)
-      real(dp) :: q_scale, z0_first, z0_value
-      integer :: entering, leaving_row, leaving, artificial, since_refactor, i
+      real(dp), allocatable :: scaled_matrix(:, :), scaled_q(:), covering(:), inverse(:, :)
+      real(dp), allocatable :: basic(:), column(:), row_norm(:)
+      integer, allocatable :: basis(:), position(:), row_exp(:), column_exp(:)
+      real(dp) :: z0_first, z0_value, column_norm
+      integer :: q_exp, covering_exp, entering, leaving_row, leaving, artificial, since_refactor, i
+      integer :: outcome, point
       logical :: finished, ok
 
       if (present(options)) opts = options
@@ -146,62 +198,82 @@ contains
       r = 0.0_dp
       if (all(q >= 0.0_dp)) then
          ! r = 0 is a solution: w = q >= 0 and r^T w = 0 (no pivot needed).
-         call verify(matrix, q, r, w, report)
+         call verify(matrix, q, r, w, report, ok)
          report%status = lemke_solved
          report%message = 'q >= 0: r = 0'
          return
       end if
 
       max_pivots = opts%max_pivots
-      if (max_pivots <= 0) max_pivots = max(10000, 20*n)
+      if (max_pivots == 0) max_pivots = max(10000, 20*n)
 
-      ! Equilibrate: scaled_matrix = D^-1 M S, scaled_q = D^-1 q / c, d~ = D^-1 d / |D^-1 d|;
-      ! then r = c S r~ and w = c D w~ (the complementarity pairs are only rescaled).
-      allocate (row_scale(n), column_scale(n))
+      ! Equilibrate: scaled_matrix = D^-1 M S, scaled_q = D^-1 q / c, d~ = D^-1 d / c_d, with
+      ! D = 2^row_exp, S = 2^column_exp, c = 2^q_exp; then r = c S r~ and w = c D w~ (the
+      ! complementarity pairs are only rescaled). Only exponents are added, so nothing overflows.
+      allocate (row_exp(n), column_exp(n), scaled_q(n), covering(n))
       scaled_matrix = matrix
       if (opts%scaling) then
-         call equilibrate(scaled_matrix, row_scale, column_scale)
+         call equilibrate(scaled_matrix, row_exp, column_exp)
       else
-         row_scale = 1.0_dp
-         column_scale = 1.0_dp
+         row_exp = 0
+         column_exp = 0
       end if
-      scaled_q = q/row_scale
-      q_scale = power_of_two(maxval(abs(scaled_q)))
-      scaled_q = scaled_q/q_scale
+      call scale_down(q, row_exp, scaled_q, q_exp)
       if (allocated(opts%covering)) then
-         covering = opts%covering/row_scale
+         call scale_down(opts%covering, row_exp, covering, covering_exp)
       else
-         covering = 1.0_dp/row_scale
+         call scale_down([(1.0_dp, i=1, n)], row_exp, covering, covering_exp)
       end if
-      covering = covering/power_of_two(maxval(covering))
 
       ! Variables: w_i is i, r_j is n + j, z0 is 2n + 1. Start from the basis of all w.
       artificial = 2*n + 1
-      allocate (basis(n), position(2*n + 1), column(n), inverse(n, n))
+      allocate (basis(n), position(2*n + 1), column(n), inverse(n, n), row_norm(n))
       call identity(inverse)
+      row_norm = 1.0_dp
       basis = [(i, i=1, n)]
       position = 0
       position(1:n) = basis
       basic = scaled_q
 
-      ! First pivot: z0 enters, the row of the lexicographically smallest q_i/d_i leaves.
-      column = -covering
-      call select_row(basic, inverse, column, -1.0_dp, 0, opts, leaving_row)
-      z0_first = -basic(leaving_row)/covering(leaving_row)
-      entering = artificial
-      finished = .false.
-      since_refactor = 0
       report%status = lemke_breakdown
       report%message = 'not started'
+      finished = .false.
+      z0_first = 0.0_dp
+      since_refactor = 0
+      if (.not. all(covering > 0.0_dp)) then
+         ! d_i / max d below the smallest subnormal: that row could not take part in the first
+         ! ratio test, and Lemke's path would start from an infeasible basis.
+         report%message = 'covering vector spread beyond the exponent range (an entry underflows '// &
+                          'after scaling)'
+         call conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, point)
+         return
+      end if
+
+      ! First pivot: z0 enters, the row of the lexicographically smallest q_i/d_i leaves. Its
+      ! column -d~ is exact data (B = I), so every d~_i > 0 is eligible: column_norm = 0.
+      column = -covering
+      call select_row(basic, inverse, column, row_norm, 0.0_dp, -1.0_dp, 0, opts, leaving_row, &
+                      outcome)
+      if (outcome /= select_found) then
+         ! Every d~_i > 0 is eligible, so this is not reached; kept so that no index 0 is used.
+         report%message = 'no pivot row for z0'
+         call conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, point)
+         return
+      end if
+      entering = artificial
       do
          leaving = basis(leaving_row)
-         call pivot(inverse, basic, column, leaving_row)
+         call pivot(inverse, basic, column, leaving_row, row_norm, opts%zero_tolerance, ok)
+         if (.not. ok) then
+            report%status = lemke_breakdown
+            report%message = 'basis numerically singular: the pivot would make B^-1 overflow'
+            exit
+         end if
          basis(leaving_row) = entering
          position(entering) = leaving_row
          position(leaving) = 0
          report%pivots = report%pivots + 1
          since_refactor = since_refactor + 1
-         call flush_zeros(basic, opts%zero_tolerance)
          if (.not. all(ieee_is_finite(basic))) then
             report%status = lemke_breakdown
             report%message = 'non-finite basic values after a pivot'
@@ -212,7 +284,9 @@ contains
             report%message = 'z0 left the basis'
             exit
          end if
+         ! z0 is basic here (it entered at the first pivot and has not left): position > 0.
          z0_value = basic(position(artificial))
+         if (report%pivots == 1) z0_first = z0_value
          if (z0_value <= opts%zero_tolerance*z0_first) then
             ! z0 is at zero although still basic: the current basic solution satisfies the LCP.
             finished = .true.
@@ -220,13 +294,13 @@ contains
             exit
          end if
          if (opts%refactor_interval > 0 .and. since_refactor >= opts%refactor_interval) then
-            call refactor(scaled_matrix, scaled_q, covering, basis, inverse, basic, ok)
+            call refactor(scaled_matrix, scaled_q, covering, basis, inverse, basic, row_norm, ok)
             if (.not. ok) then
                report%status = lemke_breakdown
                report%message = 'singular basis at refactorisation'
                exit
             end if
-            call flush_zeros(basic, opts%zero_tolerance)
+            call flush_roundoff(basic, row_norm, maxval(abs(scaled_q)), opts%zero_tolerance)
             since_refactor = 0
          end if
          if (report%pivots >= max_pivots) then
@@ -236,41 +310,53 @@ contains
          end if
          ! Complementary pivot rule: the partner of the variable that just left enters.
          entering = complement(leaving, n)
-         call entering_column(scaled_matrix, covering, inverse, entering, n, column)
-         call select_row(basic, inverse, column, 1.0_dp, position(artificial), opts, leaving_row)
-         if (leaving_row == 0) then
+         call entering_column(scaled_matrix, covering, inverse, entering, n, column, column_norm)
+         if (.not. all(ieee_is_finite(column))) then
+            report%status = lemke_breakdown
+            report%message = 'non-finite entering column'
+            exit
+         end if
+         call select_row(basic, inverse, column, row_norm, column_norm, 1.0_dp, &
+                         position(artificial), opts, leaving_row, outcome)
+         if (outcome == select_ray) then
             report%status = lemke_ray_termination
             report%message = 'secondary ray: no solution found'
+            exit
+         else if (outcome /= select_found) then
+            report%status = lemke_breakdown
+            report%message = 'the ratio test found no row (non-finite ratios)'
             exit
          end if
       end do
 
       if (finished) then
-         call refine(scaled_matrix, scaled_q, covering, basis, inverse, basic)
-         call extract(basic, position, n, column_scale, q_scale, r)
-         call verify(matrix, q, r, w, report)
-         if (report%residual > opts%residual_tolerance) then
-            ! Accumulated round-off in the updated inverse: recompute it and check again.
-            call refactor(scaled_matrix, scaled_q, covering, basis, inverse, basic, ok)
+         call refine(scaled_matrix, scaled_q, covering, basis, basic, row_norm, inverse=inverse)
+         call conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, point)
+         if (point == point_inaccurate) then
+            ! Accumulated round-off in the updated inverse: factorise the basis afresh.
+            call refactor(scaled_matrix, scaled_q, covering, basis, inverse, basic, row_norm, ok)
             if (ok) then
-               call extract(basic, position, n, column_scale, q_scale, r)
-               call verify(matrix, q, r, w, report)
+               call conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, &
+                             point)
             end if
          end if
-         if (report%residual <= opts%residual_tolerance) then
+         select case (point)
+         case (point_verified)
             report%status = lemke_solved
-         else
+         case (point_inaccurate)
             report%status = lemke_breakdown
             report%message = 'verification failed after the last pivot'
-         end if
+         case default
+            ! conclude has set the message (overflow or non-finite values).
+            report%status = lemke_breakdown
+         end select
       else
          ! Return the current (infeasible or incomplete) point so the caller can inspect it.
-         call extract(basic, position, n, column_scale, q_scale, r)
-         call verify(matrix, q, r, w, report)
+         call conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, point)
       end if
    end subroutine lemke_solve
 
-   !> Misuse checks: shapes, covering vector, tolerances, finiteness of the data.
+   !> Misuse checks: shapes, covering vector, tolerances, counts, finiteness of the data.
    subroutine check_arguments(matrix, q, r, w, opts, error)
       real(dp), intent(in) :: matrix(:, :), q(:), r(:), w(:)
       type(lemke_options_t), intent(in) :: opts
@@ -307,6 +393,17 @@ contains
          call make_error(error, 'lemke_solve: tolerances must be positive', error_input)
          return
       end if
+      if (opts%max_pivots < 0) then
+         write (text, '(a,i0)') 'max_pivots must be >= 0 (0: automatic), got ', opts%max_pivots
+         call make_error(error, 'lemke_solve: '//trim(text), error_input)
+         return
+      end if
+      if (opts%refactor_interval < 0) then
+         write (text, '(a,i0)') 'refactor_interval must be >= 0 (0: never), got ', &
+            opts%refactor_interval
+         call make_error(error, 'lemke_solve: '//trim(text), error_input)
+         return
+      end if
       if (n > 0) then
          if (.not. (all(ieee_is_finite(matrix)) .and. all(ieee_is_finite(q)))) then
             call make_error(error, 'lemke_solve: M or q has non-finite entries', error_input)
@@ -325,32 +422,29 @@ contains
       end if
    end function complement
 
-   !> The power of two nearest to x > 0 (1 for x = 0): scaling by it is exact in floating point.
-   pure real(dp) function power_of_two(x)
+   !> The exponent k of the power of two nearest to x > 0 in ratio: x / 2^k in [1/sqrt(2), sqrt(2)].
+   pure integer function nearest_exponent(x)
       real(dp), intent(in) :: x
-      if (x > 0.0_dp) then
-         power_of_two = set_exponent(1.0_dp, exponent(x))
-         if (x/power_of_two < sqrt(2.0_dp)/2.0_dp) power_of_two = power_of_two/2.0_dp
-         if (x/power_of_two > sqrt(2.0_dp)) power_of_two = power_of_two*2.0_dp
-      else
-         power_of_two = 1.0_dp
-      end if
-   end function power_of_two
+      ! x = f 2^e with f in [1/2, 1): x / 2^(e-1) = 2 f in [1, 2).
+      nearest_exponent = exponent(x) - 1
+      if (2.0_dp*fraction(x) > sqrt(2.0_dp)) nearest_exponent = nearest_exponent + 1
+   end function nearest_exponent
 
    !> Ruiz equilibration (Ruiz 2001, "A scaling algorithm to equilibrate both rows and columns
    !> norms in matrices"): repeatedly divide rows and columns by the square roots of their
    !> max-norms, rounded to powers of two, until all are within a factor 2 of one. On return
-   !> matrix <- D^-1 M S with row_scale = D and column_scale = S.
-   pure subroutine equilibrate(matrix, row_scale, column_scale)
+   !> matrix <- D^-1 M S with D = diag(2^row_exp), S = diag(2^column_exp). Entries never grow
+   !> beyond 2 (|m_ij| <= sqrt(row norm * column norm)), so the scaling cannot overflow.
+   pure subroutine equilibrate(matrix, row_exp, column_exp)
       real(dp), intent(inout) :: matrix(:, :)
-      real(dp), intent(out) :: row_scale(:), column_scale(:)
+      integer, intent(out) :: row_exp(:), column_exp(:)
       integer :: sweep, i, j, n
-      real(dp) :: row_norm(size(row_scale)), factor
-      real(dp) :: column_factor(size(column_scale)), row_factor(size(row_scale))
+      real(dp) :: row_norm(size(row_exp)), norm
+      integer :: row_step(size(row_exp)), column_step(size(column_exp))
 
-      n = size(row_scale)
-      row_scale = 1.0_dp
-      column_scale = 1.0_dp
+      n = size(row_exp)
+      row_exp = 0
+      column_exp = 0
       do sweep = 1, 20
          row_norm = 0.0_dp
          do j = 1, n
@@ -359,21 +453,71 @@ contains
             end do
          end do
          do i = 1, n
-            row_factor(i) = power_of_two(sqrt(row_norm(i)))
+            row_step(i) = half_exponent(row_norm(i))
          end do
          do j = 1, n
-            column_factor(j) = power_of_two(sqrt(maxval(abs(matrix(:, j)))))
+            norm = maxval(abs(matrix(:, j)))
+            column_step(j) = half_exponent(norm)
          end do
-         ! The factors are powers of two, so "within 1/2 of one" means "exactly one".
-         if (all(abs(row_factor - 1.0_dp) < 0.5_dp) .and. all(abs(column_factor - 1.0_dp) < 0.5_dp)) exit
+         ! The factors are powers of two, so "within a factor sqrt(2) of one" means "exactly one".
+         if (all(row_step == 0) .and. all(column_step == 0)) exit
          do j = 1, n
-            factor = 1.0_dp/column_factor(j)
-            matrix(:, j) = matrix(:, j)*factor/row_factor
+            do i = 1, n
+               matrix(i, j) = scale(matrix(i, j), -row_step(i) - column_step(j))
+            end do
          end do
-         row_scale = row_scale*row_factor
-         column_scale = column_scale/column_factor
+         row_exp = row_exp + row_step
+         column_exp = column_exp - column_step
       end do
+   contains
+      !> Exponent of the power of two nearest to sqrt(norm); 0 for an empty row or column.
+      pure integer function half_exponent(norm)
+         real(dp), intent(in) :: norm
+         if (norm > 0.0_dp) then
+            half_exponent = nearest_exponent(sqrt(norm))
+         else
+            half_exponent = 0
+         end if
+      end function half_exponent
    end subroutine equilibrate
+
+   !> scaled = D^-1 v / 2^p with D = diag(2^row_exp) and p the exponent of the power of two nearest
+   !> to max_i |v_i / D_i|, so |scaled| <= sqrt(2). Computed on exponents (the quotients v_i / D_i
+   !> themselves may not be representable); p = 0 for v = 0. Entries far below the largest may
+   !> underflow to zero, which is their value at the working precision of the scaled problem.
+   pure subroutine scale_down(v, row_exp, scaled, p)
+      real(dp), intent(in) :: v(:)
+      integer, intent(in) :: row_exp(:)
+      real(dp), intent(out) :: scaled(:)
+      integer, intent(out) :: p
+      integer :: i, top
+      logical :: any_nonzero
+
+      any_nonzero = .false.
+      top = 0
+      do i = 1, size(v)
+         if (abs(v(i)) > 0.0_dp) then
+            if (any_nonzero) then
+               top = max(top, exponent(v(i)) - row_exp(i))
+            else
+               top = exponent(v(i)) - row_exp(i)
+               any_nonzero = .true.
+            end if
+         end if
+      end do
+      p = 0
+      scaled = 0.0_dp
+      if (.not. any_nonzero) return
+      ! Every |v_i| / D_i is below 2^top: after scaling by 2^-top all lie in [0, 1), the largest
+      ! in [1/2, 1), whose nearest power of two is 2^0 or 2^-1.
+      do i = 1, size(v)
+         scaled(i) = scale(v(i), -row_exp(i) - top)
+      end do
+      p = top + nearest_exponent(maxval(abs(scaled)))
+      do i = 1, size(v)
+         scaled(i) = scale(v(i), -row_exp(i) - p)
+      end do
+   end subroutine scale_down
 
    !> Set a square matrix to the identity.
    pure subroutine identity(matrix)
@@ -385,13 +529,48 @@ contains
       end do
    end subroutine identity
 
-   !> Basic values whose magnitude is below the zero level are exact zeros made inexact by
-   !> round-off; flushing them keeps degenerate ties exact for the ratio test.
-   pure subroutine flush_zeros(basic, tolerance)
+   !> x * y for x, y >= 0, saturated at huge(1.0_dp) instead of overflowing.
+   pure real(dp) function saturating_product(x, y)
+      real(dp), intent(in) :: x, y
+      if (x <= 1.0_dp) then
+         saturating_product = x*y
+      else if (y <= huge(1.0_dp)/x) then
+         saturating_product = x*y
+      else
+         saturating_product = huge(1.0_dp)
+      end if
+   end function saturating_product
+
+   !> x + y for x, y >= 0, saturated at huge(1.0_dp) instead of overflowing.
+   pure real(dp) function saturating_sum(x, y)
+      real(dp), intent(in) :: x, y
+      if (x <= huge(1.0_dp) - y) then
+         saturating_sum = x + y
+      else
+         saturating_sum = huge(1.0_dp)
+      end if
+   end function saturating_sum
+
+   !> x / y for finite x and y > 0, saturated at +-ratio_cap instead of overflowing.
+   pure real(dp) function safe_divide(x, y)
+      real(dp), intent(in) :: x, y
+      if (y >= 1.0_dp) then
+         safe_divide = sign(min(abs(x)/y, ratio_cap), x)
+      else if (abs(x) <= ratio_cap*y) then
+         safe_divide = x/y
+      else
+         safe_divide = sign(ratio_cap, x)
+      end if
+   end function safe_divide
+
+   !> Basic values fresh from a refactorisation: x_i = (B^-1 q)_i is computed from terms bounded by
+   !> ||(B^-1)_i.||_1 ||q||_inf, so a value below zero_tolerance times that is an exact zero made
+   !> inexact by round-off; flushing it keeps degenerate ties exact for the ratio test.
+   pure subroutine flush_roundoff(basic, row_norm, q_norm, zero_tolerance)
       real(dp), intent(inout) :: basic(:)
-      real(dp), intent(in) :: tolerance
-      where (abs(basic) <= tolerance) basic = 0.0_dp
-   end subroutine flush_zeros
+      real(dp), intent(in) :: row_norm(:), q_norm, zero_tolerance
+      where (abs(basic) <= zero_tolerance*row_norm*q_norm) basic = 0.0_dp
+   end subroutine flush_roundoff
 
    !> Column of the scaled system  w - M~ r - d~ z0 = q~  for one variable: e_i, -M~(:,j) or -d~.
    pure subroutine original_column(matrix, covering, variable, n, column)
@@ -408,43 +587,55 @@ contains
       end if
    end subroutine original_column
 
-   !> Entering column B^-1 a_e; O(n^2) for an r variable, O(n) for a w variable (a unit column).
-   pure subroutine entering_column(matrix, covering, inverse, variable, n, column)
+   !> Entering column B^-1 a_e; O(n^2) for an r variable or z0, O(n) for a w variable (a unit
+   !> column). column_norm = ||a_e||_inf, the scale of the column in the equilibrated problem.
+   pure subroutine entering_column(matrix, covering, inverse, variable, n, column, column_norm)
       real(dp), intent(in) :: matrix(:, :), covering(:), inverse(:, :)
       integer, intent(in) :: variable, n
-      real(dp), intent(out) :: column(:)
+      real(dp), intent(out) :: column(:), column_norm
       if (variable <= n) then
          column = inverse(:, variable)
+         column_norm = 1.0_dp
       else if (variable <= 2*n) then
          column = -matmul(inverse, matrix(:, variable - n))
+         column_norm = maxval(abs(matrix(:, variable - n)))
       else
          column = -matmul(inverse, covering)
+         column_norm = maxval(abs(covering))
       end if
    end subroutine entering_column
 
    !> Lexicographic minimum-ratio test (Murty 1988, Ch. 2; Cottle, Pang & Stone 1992,
-   !> Ch. 4). Candidate rows are those with sense*column(i) above the pivot tolerance; the
-   !> leaving row minimises the row vector [x_i, (B^-1)_i.] / (sense*column(i)) lexicographically,
-   !> which keeps every row of [x_B, B^-1] lexicographically positive and so rules out cycling.
-   !> sense = -1 for the first pivot (z0 entering against all rows, ratios q_i/d_i), +1 after.
-   !> If the row of z0 (artificial_row > 0) is among the ties of the first component it is chosen
-   !> (the algorithm then ends). leaving_row = 0 when there is no candidate (secondary ray).
-   pure subroutine select_row(basic, inverse, column, sense, artificial_row, opts, leaving_row)
-      real(dp), intent(in) :: basic(:), inverse(:, :), column(:)
-      real(dp), intent(in) :: sense
+   !> Ch. 4). Candidate rows are those with sense*column(i) above its round-off level
+   !> pivot_tolerance * row_norm(i) * column_norm (row_norm: 1-norms of the rows of B^-1;
+   !> column_norm: ||a_e||_inf, or 0 for exact data). The leaving row minimises the row vector
+   !> [x_i, (B^-1)_i.] / (sense*column(i)) lexicographically, which keeps every row of [x_B, B^-1]
+   !> lexicographically positive and so rules out cycling. sense = -1 for the first pivot (z0
+   !> entering against all rows, ratios q_i/d_i), +1 after. If the row of z0 (artificial_row > 0) is
+   !> among the ties of the first component it is chosen (the algorithm then ends).
+   !> outcome: select_found (leaving_row > 0), select_ray (no candidate: secondary ray) or
+   !> select_failed (no row left, which finite data cannot produce; leaving_row = 0 is never
+   !> returned with select_found).
+   pure subroutine select_row(basic, inverse, column, row_norm, column_norm, sense, artificial_row, &
+                              opts, leaving_row, outcome)
+      real(dp), intent(in) :: basic(:), inverse(:, :), column(:), row_norm(:)
+      real(dp), intent(in) :: column_norm, sense
       integer, intent(in) :: artificial_row
       type(lemke_options_t), intent(in) :: opts
-      integer, intent(out) :: leaving_row
-      real(dp) :: threshold, ratio(size(basic)), best, spread, value
+      integer, intent(out) :: leaving_row, outcome
+      real(dp) :: ratio(size(basic)), best, spread, value
       logical :: tied(size(basic))
       integer :: i, k, n
 
       n = size(basic)
       leaving_row = 0
+      outcome = select_failed
       ratio = 0.0_dp
-      threshold = opts%pivot_tolerance*maxval(abs(column))
-      tied = sense*column > threshold .and. threshold > 0.0_dp
-      if (.not. any(tied)) return
+      tied = sense*column > opts%pivot_tolerance*row_norm*column_norm
+      if (.not. any(tied)) then
+         outcome = select_ray
+         return
+      end if
 
       ! First component: the ratio x_i / a_i. After the first pivot x >= 0 in exact arithmetic,
       ! so a negative round-off value is read as zero.
@@ -452,7 +643,7 @@ contains
          if (tied(i)) then
             value = basic(i)
             if (sense > 0.0_dp) value = max(value, 0.0_dp)
-            ratio(i) = value/(sense*column(i))
+            ratio(i) = safe_divide(value, sense*column(i))
          end if
       end do
       best = minval(ratio, mask=tied)
@@ -460,6 +651,7 @@ contains
       if (artificial_row > 0) then
          if (tied(artificial_row)) then
             leaving_row = artificial_row
+            outcome = select_found
             return
          end if
       end if
@@ -467,9 +659,9 @@ contains
       ! Further components: the rows of B^-1 divided by the pivot-column entry, until one row is
       ! left. Differences below the zero level relative to the column's spread count as ties.
       do k = 1, n
-         if (count(tied) == 1) exit
+         if (count(tied) <= 1) exit
          do i = 1, n
-            if (tied(i)) ratio(i) = inverse(i, k)/(sense*column(i))
+            if (tied(i)) ratio(i) = safe_divide(inverse(i, k), sense*column(i))
          end do
          best = minval(ratio, mask=tied)
          spread = maxval(abs(ratio), mask=tied)
@@ -477,7 +669,7 @@ contains
       end do
       ! Rows of a nonsingular B^-1 are never proportional, so one row is left in exact
       ! arithmetic; if round-off leaves several, the largest pivot entry is the stable choice.
-      value = -1.0_dp
+      value = 0.0_dp
       do i = 1, n
          if (tied(i)) then
             if (sense*column(i) > value) then
@@ -486,26 +678,59 @@ contains
             end if
          end if
       end do
+      if (leaving_row > 0) outcome = select_found
    end subroutine select_row
 
    !> Gauss-Jordan pivot on row t of [x_B | B^-1] with the entering column a = B^-1 a_e:
-   !> row t /= a_t, row i -= a_i * (new row t). O(n^2), column by column for memory order.
-   pure subroutine pivot(inverse, basic, column, row)
-      real(dp), intent(inout) :: inverse(:, :), basic(:)
-      real(dp), intent(in) :: column(:)
+   !> row t /= a_t, row i -= a_i * (new row t). O(n^2), column by column for memory order; the row
+   !> 1-norms of the new B^-1 are accumulated on the way (row_norm). A new basic value that is
+   !> round-off of a cancellation (|x_i - f_i x_t| <= zero_tolerance (|x_i| + |f_i x_t|)) is set to
+   !> an exact zero. ok = .false. (and nothing changed) if the result could exceed value_limit:
+   !> the bound is checked before anything is computed, so no operation overflows.
+   pure subroutine pivot(inverse, basic, column, row, row_norm, zero_tolerance, ok)
+      real(dp), intent(inout) :: inverse(:, :), basic(:), row_norm(:)
+      real(dp), intent(in) :: column(:), zero_tolerance
       integer, intent(in) :: row
-      real(dp) :: factor(size(column)), pivot_row_value
-      integer :: j
+      logical, intent(out) :: ok
+      real(dp) :: factor(size(column)), pivot_value, pivot_row_value, pivot_row_norm, row_max
+      real(dp) :: growth, bound, term, value, old
+      integer :: i, j
 
-      factor = column/column(row)
+      pivot_value = column(row)
+      ! New pivot row: (old row) / a_t, at most row_max / |a_t|; other rows: old - (a_i / a_t) *
+      ! (old pivot row), at most max(old) + growth * row_max with growth = max|a| / |a_t|.
+      row_max = max(maxval(abs(inverse(row, :))), abs(basic(row)))
+      growth = safe_divide(maxval(abs(column)), abs(pivot_value))
+      bound = saturating_sum(max(maxval(row_norm), maxval(abs(basic))), &
+                             saturating_product(growth, row_max))
+      ok = bound <= value_limit .and. safe_divide(row_max, abs(pivot_value)) <= value_limit
+      if (.not. ok) return
+
+      factor = column/pivot_value
       factor(row) = 0.0_dp
+      ! One sweep updates B^-1 and sums the new row norms; row t's entries are overwritten after
+      ! the sweep and its norm is exactly the old one over |a_t|.
+      pivot_row_norm = row_norm(row)/abs(pivot_value)
+      row_norm = 0.0_dp
       do j = 1, size(inverse, 2)
-         pivot_row_value = inverse(row, j)/column(row)
-         inverse(:, j) = inverse(:, j) - factor*inverse(row, j)
-         inverse(row, j) = pivot_row_value
+         old = inverse(row, j)
+         do i = 1, size(inverse, 1)
+            value = inverse(i, j) - factor(i)*old
+            inverse(i, j) = value
+            row_norm(i) = row_norm(i) + abs(value)
+         end do
+         inverse(row, j) = old/pivot_value
       end do
-      pivot_row_value = basic(row)/column(row)
-      basic = basic - factor*basic(row)
+      row_norm(row) = pivot_row_norm
+      pivot_row_value = basic(row)/pivot_value
+      do i = 1, size(basic)
+         if (i == row) cycle
+         old = basic(i)
+         term = factor(i)*basic(row)
+         value = old - term
+         if (abs(value) <= zero_tolerance*(abs(old) + abs(term))) value = 0.0_dp
+         basic(i) = value
+      end do
       basic(row) = pivot_row_value
    end subroutine pivot
 
@@ -521,15 +746,54 @@ contains
       end do
    end subroutine basis_matrix
 
-   !> One step of iterative refinement of x_B: x += B^-1 (q - B x), with B from the original
-   !> columns (Golub & Van Loan, *Matrix Computations*, iterative improvement). O(n^2); it
-   !> removes the drift that the updated inverse accumulates.
-   pure subroutine refine(matrix, q, covering, basis, inverse, basic)
+   !> Iterative refinement of x_B in working precision: x += B^-1 (q - B x), with B from the
+   !> original columns and B^-1 applied either as the explicit inverse (O(n^2) per step) or by
+   !> the LU factors of dgetrf (lu, pivots). Refinement in fixed precision reduces the residual
+   !> q - B x (the backward error) to the rounding level even when the forward error cannot go
+   !> below cond(B) eps (Higham 2002, Sec. 12.2), so a step is kept only if it reduces the residual
+   !> and the iteration goes on only while each step at least halves it. Also stops when the
+   !> correction could exceed value_limit (row_norm: 1-norms of the rows of B^-1).
+   subroutine refine(matrix, q, covering, basis, basic, row_norm, inverse, lu, pivots)
       real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
       integer, intent(in) :: basis(:)
-      real(dp), intent(in) :: inverse(:, :)
       real(dp), intent(inout) :: basic(:)
-      real(dp) :: residual(size(q)), column(size(q))
+      real(dp), intent(in) :: row_norm(:)
+      real(dp), intent(in), optional :: inverse(:, :), lu(:, :)
+      integer, intent(in), optional :: pivots(:)
+      real(dp) :: residual(size(q)), correction(size(q)), trial(size(q)), size_now, size_trial
+      integer :: n, step, info
+
+      n = size(q)
+      call basis_residual(matrix, q, covering, basis, basic, residual)
+      size_now = maxval(abs(residual))
+      do step = 1, max_refinement_steps
+         if (.not. size_now > 0.0_dp) exit
+         if (saturating_product(maxval(row_norm), size_now) > value_limit) exit
+         correction = residual
+         if (present(lu) .and. present(pivots)) then
+            call dgetrs('N', n, 1, lu, n, pivots, correction, n, info)
+            if (info /= 0) exit
+         else if (present(inverse)) then
+            correction = matmul(inverse, residual)
+         else
+            exit
+         end if
+         trial = basic + correction
+         call basis_residual(matrix, q, covering, basis, trial, residual)
+         size_trial = maxval(abs(residual))
+         if (.not. size_trial < size_now) exit
+         basic = trial
+         if (.not. size_trial < size_now/2.0_dp) exit
+         size_now = size_trial
+      end do
+   end subroutine refine
+
+   !> residual = q - B x with B from the original (scaled) columns of the basis; O(n^2).
+   pure subroutine basis_residual(matrix, q, covering, basis, basic, residual)
+      real(dp), intent(in) :: matrix(:, :), q(:), covering(:), basic(:)
+      integer, intent(in) :: basis(:)
+      real(dp), intent(out) :: residual(:)
+      real(dp) :: column(size(q))
       integer :: i, n
       n = size(q)
       residual = q
@@ -537,84 +801,168 @@ contains
          call original_column(matrix, covering, basis(i), n, column)
          residual = residual - column*basic(i)
       end do
-      basic = basic + matmul(inverse, residual)
-   end subroutine refine
+   end subroutine basis_residual
 
-   !> Recompute B^-1 and x_B = B^-1 q from scratch by Gauss-Jordan elimination with partial
-   !> pivoting (Golub & Van Loan, *Matrix Computations*). O(n^3). ok = .false. if B is
-   !> numerically singular.
-   pure subroutine refactor(matrix, q, covering, basis, inverse, basic, ok)
+   !> Factorise the basis afresh with LAPACK (dgetrf: LU with partial pivoting), then B^-1 from
+   !> the factors (dgetrs on the identity; the explicit inverse is what the Gauss-Jordan updates
+   !> and the lexicographic ratio test use) and x_B = B^-1 q by dgetrs, refined with the factors.
+   !> O(n^3). ok = .false. if B is singular to working precision: a pivot of U at most
+   !> n eps max|B| is within the backward error of the factorisation (Higham 2002, Thm. 9.3), so
+   !> B^-1 computed from it would be meaningless (and could overflow).
+   subroutine refactor(matrix, q, covering, basis, inverse, basic, row_norm, ok)
       real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
       integer, intent(in) :: basis(:)
-      real(dp), intent(inout) :: inverse(:, :), basic(:)
+      real(dp), intent(inout) :: inverse(:, :), basic(:), row_norm(:)
       logical, intent(out) :: ok
-      real(dp) :: b(size(q), size(q)), swap(size(q)), factor(size(q)), scale_b, pivot_value
-      integer :: k, p, j, n
+      real(dp), allocatable :: b(:, :), lu(:, :)
+      integer :: pivots(size(q)), k, n, info
+      real(dp) :: singular_level
 
       n = size(q)
-      call basis_matrix(matrix, covering, basis, b)
-      call identity(inverse)
-      scale_b = maxval(abs(b))
       ok = .false.
+      allocate (b(n, n))
+      call basis_matrix(matrix, covering, basis, b)
+      lu = b
+      call dgetrf(n, n, lu, n, pivots, info)
+      if (info /= 0) return
+      singular_level = real(n, dp)*epsilon(1.0_dp)*maxval(abs(b))
       do k = 1, n
-         p = k - 1 + maxloc(abs(b(k:, k)), dim=1)
-         if (abs(b(p, k)) <= epsilon(1.0_dp)*scale_b) return
-         if (p /= k) then
-            swap = b(k, :); b(k, :) = b(p, :); b(p, :) = swap
-            swap = inverse(k, :); inverse(k, :) = inverse(p, :); inverse(p, :) = swap
-         end if
-         factor = b(:, k)/b(k, k)
-         factor(k) = 0.0_dp
-         do j = 1, n
-            b(:, j) = b(:, j) - factor*b(k, j)
-            inverse(:, j) = inverse(:, j) - factor*inverse(k, j)
-         end do
-         pivot_value = b(k, k)
-         b(k, :) = b(k, :)/pivot_value
-         inverse(k, :) = inverse(k, :)/pivot_value
+         if (abs(lu(k, k)) <= singular_level) return
       end do
-      ! b is now the identity up to the row scaling done above; inverse holds B^-1.
-      basic = matmul(inverse, q)
+      call identity(inverse)
+      call dgetrs('N', n, n, lu, n, pivots, inverse, n, info)
+      if (info /= 0) return
+      if (.not. all(ieee_is_finite(inverse))) return
+      row_norm = sum(abs(inverse), dim=2)
+      if (.not. maxval(row_norm) <= value_limit) return
+      basic = q
+      call dgetrs('N', n, 1, lu, n, pivots, basic, n, info)
+      if (info /= 0) return
+      call refine(matrix, q, covering, basis, basic, row_norm, lu=lu, pivots=pivots)
       ok = all(ieee_is_finite(basic))
    end subroutine refactor
 
    !> r from the basic values: r~_j where r_j is basic (negative round-off read as zero), then
-   !> unscaled r = c S r~.
-   pure subroutine extract(basic, position, n, column_scale, q_scale, r)
+   !> unscaled r_j = 2^(q_exp + column_exp(j)) r~_j. representable = .false. (and r = 0) if some
+   !> r_j exceeds huge(1.0_dp), checked on the exponents before scaling, or is not finite.
+   pure subroutine extract(basic, position, column_exp, q_exp, r, representable)
       real(dp), intent(in) :: basic(:)
-      integer, intent(in) :: position(:), n
-      real(dp), intent(in) :: column_scale(:), q_scale
+      integer, intent(in) :: position(:), column_exp(:), q_exp
       real(dp), intent(out) :: r(:)
-      real(dp) :: rtilde(n)
-      integer :: j
-      rtilde = 0.0_dp
+      logical, intent(out) :: representable
+      real(dp) :: value
+      integer :: j, n
+      n = size(r)
+      r = 0.0_dp
+      representable = .true.
       do j = 1, n
-         if (position(n + j) > 0) rtilde(j) = max(basic(position(n + j)), 0.0_dp)
+         if (position(n + j) == 0) cycle
+         if (.not. ieee_is_finite(basic(position(n + j)))) then
+            representable = .false.
+            cycle
+         end if
+         value = max(basic(position(n + j)), 0.0_dp)
+         if (.not. value > 0.0_dp) cycle
+         ! value = f 2^e with f < 1, so value 2^k < 2^(e + k) is finite when e + k <= maxexponent.
+         if (exponent(value) + q_exp + column_exp(j) > maxexponent(value)) then
+            representable = .false.
+         else
+            r(j) = scale(value, q_exp + column_exp(j))
+         end if
       end do
-      r = q_scale*column_scale*rtilde
+      if (.not. representable) r = 0.0_dp
    end subroutine extract
 
-   !> Verification from the original data: w = q + M r and the residuals of the report.
-   subroutine verify(matrix, q, r, w, report)
+   !> ||M||_inf (largest absolute row sum), saturated at huge(1.0_dp); computed relative to the
+   !> largest entry, so no partial sum overflows.
+   pure real(dp) function inf_norm(matrix)
+      real(dp), intent(in) :: matrix(:, :)
+      real(dp) :: largest, row_sum(size(matrix, 1))
+      integer :: j
+      largest = maxval(abs(matrix))
+      inf_norm = 0.0_dp
+      if (.not. largest > 0.0_dp) return
+      row_sum = 0.0_dp
+      do j = 1, size(matrix, 2)
+         row_sum = row_sum + abs(matrix(:, j))/largest
+      end do
+      inf_norm = saturating_product(largest, maxval(row_sum))
+   end function inf_norm
+
+   !> Verification from the original data: w = q + M r and the residuals of the report (see
+   !> `lemke_report_t%residual`). representable = .false. (w = q, report untouched) when
+   !> ||M|| ||r|| + ||q|| exceeds huge/2: w could then overflow, and is not computed.
+   subroutine verify(matrix, q, r, w, report, representable)
       real(dp), intent(in) :: matrix(:, :), q(:), r(:)
       real(dp), intent(out) :: w(:)
       type(lemke_report_t), intent(inout) :: report
-      real(dp) :: r_scale, w_scale
+      logical, intent(out) :: representable
+      real(dp) :: r_scale, w_scale, w_max
       integer :: i
 
+      r_scale = maxval(abs(r))
+      w_scale = saturating_sum(saturating_product(inf_norm(matrix), r_scale), maxval(abs(q)))
+      representable = w_scale <= huge(1.0_dp)/2.0_dp
+      if (.not. representable) then
+         w = q
+         return
+      end if
       w = q + matmul(matrix, r)
       report%min_r = minval(r)
       report%min_w = minval(w)
-      report%complementarity = abs(dot_product(r, w))
       report%active = count(r > 0.0_dp)
-      r_scale = maxval(abs(r))
       if (r_scale <= 0.0_dp) r_scale = 1.0_dp
-      w_scale = maxval(abs(q))
       if (w_scale <= 0.0_dp) w_scale = 1.0_dp
+      w_max = maxval(abs(w))
+      report%complementarity = 0.0_dp
+      if (w_max > 0.0_dp) then
+         report%complementarity = saturating_product(saturating_product(r_scale, w_max), &
+                                                     abs(dot_product(r/r_scale, w/w_max)))
+      end if
       report%residual = 0.0_dp
       do i = 1, size(q)
          report%residual = max(report%residual, abs(min(r(i)/r_scale, w(i)/w_scale)))
       end do
    end subroutine verify
+
+   !> Extract r from the basic values, verify it, and classify the point: point_verified (finite,
+   !> residual within tolerance), point_inaccurate (finite, residual too large), point_overflow
+   !> (r or w not representable: r = 0, w = q returned) or point_not_finite (a non-finite value
+   !> slipped through: r = 0, w = q returned). Overflow and non-finite values set the message.
+   subroutine conclude(matrix, q, basic, position, column_exp, q_exp, opts, r, w, report, point)
+      real(dp), intent(in) :: matrix(:, :), q(:), basic(:)
+      integer, intent(in) :: position(:), column_exp(:), q_exp
+      type(lemke_options_t), intent(in) :: opts
+      real(dp), intent(out) :: r(:), w(:)
+      type(lemke_report_t), intent(inout) :: report
+      integer, intent(out) :: point
+      logical :: representable, fits
+
+      call extract(basic, position, column_exp, q_exp, r, representable)
+      if (.not. representable) then
+         point = point_overflow
+         report%message = report%message//'; the point reached overflows: r exceeds huge, '// &
+                          'r = 0 returned'
+      else
+         call verify(matrix, q, r, w, report, fits)
+         if (.not. fits) then
+            point = point_overflow
+            report%message = report%message//'; w = q + M r would overflow, r = 0 returned'
+         else if (.not. (all(ieee_is_finite(r)) .and. all(ieee_is_finite(w)) .and. &
+                         ieee_is_finite(report%residual))) then
+            point = point_not_finite
+            report%message = report%message//'; non-finite r or w, r = 0 returned'
+         else if (report%residual <= opts%residual_tolerance) then
+            point = point_verified
+            return
+         else
+            point = point_inaccurate
+            return
+         end if
+      end if
+      ! r = 0 always fits: ||M|| ||r|| + ||q|| = ||q||.
+      r = 0.0_dp
+      call verify(matrix, q, r, w, report, fits)
+   end subroutine conclude
 
 end module uniarc_lemke
