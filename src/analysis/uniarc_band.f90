@@ -13,6 +13,7 @@ module uniarc_band
    public :: band_matrix_t
    public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
    public :: band_factorize, band_solve, band_solve_transpose, band_inertia, band_set
+   public :: band_copy, band_move
 
    !> A square band matrix, its LU factors once factorised, and what the factorisation tells.
    type :: band_matrix_t
@@ -39,6 +40,43 @@ contains
       allocate (matrix%ab(matrix%ldab, max(n, 1)), source=0.0_dp)
       allocate (matrix%pivots(max(n, 1)), source=0)
    end subroutine band_allocate
+
+   !> target ← source, entries and factorisation state; the target's storage is reused when it has
+   !> the shape already (no allocation per copy: a copy of a large band is a memory copy only).
+   subroutine band_copy(source, target)
+      type(band_matrix_t), intent(in) :: source
+      type(band_matrix_t), intent(inout) :: target
+      if (allocated(target%ab)) then
+         if (any(shape(target%ab) /= shape(source%ab))) deallocate (target%ab, target%pivots)
+      end if
+      if (.not. allocated(target%ab)) allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), &
+                                                target%pivots(size(source%pivots)))
+      target%ab(:, :) = source%ab
+      target%pivots(:) = source%pivots
+      target%n = source%n
+      target%kl = source%kl
+      target%ku = source%ku
+      target%ldab = source%ldab
+      target%factorized = source%factorized
+      target%det_sign = source%det_sign
+   end subroutine band_copy
+
+   !> target ← source without copying the entries (their storage moves); source is left empty.
+   subroutine band_move(source, target)
+      type(band_matrix_t), intent(inout) :: source
+      type(band_matrix_t), intent(inout) :: target
+      if (allocated(target%ab)) deallocate (target%ab)
+      if (allocated(target%pivots)) deallocate (target%pivots)
+      call move_alloc(source%ab, target%ab)
+      call move_alloc(source%pivots, target%pivots)
+      target%n = source%n
+      target%kl = source%kl
+      target%ku = source%ku
+      target%ldab = source%ldab
+      target%factorized = source%factorized
+      target%det_sign = source%det_sign
+      source%factorized = .false.
+   end subroutine band_move
 
    !> Zero the entries for a new assembly.
    subroutine band_zero(matrix)

@@ -19,7 +19,8 @@ module uniarc_contact_lcp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set, &
+                          band_copy, band_move
    use uniarc_contact, only: candidate_gap
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
@@ -81,7 +82,8 @@ contains
    !> Solve the contact LCP linearised at the current state and return the new working set.
    !>
    !> In: `assembled`, the augmented tangent K_S for the set `active` (unfactorised), and `tangent`,
-   !> its band LU; x the current unknowns (displacements and reactions, n); nodal the current nodal
+   !> its band LU — both are workspace: their storage is lent to the LCP and given back with other
+   !> contents (the caller assembles and factorises again for the new set); x the current unknowns (displacements and reactions, n); nodal the current nodal
    !> displacements (3, n_nodes); residual g = λR − F_aug (n) and reference R (n) for that set;
    !> du_residual = K_S⁻¹ g and du_tangent = K_S⁻¹ R (n); the path constraint; units of gaps and forces.
    !> Out: `new_active`, the report (pivots, exchanges, solves). An LCP that is not solved to the
@@ -93,7 +95,7 @@ contains
                                  du_tangent, constraint, units, active, new_active, report, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(band_matrix_t), intent(in) :: assembled, tangent
+      type(band_matrix_t), intent(inout) :: assembled, tangent
       real(dp), intent(in) :: x(:), nodal(:, :), residual(:), reference(:), du_residual(:), du_tangent(:)
       type(path_constraint_t), intent(in) :: constraint
       type(contact_scales_t), intent(in) :: units
@@ -132,12 +134,15 @@ contains
          return
       end if
 
-      lcp%matrix = assembled
-      lcp%factors = tangent
+      call band_move(assembled, lcp%matrix)
+      call band_move(tangent, lcp%factors)
       lcp%residual = residual
       lcp%reference = reference
       allocate (lcp%work(size(x), 1))
       call implicit_lcp_solve(lcp, w, report, error, options)
+      call band_move(lcp%matrix, assembled)
+      call band_move(lcp%factors, tangent)
+      tangent%factorized = .false.
       if (allocated(error)) return
       if (report%status /= lemke_solved) then
          call make_error(error, 'the contact LCP has no solution found by Lemke ('// &
@@ -334,7 +339,7 @@ contains
       type(contact_lcp_operator_t), intent(inout) :: self
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: rhs(:, :)
-      self%factors = self%matrix
+      call band_copy(self%matrix, self%factors)
       call band_factorize(self%factors, error)
       if (allocated(error)) return
       allocate (rhs(size(self%residual), 2))

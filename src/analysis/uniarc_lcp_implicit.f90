@@ -50,6 +50,11 @@ module uniarc_lcp_implicit
       integer :: block_backup = 3
       !> Most exchanges of the block phase in one round.
       integer :: block_steps = 50
+      !> A block exchange is made only while more than this many outputs are infeasible; fewer are
+      !> left to Lemke, whose pivot (two or three applications) costs far less than an exchange (one
+      !> refactorisation) and which cannot cycle as a block exchange can at the edge of a contact
+      !> region (measured in docs/benchmarks.md).
+      integer :: block_threshold = 16
       !> Columns of the Schur complement before they are absorbed into the frame (≥ 1).
       integer :: complement_limit = 48
       !> Lemke pivots in one round; 0: automatic, max(1000, 4 m).
@@ -98,7 +103,7 @@ contains
       integer :: m, round
       logical :: solved, broken
       if (present(options)) opts = options
-      if (opts%block_backup < 0 .or. opts%block_steps < 0 .or. opts%complement_limit < 1 .or. &
+      if (opts%block_backup < 0 .or. opts%block_steps < 0 .or. opts%block_threshold < 0 .or. opts%complement_limit < 1 .or. &
           opts%max_pivots < 0 .or. opts%rounds < 1 .or. .not. (opts%tolerance >= 0.0_dp)) then
          call make_error(error, 'implicit LCP solver: negative count, complement_limit < 1, rounds < 1 '// &
                          'or a negative tolerance in the options', error_input)
@@ -173,7 +178,7 @@ contains
             solved = .true.
             return
          end if
-         if (step > opts%block_steps) return
+         if (step > opts%block_steps .or. count_violated <= opts%block_threshold) return
          if (count_violated < fewest) then
             fewest = count_violated
             backup = opts%block_backup

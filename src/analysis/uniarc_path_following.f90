@@ -16,7 +16,7 @@ module uniarc_path_following
    use uniarc_model, only: model_t, analysis_options_t, dofs_per_node, control_load, control_displacement, &
                            control_arclength, iteration_chan, iteration_cylindrical, iteration_riks
    use uniarc_dof_map, only: dof_map_t, build_dof_map
-   use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia
+   use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
    use uniarc_contact, only: candidate_gap, assemble_contact
@@ -50,6 +50,8 @@ module uniarc_path_following
    type :: path_state_t
       type(dof_map_t) :: map
       type(band_matrix_t) :: tangent            !< K_T at the committed state, factorised
+      type(band_matrix_t) :: assembled          !< workspace: an unfactorised copy for the contact LCP
+      real(dp), allocatable :: eigenvector(:)   !< last mode of least eigenvalue (warm start)
       real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
       logical, allocatable :: active(:)         !< committed working set of contact candidates
       real(dp) :: lambda = 0.0_dp
@@ -196,7 +198,6 @@ contains
       type(error_t), allocatable :: error
       type(path_constraint_t) :: constraint
       type(implicit_lcp_report_t) :: report
-      type(band_matrix_t) :: assembled
       real(dp), allocatable :: residual(:)
       logical :: small_correction, has_contacts
       integer :: n, set_changes
@@ -219,7 +220,7 @@ contains
             call gather_nodal(state%map, state%u, nodal)
             call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, element_scale)
             residual = state%lambda*reference - internal
-            assembled = state%tangent
+            call band_copy(state%tangent, state%assembled)
             call factorize_and_solve(state%tangent, residual, reference, rhs, error)
             if (allocated(error)) then
                reason = 'singular tangent at the start of the step'
@@ -227,7 +228,7 @@ contains
             end if
             call step_constraint(options, state, ut, dlambda, constraint)
             allocate (new_active(size(active)))
-            call select_contact_set(model, state%map, assembled, state%tangent, state%u, nodal, residual, reference, &
+            call select_contact_set(model, state%map, state%assembled, state%tangent, state%u, nodal, residual, reference, &
                                     rhs(:, 1), rhs(:, 2), constraint, contact_units(state, state%u, active), &
                                     active, new_active, report, error)
             lcp_pivots = lcp_pivots + report%pivots
@@ -289,7 +290,7 @@ contains
                   exit
                end if
                residual = rhs(:, 1)
-               assembled = state%tangent
+               call band_copy(state%tangent, state%assembled)
                call factorize_and_solve(state%tangent, residual, reference, rhs, error)
                if (allocated(error)) then
                   reason = 'singular tangent'
@@ -297,7 +298,7 @@ contains
                end if
                call correction_constraint(options, state, increment, constraint)
                if (.not. allocated(new_active)) allocate (new_active(size(active)))
-               call select_contact_set(model, state%map, assembled, state%tangent, trial, nodal, residual, &
+               call select_contact_set(model, state%map, state%assembled, state%tangent, trial, nodal, residual, &
                                        reference, rhs(:, 1), rhs(:, 2), constraint, contact_units(state, trial, active), &
                                        active, new_active, report, error)
                lcp_pivots = lcp_pivots + report%pivots
@@ -633,7 +634,7 @@ contains
       call band_solve(state%tangent, rhs, error)
       if (allocated(error)) return
       state%tangent_displacement = rhs(:, 1)
-      state%point%min_eigenvalue = least_eigenvalue(state%tangent)
+      state%point%min_eigenvalue = least_eigenvalue(state%tangent, state%eigenvector)
    end subroutine tangent_at_committed_state
 
    !> Fill the point record of the committed state.
@@ -710,8 +711,11 @@ contains
 
    !> Eigenvalue of least magnitude of a factorised matrix by inverse iteration (Rayleigh quotient of
    !> K⁻¹); used only to place bifurcation points between steps, so a few digits suffice.
-   function least_eigenvalue(matrix) result(mu)
+   !> `mode` (n) is the start vector and returns the last iterate: started from the mode of the last
+   !> converged step, which changes little from step to step, the iteration settles in a few solves.
+   function least_eigenvalue(matrix, mode) result(mu)
       type(band_matrix_t), intent(in) :: matrix
+      real(dp), allocatable, intent(inout) :: mode(:)
       real(dp) :: mu
       real(dp), allocatable :: x(:, :), y(:)
       real(dp) :: nu, previous
@@ -720,8 +724,12 @@ contains
       mu = 0.0_dp
       if (matrix%n == 0) return
       allocate (x(matrix%n, 1))
-      x(:, 1) = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
-      x = x/norm2(x)
+      if (allocated(mode)) then
+         if (size(mode) /= matrix%n) deallocate (mode)
+      end if
+      if (.not. allocated(mode)) mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
+      if (.not. (norm2(mode) > 0.0_dp)) mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
+      x(:, 1) = mode/norm2(mode)
       nu = 0.0_dp
       ! Stop when the Rayleigh quotient has settled to 1e-6: near a critical point, where it matters,
       ! the least eigenvalue is well separated and a few solves do; elsewhere 30 at most.
@@ -734,6 +742,7 @@ contains
          x = x/norm2(x)
          if (k > 2 .and. abs(nu - previous) <= 1.0e-6_dp*abs(nu)) exit
       end do
+      if (all(abs(x(:, 1)) <= huge(1.0_dp))) mode = x(:, 1)
       if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
    end function least_eigenvalue
 
