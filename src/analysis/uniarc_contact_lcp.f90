@@ -20,7 +20,7 @@ module uniarc_contact_lcp
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set, &
-                          band_copy, band_move
+                          band_copy, band_move, band_multiply
    use uniarc_contact, only: candidate_gap
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
@@ -66,7 +66,8 @@ module uniarc_contact_lcp
       real(dp), allocatable :: du_residual(:), du_tangent(:)  !< (n) K_S⁻¹ g, K_S⁻¹ R
       real(dp), allocatable :: border(:)      !< (n) c of the bordering projector P = I − K_S⁻¹R cᵀ
       type(path_constraint_t) :: constraint
-      type(contact_scales_t) :: units
+      type(contact_scales_t) :: units         !< the caller's units (lower bounds)
+      type(contact_scales_t) :: frame_units   !< units of the current frame (set by frame_q)
       real(dp), allocatable :: work(:, :)     !< (n, 1) solve buffer
    contains
       procedure :: order => contact_order
@@ -202,33 +203,44 @@ contains
 
    !> q of the frame: with the particular solution p = K_S⁻¹g + δλ K_S⁻¹R (δλ from the constraint),
    !> q_c = g_c + a_cᵀp + t_c (r_c + p_r) (the linearised gap) for c ∉ S, r_c + p_r for c ∈ S.
+   !> Also the frame's units: a gap is compared with the largest displacement of the linearised step
+   !> (the round-off of q is relative to it, not to the committed displacements, which are 0 at the
+   !> first step), a reaction with the largest predicted reaction; the caller's units are lower bounds.
    subroutine contact_frame_q(self, q, error)
       class(contact_lcp_operator_t), intent(inout) :: self
       real(dp), intent(out) :: q(:)
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: particular(:)
-      real(dp) :: dlambda
-      integer :: j
+      real(dp) :: dlambda, largest_displacement, largest_reaction
+      integer :: j, i
       dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)
       particular = self%du_residual + dlambda*self%du_tangent
+      largest_displacement = 0.0_dp
+      largest_reaction = 0.0_dp
       do j = 1, self%m
+         do i = 1, 2
+            if (self%eq(i, j) > 0) largest_displacement = max(largest_displacement, abs(particular(self%eq(i, j))))
+         end do
          if (self%active(j)) then
             q(j) = self%reaction(j) + particular(self%row(j))
+            largest_reaction = max(largest_reaction, abs(q(j)))
          else
             q(j) = self%gap(j) + along(self, j, particular) + &
                    self%flexibility(j)*(self%reaction(j) + particular(self%row(j)))
          end if
       end do
+      self%frame_units%gap = max(self%units%gap, largest_displacement)
+      self%frame_units%force = max(self%units%force, largest_reaction)
    end subroutine contact_frame_q
 
-   !> A gap is measured against the gap unit, a reaction against the force unit.
+   !> A gap is measured against the gap unit, a reaction against the force unit (of the last frame_q).
    subroutine contact_scales(self, scale)
       class(contact_lcp_operator_t), intent(in) :: self
       real(dp), intent(out) :: scale(:)
       where (self%active)
-         scale = self%units%force
+         scale = self%frame_units%force
       elsewhere
-         scale = self%units%gap
+         scale = self%frame_units%gap
       end where
    end subroutine contact_scales
 
@@ -334,19 +346,29 @@ contains
       end do
    end subroutine toggle
 
-   !> Factorise the frame's matrix and solve for K_S⁻¹g and K_S⁻¹R.
+   !> Factorise the frame's matrix and solve for K_S⁻¹g and K_S⁻¹R, each with one step of iterative
+   !> refinement against the unfactorised matrix (Higham 2002, §12.1): q of the new frame is then as
+   !> accurate as the band LU allows, whatever the pivots that led to the frame.
    subroutine refactorize(self, error)
       type(contact_lcp_operator_t), intent(inout) :: self
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: rhs(:, :)
+      real(dp), allocatable :: rhs(:, :), correction(:, :)
+      integer :: k
       call band_copy(self%matrix, self%factors)
       call band_factorize(self%factors, error)
       if (allocated(error)) return
-      allocate (rhs(size(self%residual), 2))
+      allocate (rhs(size(self%residual), 2), correction(size(self%residual), 2))
       rhs(:, 1) = self%residual
       rhs(:, 2) = self%reference
       call band_solve(self%factors, rhs, error)
       if (allocated(error)) return
+      correction(:, 1) = self%residual - band_multiply(self%matrix, rhs(:, 1))
+      correction(:, 2) = self%reference - band_multiply(self%matrix, rhs(:, 2))
+      call band_solve(self%factors, correction, error)
+      if (allocated(error)) return
+      do k = 1, 2
+         rhs(:, k) = rhs(:, k) + correction(:, k)
+      end do
       self%du_residual = rhs(:, 1)
       self%du_tangent = rhs(:, 2)
       call border_vector(self)

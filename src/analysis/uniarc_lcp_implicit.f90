@@ -501,32 +501,54 @@ contains
    end subroutine lemke_phase
 
    !> Solve C y = rhs for C = [block  dcol] ((p+1) × (p+1)) by LU with one step of refinement.
+   !> C mixes units (gap per reaction, reaction per gap, the covering vector), so it is equilibrated
+   !> first (rows, then columns, by their largest entries): the singularity test — a pivot below
+   !> (p+1) ε of the equilibrated matrix, whose entries are at most 1 — is then independent of units.
    subroutine schur_solve(block, dcol, rhs, y, failure)
       real(dp), intent(in) :: block(:, :), dcol(:), rhs(:)
       real(dp), intent(out) :: y(:)
       type(error_t), allocatable, intent(out) :: failure
-      real(dp), allocatable :: c(:, :), lu(:, :), work(:, :)
+      real(dp), allocatable :: c(:, :), lu(:, :), work(:, :), row_scale(:), column_scale(:)
       integer, allocatable :: ipiv(:)
       integer :: n, info, j
-      real(dp) :: smallest, largest
+      real(dp) :: smallest
       n = size(rhs)
-      allocate (c(n, n), ipiv(n), work(n, 1))
+      allocate (c(n, n), ipiv(n), work(n, 1), row_scale(n), column_scale(n))
       if (n > 1) c(:, 1:n - 1) = block
       c(:, n) = dcol
+      do j = 1, n
+         row_scale(j) = maxval(abs(c(j, :)))
+      end do
+      if (.not. all(row_scale > 0.0_dp)) then
+         call make_error(failure, 'a zero row')
+         return
+      end if
+      do j = 1, n
+         c(j, :) = c(j, :)/row_scale(j)
+      end do
+      do j = 1, n
+         column_scale(j) = maxval(abs(c(:, j)))
+      end do
+      if (.not. all(column_scale > 0.0_dp)) then
+         call make_error(failure, 'a zero column')
+         return
+      end if
+      do j = 1, n
+         c(:, j) = c(:, j)/column_scale(j)
+      end do
       lu = c
       call dgetrf(n, n, lu, n, ipiv, info)
       smallest = minval([(abs(lu(j, j)), j=1, n)])
-      largest = maxval(abs(c))
-      if (info /= 0 .or. .not. (smallest > real(n, dp)*epsilon(1.0_dp)*largest)) then
-         call make_error(failure, 'pivot '//real_to_string(smallest)//' of a matrix of size '//real_to_string(largest))
+      if (info /= 0 .or. .not. (smallest > real(n, dp)*epsilon(1.0_dp))) then
+         call make_error(failure, 'pivot '//real_to_string(smallest)//' of the equilibrated matrix')
          return
       end if
-      work(:, 1) = rhs
+      work(:, 1) = rhs/row_scale
       call dgetrs('N', n, 1, lu, n, ipiv, work, n, info)
       y = work(:, 1)
-      work(:, 1) = rhs - matmul(c, y)
+      work(:, 1) = rhs/row_scale - matmul(c, y)
       call dgetrs('N', n, 1, lu, n, ipiv, work, n, info)
-      y = y + work(:, 1)
+      y = (y + work(:, 1))/column_scale
    end subroutine schur_solve
 
    !> Largest relative infeasibility max_i max(0, −q_i/scale_i).
