@@ -65,6 +65,9 @@ module uniarc_contact_lcp
       real(dp), allocatable :: reference(:)   !< (n) reference load R
       real(dp), allocatable :: du_residual(:), du_tangent(:)  !< (n) K_S⁻¹ g, K_S⁻¹ R
       real(dp), allocatable :: border(:)      !< (n) c of the bordering projector P = I − K_S⁻¹R cᵀ
+      real(dp), allocatable :: correction(:, :)  !< (n, 2) last refinement corrections of K_S⁻¹g, K_S⁻¹R
+      real(dp), allocatable :: round_off(:)   !< (m) estimated round-off of each q_c of the frame
+      real(dp) :: tolerance = 1.0e-9_dp       !< the solver's acceptance tolerance (for the units)
       type(path_constraint_t) :: constraint
       type(contact_scales_t) :: units         !< the caller's units (lower bounds)
       type(contact_scales_t) :: frame_units   !< units of the current frame (set by frame_q)
@@ -123,6 +126,7 @@ contains
       lcp%du_tangent = du_tangent
       lcp%constraint = constraint
       lcp%units = units
+      lcp%tolerance = options%tolerance
       call border_vector(lcp)
 
       ! q first: when the working set is already right (q ≥ 0 within round-off) the LCP's answer is
@@ -231,9 +235,31 @@ contains
       end do
       self%frame_units%gap = max(self%units%gap, largest_displacement)
       self%frame_units%force = max(self%units%force, largest_reaction)
+      ! Round-off of q: what the last refinement corrected (an upper estimate of the error left after
+      ! it, Higham 2002, §12.1), carried through the same formulas; zero before any refactorisation.
+      if (.not. allocated(self%round_off)) allocate (self%round_off(self%m))
+      self%round_off = 0.0_dp
+      if (allocated(self%correction)) then
+         particular = abs(self%correction(:, 1)) + abs(dlambda*self%correction(:, 2))
+         do j = 1, self%m
+            if (self%active(j)) then
+               self%round_off(j) = particular(self%row(j))
+            else
+               self%round_off(j) = abs(along(self, j, particular)) + self%flexibility(j)*particular(self%row(j))
+               do i = 1, 2
+                  if (self%eq(i, j) > 0) self%round_off(j) = max(self%round_off(j), &
+                                                                 abs(self%gradient(i, j))*particular(self%eq(i, j)))
+               end do
+            end if
+         end do
+      end if
    end subroutine contact_frame_q
 
-   !> A gap is measured against the gap unit, a reaction against the force unit (of the last frame_q).
+   !> A gap is measured against the gap unit, a reaction against the force unit (of the last frame_q);
+   !> where the estimated round-off of q_c is larger than the tolerance times that unit, the unit is
+   !> raised so that the solver's acceptance (q_c ≥ −tolerance · unit, docs/lemke.md) never asks for
+   !> digits that the band LU of an ill-conditioned tangent cannot give: such a q_c is zero to working
+   !> precision.
    subroutine contact_scales(self, scale)
       class(contact_lcp_operator_t), intent(in) :: self
       real(dp), intent(out) :: scale(:)
@@ -242,6 +268,7 @@ contains
       elsewhere
          scale = self%frame_units%gap
       end where
+      if (allocated(self%round_off) .and. self%tolerance > 0.0_dp) scale = max(scale, self%round_off/self%tolerance)
    end subroutine contact_scales
 
    !> v = M_S y: unit inputs (a reaction for c ∉ S, a gap opening for c ∈ S) weighted by y, one
@@ -369,6 +396,7 @@ contains
       do k = 1, 2
          rhs(:, k) = rhs(:, k) + correction(:, k)
       end do
+      self%correction = correction
       self%du_residual = rhs(:, 1)
       self%du_tangent = rhs(:, 2)
       call border_vector(self)
