@@ -208,7 +208,7 @@ contains
       type(band_matrix_t), intent(in) :: matrix
       integer, intent(out) :: negative_pivots
       logical, intent(out) :: singular
-      real(dp), allocatable :: work(:, :)
+      real(dp), allocatable :: work(:, :), row_scale(:)
       real(dp) :: pivot, factor, scale
       integer :: k, i, j, offset, last_row, last_col
       negative_pivots = 0
@@ -216,10 +216,19 @@ contains
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
       allocate (work, source=matrix%ab)
-      scale = maxval(abs(work(offset, :)))
-      if (scale <= 0.0_dp) scale = 1.0_dp
+      ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
+      ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
+      ! call the pivots of the structure zero beside it.
+      allocate (row_scale(matrix%n), source=0.0_dp)
+      do j = 1, matrix%n
+         do i = max(1, j - matrix%ku), min(matrix%n, j + matrix%kl)
+            row_scale(i) = max(row_scale(i), abs(work(offset + i - j, j)))
+         end do
+      end do
       do k = 1, matrix%n
          pivot = work(offset, k)
+         scale = row_scale(k)
+         if (scale <= 0.0_dp) scale = 1.0_dp
          if (abs(pivot) <= epsilon(1.0_dp)*scale) then
             singular = .true.
             negative_pivots = negative_pivots + 1
