@@ -343,6 +343,9 @@ SECTIONS = [
 CONVERGENCE = [
     ('Ex. 1, rigid cavity: K_cr', 'input/ring_rigid_cavity.inp', [], 'n', [50, 100, 200, 400],
      ('crit', 'limit_max', 'lambda'), 81.5, 'Pian & Bucciarelli 1967; the paper'),
+    ('Ex. 1, rigid cavity, fine meshes (every node a contact candidate; the contact LCP at scale): K_cr',
+     'input/ring_rigid_cavity.inp', [], 'n', [500, 1000, 2000, 4000],
+     ('crit', 'limit_max', 'lambda'), 81.5, 'Pian & Bucciarelli 1967; the paper'),
     ('Ex. 2, k = 1e4: K_lim', 'input/arch_foundation_below.inp', ['k=1e4'], 'n', [10, 20, 40, 80],
      ('crit', 'limit_max', 'lambda'), 83.4, 'the paper §6.2'),
     ('Ex. 4, a/h = 4.98: first contact K', 'input/arch_pressure_flat.inp', ['gap=4.98'], 'n', [15, 30, 60, 120],

@@ -13,7 +13,7 @@ module uniarc_band
    public :: band_matrix_t
    public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
    public :: band_factorize, band_solve, band_solve_transpose, band_inertia, band_set
-   public :: band_copy, band_move
+   public :: band_copy, band_move, band_inertia_from_factors
 
    !> A square band matrix, its LU factors once factorised, and what the factorisation tells.
    type :: band_matrix_t
@@ -196,6 +196,46 @@ contains
                   matrix%pivots, rhs, size(rhs, 1), info)
       call lapack_check('dgbtrs', info, error)
    end subroutine band_solve_transpose
+
+   !> The inertia count of band_inertia read from the LU factors of band_factorize when they were
+   !> obtained without a row interchange: the elimination was then the one band_inertia performs, and
+   !> U's diagonal holds its pivots (round-off apart), so the second elimination is saved. `found` is
+   !> false when an interchange happened (then call band_inertia on the unfactorised matrix).
+   !> `original` is the unfactorised matrix: a pivot is zero when it is round-off of its own row.
+   pure subroutine band_inertia_from_factors(factors, original, negative_pivots, singular, found)
+      type(band_matrix_t), intent(in) :: factors, original
+      integer, intent(out) :: negative_pivots
+      logical, intent(out) :: singular, found
+      real(dp), allocatable :: row_scale(:)
+      real(dp) :: pivot
+      integer :: i, j, k, offset
+      negative_pivots = 0
+      singular = .false.
+      found = factors%factorized
+      if (.not. found) return
+      do k = 1, factors%n
+         if (factors%pivots(k) /= k) then
+            found = .false.
+            return
+         end if
+      end do
+      offset = original%kl + original%ku + 1
+      allocate (row_scale(original%n), source=0.0_dp)
+      do j = 1, original%n
+         do i = max(1, j - original%ku), min(original%n, j + original%kl)
+            row_scale(i) = max(row_scale(i), abs(original%ab(offset + i - j, j)))
+         end do
+      end do
+      do k = 1, factors%n
+         pivot = factors%ab(factors%kl + factors%ku + 1, k)
+         if (abs(pivot) <= epsilon(1.0_dp)*merge(row_scale(k), 1.0_dp, row_scale(k) > 0.0_dp)) then
+            singular = .true.
+            negative_pivots = negative_pivots + 1
+         else if (pivot < 0.0_dp) then
+            negative_pivots = negative_pivots + 1
+         end if
+      end do
+   end subroutine band_inertia_from_factors
 
    !> Number of negative pivots of Gaussian elimination WITHOUT interchanges of an unfactorised matrix.
    !>

@@ -54,7 +54,7 @@ module uniarc_lcp_implicit
       !> left to Lemke, whose pivot (two or three applications) costs far less than an exchange (one
       !> refactorisation) and which cannot cycle as a block exchange can at the edge of a contact
       !> region (measured in docs/benchmarks.md).
-      integer :: block_threshold = 16
+      integer :: block_threshold = 4
       !> Columns of the Schur complement before they are absorbed into the frame (≥ 1).
       integer :: complement_limit = 48
       !> Lemke pivots in one round; 0: automatic, max(1000, 4 m).
@@ -232,8 +232,13 @@ contains
       allocate (z(m), source=0.0_dp)
       allocate (unit_vector(m), source=0.0_dp)
       allocate (column(m), row(m), dz(m), dw(m), rhs(capacity + 1), y(capacity + 1))
-      ! Start: z0 enters at the most negative q_i/d_i, with d = scale > 0.
+      ! Start: z0 enters at the most negative q_i/d_i. The covering vector is the unit of each output
+      ! where the output is infeasible and 1e-6 of it elsewhere (any d > 0 is a valid covering vector,
+      ! Cottle, Pang & Stone §4.4): the outputs that are already right hardly move with z0, so
+      ! Lemke's path stays among the contacts that must change (pivots measured in
+      ! docs/benchmarks.md).
       d = scale
+      where (q >= 0.0_dp) d = 1.0e-6_dp*scale
       k = minloc(q/d, 1)
       z0 = -q(k)/d(k)
       wv = max(q + d*z0, 0.0_dp)
