@@ -9,7 +9,7 @@ Markdown table: wall time, peak resident memory, steps, Newton iterations, Lemke
 number of springs in compression (in contact) at the last step and one tracked displacement; then the
 ratio tensionless / bonded run time per program, and the agreement of the two programs.
 
-Usage (from the repository root; see bench/contact_scale_README.md):
+Usage (from the repository root; see docs/benchmarks.md §4):
 
     python3 bench/contact_scale.py --uniarc build/uniarc --sizes 1000 -o out/contact_scale.md
     python3 bench/contact_scale.py --sizes 1000 10000 --with-1e5 --timeout 1800 -o out/cs.md
@@ -267,7 +267,7 @@ def markdown(results, baseline, header_lines):
 
 def main():
     parser = argparse.ArgumentParser(
-        description='uniarc and OpenSees side by side on two contact models (bench/contact_scale_README.md)')
+        description='uniarc and OpenSees side by side on two contact models (docs/benchmarks.md §4)')
     parser.add_argument('--uniarc', default=os.path.join(ROOT, 'build', 'uniarc'),
                         help='uniarc binary (default: build/uniarc of this repository)')
     parser.add_argument('--sizes', type=int, nargs='+', default=[1000, 10000],
