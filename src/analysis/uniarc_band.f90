@@ -53,12 +53,7 @@ contains
                                                 target%pivots(size(source%pivots)))
       target%ab(:, :) = source%ab
       target%pivots(:) = source%pivots
-      target%n = source%n
-      target%kl = source%kl
-      target%ku = source%ku
-      target%ldab = source%ldab
-      target%factorized = source%factorized
-      target%det_sign = source%det_sign
+      call copy_description(source, target)
    end subroutine band_copy
 
    !> target ← source without copying the entries (their storage moves); source is left empty.
@@ -69,14 +64,21 @@ contains
       if (allocated(target%pivots)) deallocate (target%pivots)
       call move_alloc(source%ab, target%ab)
       call move_alloc(source%pivots, target%pivots)
+      call copy_description(source, target)
+      source%factorized = .false.
+   end subroutine band_move
+
+   !> The scalar components (order, bandwidths, factorisation state) of source into target.
+   pure subroutine copy_description(source, target)
+      type(band_matrix_t), intent(in) :: source
+      type(band_matrix_t), intent(inout) :: target
       target%n = source%n
       target%kl = source%kl
       target%ku = source%ku
       target%ldab = source%ldab
       target%factorized = source%factorized
       target%det_sign = source%det_sign
-      source%factorized = .false.
-   end subroutine band_move
+   end subroutine copy_description
 
    !> Zero the entries for a new assembly.
    subroutine band_zero(matrix)
@@ -178,11 +180,7 @@ contains
       type(band_matrix_t), intent(in) :: matrix
       real(dp), intent(inout) :: rhs(:, :)
       type(error_t), allocatable, intent(out) :: error
-      integer :: info
-      if (matrix%n == 0) return
-      call dgbtrs('N', matrix%n, matrix%kl, matrix%ku, size(rhs, 2), matrix%ab, matrix%ldab, &
-                  matrix%pivots, rhs, size(rhs, 1), info)
-      call lapack_check('dgbtrs', info, error)
+      call factored_solve(matrix, 'N', rhs, error)
    end subroutine band_solve
 
    !> Solve Aᵀ X = B with the factors of band_factorize; B (n × nrhs) is overwritten by X.
@@ -190,12 +188,21 @@ contains
       type(band_matrix_t), intent(in) :: matrix
       real(dp), intent(inout) :: rhs(:, :)
       type(error_t), allocatable, intent(out) :: error
+      call factored_solve(matrix, 'T', rhs, error)
+   end subroutine band_solve_transpose
+
+   !> dgbtrs with the factors of band_factorize, for A (trans = 'N') or Aᵀ ('T').
+   subroutine factored_solve(matrix, trans, rhs, error)
+      type(band_matrix_t), intent(in) :: matrix
+      character(len=1), intent(in) :: trans
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
       integer :: info
       if (matrix%n == 0) return
-      call dgbtrs('T', matrix%n, matrix%kl, matrix%ku, size(rhs, 2), matrix%ab, matrix%ldab, &
+      call dgbtrs(trans, matrix%n, matrix%kl, matrix%ku, size(rhs, 2), matrix%ab, matrix%ldab, &
                   matrix%pivots, rhs, size(rhs, 1), info)
       call lapack_check('dgbtrs', info, error)
-   end subroutine band_solve_transpose
+   end subroutine factored_solve
 
    !> The inertia count of band_inertia read from the LU factors of band_factorize when they were
    !> obtained without a row interchange: the elimination was then the one band_inertia performs, and
@@ -208,7 +215,7 @@ contains
       logical, intent(out) :: singular, found
       real(dp), allocatable :: row_scale(:)
       real(dp) :: pivot
-      integer :: i, j, k, offset
+      integer :: k
       negative_pivots = 0
       singular = .false.
       found = factors%factorized
@@ -219,13 +226,7 @@ contains
             return
          end if
       end do
-      offset = original%kl + original%ku + 1
-      allocate (row_scale(original%n), source=0.0_dp)
-      do j = 1, original%n
-         do i = max(1, j - original%ku), min(original%n, j + original%kl)
-            row_scale(i) = max(row_scale(i), abs(original%ab(offset + i - j, j)))
-         end do
-      end do
+      row_scale = row_maxima(original)
       do k = 1, factors%n
          pivot = factors%ab(factors%kl + factors%ku + 1, k)
          if (abs(pivot) <= epsilon(1.0_dp)*merge(row_scale(k), 1.0_dp, row_scale(k) > 0.0_dp)) then
@@ -259,12 +260,7 @@ contains
       ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
-      allocate (row_scale(matrix%n), source=0.0_dp)
-      do j = 1, matrix%n
-         do i = max(1, j - matrix%ku), min(matrix%n, j + matrix%kl)
-            row_scale(i) = max(row_scale(i), abs(work(offset + i - j, j)))
-         end do
-      end do
+      row_scale = row_maxima(matrix)
       do k = 1, matrix%n
          pivot = work(offset, k)
          scale = row_scale(k)
@@ -285,5 +281,19 @@ contains
          end do
       end do
    end subroutine band_inertia
+
+   !> Largest |A(i, j)| of each row i of an unfactorised matrix (n).
+   pure function row_maxima(matrix) result(row_scale)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp) :: row_scale(matrix%n)
+      integer :: i, j, offset
+      offset = matrix%kl + matrix%ku + 1
+      row_scale = 0.0_dp
+      do j = 1, matrix%n
+         do i = max(1, j - matrix%ku), min(matrix%n, j + matrix%kl)
+            row_scale(i) = max(row_scale(i), abs(matrix%ab(offset + i - j, j)))
+         end do
+      end do
+   end function row_maxima
 
 end module uniarc_band
