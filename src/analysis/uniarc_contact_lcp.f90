@@ -96,7 +96,7 @@ contains
    !> along a path) nothing is factorised and no matrix is copied: the step costs what it would
    !> without contact.
    subroutine select_contact_set(model, map, assembled, tangent, x, nodal, residual, reference, du_residual, &
-                                 du_tangent, constraint, units, active, new_active, report, error)
+                                 du_tangent, constraint, units, active, new_active, report, error, kept, du_tangent_new)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(inout) :: assembled, tangent
@@ -107,6 +107,11 @@ contains
       logical, intent(out) :: new_active(:)
       type(implicit_lcp_report_t), intent(out) :: report
       type(error_t), allocatable, intent(out) :: error
+      !> When present: `kept` is true if `tangent` holds on return the band LU of K_S for `new_active`
+      !> (the frame the LCP ended in) and du_tangent_new = K_S⁻¹R for it (the caller need not assemble
+      !> and factorise again).
+      logical, intent(out), optional :: kept
+      real(dp), allocatable, intent(out), optional :: du_tangent_new(:)
       type(contact_lcp_operator_t) :: lcp
       integer, allocatable :: unilateral(:)
       real(dp), allocatable :: q(:), w(:), scale(:), reaction(:), gap(:)
@@ -115,6 +120,7 @@ contains
       integer :: c, j
 
       new_active = active
+      if (present(kept)) kept = .false.
       unilateral = pack([(c, c=1, size(map%candidate_equation))], &
                         [(map%candidate_equation(c) > 0 .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
@@ -172,6 +178,14 @@ contains
       do j = 1, lcp%m
          new_active(unilateral(j)) = reaction(j)/r_scale > gap(j)/w_scale
       end do
+      ! The factors of the final frame serve the caller when the new set is that frame.
+      if (present(kept) .and. present(du_tangent_new)) then
+         if (all(new_active(unilateral) .eqv. lcp%active)) then
+            tangent%factorized = .true.
+            du_tangent_new = lcp%du_tangent
+            kept = .true.
+         end if
+      end if
    end subroutine select_contact_set
 
    !> The per-candidate data of the operator for the unilateral candidates `unilateral`.

@@ -202,7 +202,8 @@ contains
       type(error_t), allocatable :: error
       type(path_constraint_t) :: constraint
       type(implicit_lcp_report_t) :: report
-      real(dp), allocatable :: residual(:)
+      real(dp), allocatable :: residual(:), ut_kept(:)
+      logical :: kept
       logical :: small_correction, has_contacts, at_floor, ready
       real(dp) :: residual_norm, previous_residual
       integer :: n, set_changes
@@ -249,7 +250,7 @@ contains
             allocate (new_active(size(active)))
             call select_contact_set(model, state%map, state%assembled, state%tangent, state%u, nodal, residual, reference, &
                                     rhs(:, 1), rhs(:, 2), constraint, contact_units(state, state%u, active), &
-                                    active, new_active, report, error)
+                                    active, new_active, report, error, kept, ut_kept)
             lcp_pivots = lcp_pivots + report%pivots
             if (allocated(error)) then
                reason = error%message
@@ -257,14 +258,19 @@ contains
             end if
             if (any(new_active .neqv. active)) then
                active = new_active
-               call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, &
-                                   element_scale)
-               call factorize_and_solve(state%tangent, state%lambda*reference - internal, reference, rhs, error)
-               if (allocated(error)) then
-                  reason = 'singular tangent with the predicted contact set'
-                  return
+               if (kept) then
+                  ! The LCP's last frame is the new set: its factors gave K_S⁻¹R already.
+                  ut = ut_kept
+               else
+                  call equilibrium_at(model, state, state%u, state%lambda, active, nodal, internal, reference, &
+                                      element_scale)
+                  call factorize_and_solve(state%tangent, state%lambda*reference - internal, reference, rhs, error)
+                  if (allocated(error)) then
+                     reason = 'singular tangent with the predicted contact set'
+                     return
+                  end if
+                  ut = rhs(:, 2)
                end if
-               ut = rhs(:, 2)
                dlambda = predictor_dlambda(options, state, ut, length)
             end if
          end if
