@@ -21,7 +21,7 @@ module uniarc_contact
    private
    public :: candidate_gap, assemble_contact, contact_summary_t, summarize_contact
 
-   !> What the path file reports of the contact state (SPEC.md columns).
+   !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
    type :: contact_summary_t
       integer :: n_contact = 0
       integer :: regions = 0

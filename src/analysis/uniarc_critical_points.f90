@@ -1,4 +1,4 @@
-!> Critical points between two converged points of the path (SPEC.md: `STEM.crit`).
+!> Critical points between two converged points of the path (docs/contracts.md: `STEM.crit`).
 !>
 !> A limit point is where dλ/ds changes sign along the direction of travel; it is located on the cubic
 !> Hermite interpolant of λ(s) built from the values and slopes at both points (error O(h⁴) in λ, so

@@ -1,5 +1,5 @@
 !> uniarc: the thin main program. Reads the command line and the deck, runs the analysis, and maps
-!> errors to exit codes (SPEC.md §1: 0 success, 1 analysis failed, 2 bad input or usage).
+!> errors to exit codes (docs/contracts.md: 0 success, 1 analysis failed, 2 bad input or usage).
 program main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_error, only: error_t, error_input, error_analysis

@@ -1,4 +1,4 @@
-!> The command line of SPEC.md §1:
+!> The command line of docs/contracts.md:
 !>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose]
 !>   uniarc --help | --version
 module uniarc_cli

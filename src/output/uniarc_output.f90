@@ -1,8 +1,8 @@
-!> Result files of SPEC.md: the path file `STEM.path`, critical points `STEM.crit`, shapes `STEM.shape`.
+!> Result files of docs/contracts.md: the path file `STEM.path`, critical points `STEM.crit`, shapes `STEM.shape`.
 !>
 !> Each file is written under a temporary name (`NAME.part`) and renamed when the run ends, so a crash
 !> never leaves a half file under the final name. Rows are written whole and flushed, so an analysis
-!> that fails part-way keeps every converged step (SPEC.md: exit code 1, complete rows only).
+!> that fails part-way keeps every converged step (docs/contracts.md: exit code 1, complete rows only).
 module uniarc_output
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
@@ -44,7 +44,7 @@ module uniarc_output
       type(table_file_t) :: path, crit, shape
    end type output_files_t
 
-   !> Number format of every real: ES with 13 significant digits (SPEC.md asks for at least 10).
+   !> Number format of every real: ES with 13 significant digits (docs/contracts.md).
    character(len=*), parameter :: number_format = '(es21.12e3)'
 
 contains
