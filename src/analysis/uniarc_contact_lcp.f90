@@ -68,6 +68,7 @@ module uniarc_contact_lcp
       real(dp), allocatable :: correction(:, :)  !< (n, 2) last refinement corrections of K_S⁻¹g, K_S⁻¹R
       real(dp), allocatable :: round_off(:)   !< (m) estimated round-off of each q_c of the frame
       real(dp) :: tolerance = 1.0e-9_dp       !< the solver's acceptance tolerance (for the units)
+      logical :: degenerate = .false.         !< the path constraint does not fix δλ in this frame
       type(path_constraint_t) :: constraint
       type(contact_scales_t) :: units         !< the caller's units (lower bounds)
       type(contact_scales_t) :: frame_units   !< units of the current frame (set by frame_q)
@@ -139,6 +140,7 @@ contains
       ! the frame itself and nothing more is needed (the warm start that the paper's form cannot have).
       allocate (q(lcp%m), scale(lcp%m), w(lcp%m))
       call lcp%frame_q(q, error)
+      if (allocated(error)) return
       call lcp%scales(scale)
       if (all(q >= -options%tolerance*scale)) then
          report%solves = 1
@@ -231,6 +233,13 @@ contains
       real(dp), allocatable :: particular(:)
       real(dp) :: dlambda, largest_displacement, largest_reaction
       integer :: j, i
+      if (self%degenerate) then
+         q = 0.0_dp
+         call make_error(error, 'the path constraint does not fix the load increment with this contact '// &
+                         'set (the contacts carry the whole reference load; load or displacement control '// &
+                         'of another node can pass here)', error_analysis)
+         return
+      end if
       dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)
       particular = self%du_residual + dlambda*self%du_tangent
       largest_displacement = 0.0_dp
@@ -420,13 +429,30 @@ contains
    !> linearised path constraint (δλ = −cᵀv).
    subroutine border_vector(self)
       type(contact_lcp_operator_t), intent(inout) :: self
+      real(dp) :: denominator, magnitude
       if (.not. allocated(self%border)) allocate (self%border(size(self%du_tangent)))
       self%border = 0.0_dp
+      ! The constraint fixes δλ only where it sees the response to the reference load: tᵀK_S⁻¹R (or the
+      ! controlled component of K_S⁻¹R) must not vanish. It does when the contacts of the frame carry
+      ! the whole reference load (a rigid obstacle under the loaded node).
       select case (self%constraint%kind)
       case (constraint_arclength)
-         self%border = self%constraint%t/dot_product(self%constraint%t, self%du_tangent)
+         denominator = dot_product(self%constraint%t, self%du_tangent)
+         magnitude = norm2(self%constraint%t)*norm2(self%du_tangent)
       case (constraint_displacement)
-         self%border(self%constraint%equation) = 1.0_dp/self%du_tangent(self%constraint%equation)
+         denominator = self%du_tangent(self%constraint%equation)
+         magnitude = maxval(abs(self%du_tangent))
+      case default
+         self%degenerate = .false.
+         return
+      end select
+      self%degenerate = .not. (abs(denominator) > 1.0e3_dp*epsilon(1.0_dp)*magnitude)
+      if (self%degenerate) return
+      select case (self%constraint%kind)
+      case (constraint_arclength)
+         self%border = self%constraint%t/denominator
+      case (constraint_displacement)
+         self%border(self%constraint%equation) = 1.0_dp/denominator
       end select
    end subroutine border_vector
 

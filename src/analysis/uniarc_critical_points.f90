@@ -40,10 +40,15 @@ contains
             event%fraction = hermite_stationary_point(before, after)
             event%lambda = hermite_lambda(before, after, event%fraction)
          end if
+         ! A maximum of λ between two converged points is at least as high as both of them (a minimum
+         ! at most as low): an interpolant or an extrapolation to a contact event that says otherwise
+         ! is off by its own error, and the converged value is the better estimate.
          if (before%dlambda_ds > 0.0_dp) then
             event%kind = 'limit_max'
+            event%lambda = max(event%lambda, before%lambda, after%lambda)
          else
             event%kind = 'limit_min'
+            event%lambda = min(event%lambda, before%lambda, after%lambda)
          end if
          event%position = before%step + event%fraction
          events = [events, event]

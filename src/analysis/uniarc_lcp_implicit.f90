@@ -13,7 +13,7 @@
 !>    it typically ends in a few exchanges; it is not finite in general, hence phase 2.
 !> 2. **Lemke's complementary pivoting** (Lemke 1965; Cottle, Pang & Stone 1992, §4.4), started from
 !>    the frame the first phase left: the scheme w = q + M z + d z0 with covering vector d = the unit
-!>    of each output. Its basis is held as the operator's frame plus a dense Schur complement
+!>    of each infeasible output and 1e-6 of it for the others. Its basis is held as the operator's frame plus a dense Schur complement
 !>    C = [M_RZ  d_R] of the p columns Z that entered since the last exchange (block-LU update of the
 !>    basis: Bisschop & Meeraus 1977; Gill, Murray, Saunders & Wright 1984). A column of M costs one
 !>    `apply`, a new row of C one `apply_transpose`, and the direction of all basic variables one

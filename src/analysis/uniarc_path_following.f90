@@ -614,12 +614,23 @@ contains
       real(dp) :: a, b, c, discriminant, root(2), cosine(2)
       integer :: k
       reason = ''
+      dl = 0.0_dp
+      ! With the contacts of the working set carrying the whole reference load, K⁻¹R has no
+      ! displacement part and no arc-length strategy can fix δλ (a rigid obstacle under the load).
+      if (.not. (masked_dot(map, du_tangent, du_tangent) > 0.0_dp)) then
+         reason = 'the reference load moves no displacement with this contact set (the contacts carry it)'
+         return
+      end if
       select case (options%iteration)
       case (iteration_chan)
          ! Minimum residual displacement (Chan 1988): δλ minimises ||δu_g + δλ δu_t||.
          dl = -masked_dot(map, du_tangent, du_residual)/masked_dot(map, du_tangent, du_tangent)
       case (iteration_riks)
          ! Updated normal plane (Ramm 1981): the correction is orthogonal to the current increment.
+         if (masked_dot(map, increment, du_tangent) == 0.0_dp) then
+            reason = 'the tangent is orthogonal to the increment (updated normal plane)'
+            return
+         end if
          dl = -masked_dot(map, increment, du_residual)/masked_dot(map, increment, du_tangent)
       case (iteration_cylindrical)
          ! ||Δu + δu_g + δλ δu_t|| = Δl (Crisfield 1981): the root closer in angle to the increment.
