@@ -111,7 +111,7 @@ contains
              '  -D NAME=VALUE    override the deck''s *PARAMETER NAME (repeatable; VALUE may be'//nl// &
              '                   an expression)'//nl// &
              '  -q, --quiet      no progress on stderr'//nl// &
-             '  -v, --verbose    more progress on stderr (every iteration)'//nl// &
+             '  -v, --verbose    more progress on stderr (every step)'//nl// &
              '  -h, --help       this text'//nl// &
              '      --version    the version'//nl//nl// &
              'exit status: 0 success; 1 analysis failed (steps traced so far are kept);'//nl// &

@@ -131,6 +131,8 @@ contains
                trim(format_number(record%lambda)), '  iterations ', record%iterations, &
                '  contacts ', record%n_contact, '  neg_pivots ', record%neg_pivots, '  (', &
                real(record%step, dp)/max(real(clock_now - clock_start, dp)/real(clock_rate, dp), 1.0e-3_dp), ' steps/s)'
+            ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
+            flush (error_unit)
             clock_last = clock_now
          end if
       end do

@@ -30,6 +30,7 @@ columns of an event are those of the path file. --expect-crit-before checks the 
 (the fractional step numbers) of two events that must both be present.
 """
 import argparse
+import math
 import os
 import shutil
 import subprocess
@@ -351,9 +352,33 @@ def main():
             or args.expect_crit_path):
         path_names, path_rows = read_table(path_file)
         failures += check_events(args, os.path.join(args.out, stem + '.crit'), path_names, path_rows)
+    crit_file = os.path.join(args.out, stem + '.crit')
+    if args.expect_exit == 0 and os.path.exists(crit_file) and os.path.exists(path_file):
+        failures += check_limits_bracketed(path_file, crit_file)
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
+
+
+def check_limits_bracketed(path_file, crit_file):
+    """Every run: a limit_max is not below the converged steps around it, a limit_min not above them
+    (an extremum of lambda between two converged points bounds both). The files carry 13 significant
+    digits, so the comparison allows 1e-12 relative."""
+    failures = []
+    path_names, path_rows = read_table(path_file)
+    lam = {int(round(row[0])): row[path_names.index('lambda')] for row in path_rows}
+    names, events = read_events(crit_file)
+    for kind, numbers in events:
+        if kind not in ('limit_max', 'limit_min'):
+            continue
+        position, value = numbers[names.index('step')], numbers[names.index('lambda')]
+        around = [lam[k] for k in (math.floor(position), math.ceil(position)) if k in lam]
+        slack = 1e-12 * max([abs(value)] + [abs(x) for x in around] + [1e-300])
+        if kind == 'limit_max' and any(value < x - slack for x in around):
+            failures.append(f'limit_max at step {position:g}: lambda {value!r} below a converged neighbour {around}')
+        if kind == 'limit_min' and any(value > x + slack for x in around):
+            failures.append(f'limit_min at step {position:g}: lambda {value!r} above a converged neighbour {around}')
+    return failures
 
 
 if __name__ == '__main__':
