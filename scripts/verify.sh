@@ -128,7 +128,7 @@ def run_all(jobs_list):
         return {key: future.result() for key, future in futures.items()}
 
 
-# --- where each reference comes from (the text of SPEC.md section 2 and benchmarks.md) ---------------
+# --- where each reference comes from (the paper's section 6 and the literature cited with each value) ---------------
 SOURCES = [
     # (test name prefix, check label substring or '', source)
     ('linear_cantilever_tip_load', '', 'closed form: u = FL/EA, w = PL³/3EI, θ = PL²/2EI'),
@@ -486,8 +486,8 @@ out('Every check of the regression tests (`tests/regression/CMakeLists.txt`: the
     '|uniarc − reference| / |reference|. The tolerance is the test\'s; "range" means the test asks for a '
     'value inside the spread of the published values. λ is each deck\'s nondimensional load. Limit points '
     'and bifurcations are rows of STEM.crit, located between steps; values "(path)" and "at key = value" '
-    'are path columns interpolated linearly. SPEC.md §2 and `benchmarks.md` (project notes) give the '
-    'problems in full. Run the same checks as tests with `ctest -L regression`.')
+    'are path columns interpolated linearly. Each section names its problem and the sources of its '
+    'reference values. Run the same checks as tests with `ctest -L regression`.')
 out('')
 out(f'**Result: {total_numbers - len(failed_numbers)} of {total_numbers} reference values and '
     f'{total_checks - len(failed_checks)} of {total_checks} other checks pass** '

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mesh-convergence check of one tracked value against a closed form (SPEC.md §3).
+"""Mesh-convergence check of one tracked value against a closed form (docs/verification.md).
 
 Runs uniarc with -D NAME=N for a sequence of meshes, each twice as fine as the last, takes COLUMN from
 the last row of each path file, estimates the observed order of convergence p from the three finest
