@@ -204,7 +204,7 @@ contains
       type(implicit_lcp_report_t) :: report
       real(dp), allocatable :: residual(:), ut_kept(:)
       logical :: kept
-      logical :: small_correction, has_contacts, at_floor, ready
+      logical :: small_correction, has_contacts, at_floor, ready, reuse_factors
       real(dp) :: residual_norm, previous_residual
       integer :: n, set_changes
       integer, parameter :: max_set_changes = 40
@@ -214,6 +214,7 @@ contains
       ! assembles into state%tangent (or lends it to the contact LCP).
       ready = state%predictor_ready
       state%predictor_ready = .false.
+      reuse_factors = .false.
       converged = .false.
       reason = 'iteration limit'
       active = state%active
@@ -335,7 +336,7 @@ contains
                if (.not. allocated(new_active)) allocate (new_active(size(active)))
                call select_contact_set(model, state%map, state%assembled, state%tangent, trial, nodal, residual, &
                                        reference, rhs(:, 1), rhs(:, 2), constraint, contact_units(state, trial, active), &
-                                       active, new_active, report, error)
+                                       active, new_active, report, error, kept, ut_kept)
                lcp_pivots = lcp_pivots + report%pivots
                if (allocated(error)) then
                   reason = error%message
@@ -348,11 +349,21 @@ contains
                active = new_active
                small_correction = .false.
                previous_residual = huge(1.0_dp)
+               ! The LCP's last frame is K_S of the new set at this very state: its factors serve the
+               ! next correction (the loop assembles into state%tangent, so they wait in `assembled`).
+               reuse_factors = kept
+               if (reuse_factors) call band_copy(state%tangent, state%assembled)
                cycle
             end if
             if (iterations == options%max_iterations) exit
             iterations = iterations + 1
-            call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+            if (reuse_factors) then
+               rhs(:, 2) = reference
+               call band_solve(state%assembled, rhs, error)
+               reuse_factors = .false.
+            else
+               call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+            end if
             if (allocated(error)) then
                reason = 'singular tangent'
                exit
