@@ -24,7 +24,7 @@ module uniarc_contact_lcp
    use uniarc_contact, only: candidate_gap
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
-   use uniarc_lemke, only: lemke_solved, lemke_status_name
+   use uniarc_lemke, only: lemke_solved
    implicit none
    private
    public :: path_constraint_t, contact_scales_t, select_contact_set
@@ -158,8 +158,8 @@ contains
       tangent%factorized = .false.
       if (allocated(error)) return
       if (report%status /= lemke_solved) then
-         call make_error(error, 'the contact LCP has no solution found by Lemke ('// &
-                         lemke_status_name(report%status)//': '//report%message//')', error_analysis)
+         ! The report's message names the outcome (a ray, the pivot cap, a breakdown) and its cause.
+         call make_error(error, 'contact LCP not solved: '//report%message, error_analysis)
          return
       end if
 

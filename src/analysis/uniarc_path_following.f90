@@ -638,7 +638,7 @@ contains
          dl = -masked_dot(map, du_tangent, du_residual)/masked_dot(map, du_tangent, du_tangent)
       case (iteration_riks)
          ! Updated normal plane (Ramm 1981): the correction is orthogonal to the current increment.
-         if (masked_dot(map, increment, du_tangent) == 0.0_dp) then
+         if (.not. (abs(masked_dot(map, increment, du_tangent)) > 0.0_dp)) then
             reason = 'the tangent is orthogonal to the increment (updated normal plane)'
             return
          end if
@@ -790,11 +790,11 @@ contains
       mu = 0.0_dp
       if (matrix%n == 0) return
       allocate (x(matrix%n, 1))
+      ! No usable last mode (first step, another size, or a zero vector): a fixed generic start.
       if (allocated(mode)) then
-         if (size(mode) /= matrix%n) deallocate (mode)
+         if (size(mode) /= matrix%n .or. .not. (norm2(mode) > 0.0_dp)) deallocate (mode)
       end if
       if (.not. allocated(mode)) mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
-      if (.not. (norm2(mode) > 0.0_dp)) mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
       x(:, 1) = mode/norm2(mode)
       nu = 0.0_dp
       ! Stop when the Rayleigh quotient has settled to 1e-4 (it only places a bifurcation inside a
