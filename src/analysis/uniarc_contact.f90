@@ -1,5 +1,6 @@
-!> Unilateral contact of the structure with foundations and obstacles: gaps, their derivatives, and the
-!> contact rows of the augmented system (docs/theory.md §3).
+!> Unilateral contact of the structure with foundations and obstacles: the contact rows of the augmented
+!> system and the contact summary of the path file (docs/theory.md §3). The gaps and their derivatives
+!> are the contact law's (uniarc_contact_law).
 !>
 !> Every candidate c has a gap g_c(u) ≥ 0 (positive = open), a reaction r_c ≥ 0 acting on its node along
 !> a_c = ∂g_c/∂u (the direction in which the gap opens), and a flexibility t_c (1/k; 0 = rigid), with
@@ -13,12 +14,14 @@
 !> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
 module uniarc_contact
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, contact_candidate_t, gap_fixed_direction, gap_circle_inside, &
-                           gap_circle_outside, dofs_per_node
+   use uniarc_model, only: model_t
+   use uniarc_contact_law, only: candidate_gap
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add
    implicit none
    private
+   ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
+   ! take it from this module.
    public :: candidate_gap, assemble_contact, contact_summary_t, summarize_contact
 
    !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
@@ -32,34 +35,6 @@ module uniarc_contact
 
 contains
 
-   !> Gap g, its gradient a = ∂g/∂u (2) and Hessian h = ∂²g/∂u² (2×2) of a candidate whose node has
-   !> initial position x0 and displacement u (translations).
-   pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian)
-      type(contact_candidate_t), intent(in) :: candidate
-      real(dp), intent(in) :: x0(2), u(2)
-      real(dp), intent(out) :: gap, gradient(2), hessian(2, 2)
-      real(dp) :: d(2), distance, n(2), projector(2, 2)
-      hessian = 0.0_dp
-      select case (candidate%gap_kind)
-      case (gap_circle_inside, gap_circle_outside)
-         d = x0 + u - candidate%centre
-         distance = max(norm2(d), tiny(1.0_dp))
-         n = d/distance
-         projector = reshape([1.0_dp - n(1)**2, -n(1)*n(2), -n(1)*n(2), 1.0_dp - n(2)**2], [2, 2])
-         if (candidate%gap_kind == gap_circle_inside) then
-            gap = candidate%radius - distance
-            gradient = -n
-            hessian = -projector/distance
-         else
-            gap = distance - candidate%radius
-            gradient = n
-            hessian = projector/distance
-         end if
-      case default
-         gap = candidate%offset + dot_product(candidate%direction, u)
-         gradient = candidate%direction
-      end select
-   end subroutine candidate_gap
 
    !> Add the contact rows and columns of the augmented system at nodal displacements u (3, n) and
    !> reactions r (one per candidate) for the working set `active`; `internal` receives the contact

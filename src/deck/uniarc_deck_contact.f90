@@ -1,208 +1,385 @@
-!> Geometry of the deck's foundation and obstacle cards (*FOUNDATION, *SPRING, *OBSTACLE).
-!>
-!> Pure helpers on the initial geometry: which nodes an element set touches and in which order, the
-!> length of element set each node carries (Winkler lumping), the nodal normals of a chain of elements,
-!> which side of a curved set is concave, and the arc length along a list of nodes. uniarc_deck turns
-!> their results into `contact_candidate_t` records and positioned messages; nothing here knows the deck.
+!> The contact cards of the deck: *FOUNDATION, *SPRING and *OBSTACLE (docs/input.md, "Foundations and
+!> obstacles"). Each reads its options and data into a description (a `foundation_t`, springs, an
+!> obstacle's shape), which the model builder turns into contact candidates through the contact law
+!> (uniarc_contact_law); the checks that need the geometry (nodal normals, a straight set, a node inside
+!> an obstacle) come back from there as codes that become positioned messages here.
 module uniarc_deck_contact
    use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_strings, only: field_t, to_upper, is_name, same_text, integer_to_string, real_to_string
+   use uniarc_growth, only: append_integers, grow_reals_2
+   use uniarc_expression, only: sin_degrees, cos_degrees
+   use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
+                                 data_fields, require_field_count, field_real
+   use uniarc_model, only: foundation_t, foundation_winkler, side_left, side_right, side_inner, side_outer, &
+                           side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside
+   use uniarc_model_builder, only: add_foundation, add_springs, add_obstacle
+   use uniarc_contact_law, only: foundation_straight, foundation_problem
+   use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
+                                resolve_elements
    implicit none
    private
-   public :: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, path_coordinates
-   public :: normals_valid, normals_branch, normals_opposed, normals_folded
-
-   !> Outcomes of `nodal_left_normals`.
-   integer, parameter :: normals_valid = 0    !< every node has a normal
-   integer, parameter :: normals_branch = 1   !< a node joins more than two elements of the set
-   integer, parameter :: normals_opposed = 2  !< two elements of the set both start, or both end, at a node
-   integer, parameter :: normals_folded = 3   !< two elements fold back on each other: no mean normal
-
-   !> Length of the mean of two unit normals under which they are taken as opposite (a fold of the set).
-   real(dp), parameter :: fold_tolerance = 1.0e-9_dp
+   public :: read_foundation, read_spring, read_obstacle
 
 contains
 
-   !> The nodes of the elements `elements`, in order along the elements' direction (node1 → node2).
+   !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
+   !> [, NAME=name] [, SCALE=s]: a Winkler foundation along an element set, lumped to its nodes.
    !>
-   !> Each chain of consecutive elements (one's node2 is the next one's node1) is walked from its first
-   !> node; chains come in the order of the first of their elements in `elements`. A closed chain (a
-   !> ring) starts at node1 of its first listed element. Elements that do not form chains (opposed
-   !> directions, branches) still contribute each of their nodes once, in the order met.
-   pure function chain_nodes(n_nodes, connectivity, elements) result(nodes)
-      integer, intent(in) :: n_nodes                  !< number of nodes of the model
-      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements) internal node indices
-      integer, intent(in) :: elements(:)              !< the set's elements
-      integer, allocatable :: nodes(:)
-      integer, allocatable :: incoming(:), outgoing(:)
-      logical, allocatable :: added(:)
-      integer :: i, end, node, start, previous, current, count, steps
+   !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
+   !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
+   !> diagonal foundation matrix C_b in the paper's Eq. (7), Δr_b = C_b Δu_b; flexibility 1/k.
+   !> The reaction direction n (the direction in which the foundation pushes, toward the free side) is
+   !> fixed (DIRECTION) or the nodal normal of the set on the side away from the foundation (SIDE; the
+   !> concave side of INNER/OUTER from the sign of the set's total turning). Gap g = n·u (offset 0).
+   subroutine read_foundation(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: set_option, modulus_option, side_option, direction_option, status, bad_node
+      real(dp) :: angle
+      type(field_t) :: field
+      type(foundation_t) :: foundation
+      character(len=:), allocatable :: side
 
-      allocate (incoming(n_nodes), outgoing(n_nodes), source=0)
-      allocate (added(n_nodes), source=.false.)
-      do i = 1, size(elements)
-         if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
-         if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
-      end do
-
-      allocate (nodes(2*size(elements)))
-      count = 0
-      do i = 1, size(elements)
-         do end = 1, 2
-            node = connectivity(end, elements(i))
-            if (added(node)) cycle
-            ! back to where this chain starts: a node nothing enters, a node already taken, or, round a
-            ! closed chain, the node itself
-            start = node
-            do steps = 1, size(elements)
-               if (incoming(start) == 0) exit
-               previous = connectivity(1, incoming(start))
-               if (added(previous)) exit
-               if (previous == node) then
-                  start = node
-                  exit
-               end if
-               start = previous
-            end do
-            current = start
-            do
-               if (added(current)) exit
-               count = count + 1
-               nodes(count) = current
-               added(current) = .true.
-               if (outgoing(current) == 0) exit
-               current = connectivity(2, outgoing(current))
-            end do
-         end do
-      end do
-      nodes = nodes(1:count)
-   end function chain_nodes
-
-   !> Winkler lumping: for each of `nodes`, half the sum of the initial lengths of its adjacent elements
-   !> that are in `elements` (the length of foundation the node carries; an end node gets half an element).
-   pure function tributary_lengths(coordinates, connectivity, elements, nodes) result(lengths)
-      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes) initial positions
-      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
-      integer, intent(in) :: elements(:)
-      integer, intent(in) :: nodes(:)
-      real(dp), allocatable :: lengths(:)
-      real(dp), allocatable :: per_node(:)
-      real(dp) :: half
-      integer :: i
-
-      allocate (per_node(size(coordinates, 2)), source=0.0_dp)
-      do i = 1, size(elements)
-         associate (ends => connectivity(:, elements(i)))
-            half = 0.5_dp*norm2(coordinates(:, ends(2)) - coordinates(:, ends(1)))
-            per_node(ends(1)) = per_node(ends(1)) + half
-            per_node(ends(2)) = per_node(ends(2)) + half
-         end associate
-      end do
-      lengths = per_node(nodes)
-   end function tributary_lengths
-
-   !> The unit nodal normals of a chain of elements: at each of `nodes`, the normalised mean of the
-   !> left normals (tangent node1 → node2 turned by +90°) of its adjacent elements in `elements`.
-   !>
-   !> `status` is `normals_valid`, or says why the normal of node `nodes(bad)` is not defined: more than
-   !> two adjacent elements, two adjacent elements of opposed direction, or a fold (mean normal ~ 0).
-   pure subroutine nodal_left_normals(coordinates, connectivity, elements, nodes, normals, status, bad)
-      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
-      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
-      integer, intent(in) :: elements(:)
-      integer, intent(in) :: nodes(:)
-      real(dp), intent(out) :: normals(:, :)          !< (2, size(nodes))
-      integer, intent(out) :: status
-      integer, intent(out) :: bad                     !< index into `nodes` of the offending node, 0 if none
-      real(dp), allocatable :: sum_normals(:, :)
-      integer, allocatable :: starting(:), ending(:)
-      real(dp) :: tangent(2), length
-      integer :: i, node
-
-      allocate (sum_normals(2, size(coordinates, 2)), source=0.0_dp)
-      allocate (starting(size(coordinates, 2)), ending(size(coordinates, 2)), source=0)
-      do i = 1, size(elements)
-         associate (ends => connectivity(:, elements(i)))
-            tangent = coordinates(:, ends(2)) - coordinates(:, ends(1))
-            tangent = tangent/norm2(tangent)
-            sum_normals(:, ends) = sum_normals(:, ends) + spread([-tangent(2), tangent(1)], 2, 2)
-            starting(ends(1)) = starting(ends(1)) + 1
-            ending(ends(2)) = ending(ends(2)) + 1
-         end associate
-      end do
-
-      status = normals_valid
-      bad = 0
-      normals = 0.0_dp
-      do i = 1, size(nodes)
-         node = nodes(i)
-         if (starting(node) + ending(node) > 2) then
-            status = normals_branch
-         else if (starting(node) > 1 .or. ending(node) > 1) then
-            status = normals_opposed
-         else
-            ! two unit normals: their sum is 2 cos(half the angle between them) long
-            length = norm2(sum_normals(:, node))
-            if (length <= fold_tolerance) then
-               status = normals_folded
-            else
-               normals(:, i) = sum_normals(:, node)/length
-               cycle
-            end if
-         end if
-         bad = i
+      call check_options(source, card, [character(len=10) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
+                                        'BILATERAL', 'NAME=', 'SCALE='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
+      if (allocated(error)) return
+      call require_option(source, card, 'ELSET', set_option, error)
+      if (allocated(error)) return
+      field = option_field(card, set_option)
+      foundation%element_set = field%text
+      call resolve_elements(source, deck, card%line, field, foundation%elements, error)
+      if (allocated(error)) return
+      if (size(foundation%elements) == 0) then
+         call raise(source, card%line, field%column, 'expected an element set with elements, found '''// &
+                    field%text//''' empty', error)
          return
+      end if
+      call require_option(source, card, 'MODULUS', modulus_option, error)
+      if (allocated(error)) return
+      call option_real(source, card, deck, modulus_option, 'a modulus', foundation%modulus, error)
+      if (allocated(error)) return
+      ! MODULUS = 0 is no foundation (a group without candidates), so that a sweep over k can start at 0.
+      if (foundation%modulus < 0.0_dp .or. .not. foundation%modulus < huge(1.0_dp)) then
+         call raise(source, card%line, card%options(modulus_option)%value_column, &
+                    'expected a MODULUS >= 0 (0: no foundation), found '//real_to_string(foundation%modulus), error)
+         return
+      end if
+      call contact_scale(source, card, deck, foundation%scale, error)
+      if (allocated(error)) return
+      side_option = option_index(card, 'SIDE')
+      direction_option = option_index(card, 'DIRECTION')
+      if (side_option > 0 .and. direction_option > 0) then
+         call raise(source, card%line, card%options(direction_option)%column, 'expected one of SIDE= ' // &
+                    'and DIRECTION= on *FOUNDATION, found both', error)
+         return
+      else if (side_option == 0 .and. direction_option == 0) then
+         call raise(source, card%line, card%column, 'expected SIDE=INNER|OUTER|LEFT|RIGHT or ' // &
+                    'DIRECTION=angle on *FOUNDATION, found neither', error)
+         return
+      end if
+      if (card%n_data > 0) then
+         call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
+                    'expected no data line after *FOUNDATION (all is in its options), found one', error)
+         return
+      end if
+
+      foundation%law = foundation_winkler
+      foundation%bilateral = option_index(card, 'BILATERAL') > 0
+      foundation%gap = 0.0_dp
+      if (direction_option > 0) then
+         call option_real(source, card, deck, direction_option, 'an angle in degrees', angle, error)
+         if (allocated(error)) return
+         foundation%side = side_direction
+         foundation%direction = [cos_degrees(angle), sin_degrees(angle)]
+      else
+         side = to_upper(card%options(side_option)%value)
+         select case (side)
+         case ('LEFT')
+            foundation%side = side_left
+         case ('RIGHT')
+            foundation%side = side_right
+         case ('INNER')
+            foundation%side = side_inner
+         case ('OUTER')
+            foundation%side = side_outer
+         case default
+            call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INNER, ' // &
+                       'OUTER, LEFT or RIGHT, found '''//clip(card%options(side_option)%value)//'''', error)
+            return
+         end select
+      end if
+
+      ! The builder derives the candidates (uniarc_contact_law); its error is said here with the position.
+      call add_foundation(deck%model, foundation, error, status, bad_node)
+      if (.not. allocated(error)) return
+      if (status == foundation_straight) then
+         call raise(source, card%line, card%options(side_option)%value_column, 'expected a curved ' // &
+                    'element set for SIDE='//side//' (no concave side on a straight one: use ' // &
+                    'SIDE=LEFT|RIGHT or DIRECTION=angle), found '''//field%text//''' straight', error)
+      else
+         call raise(source, card%line, card%options(set_option)%value_column, 'expected a chain of ' // &
+                    'elements running one way for SIDE= (use DIRECTION= otherwise), found at node '// &
+                    integer_to_string(deck%model%node_label(bad_node))//' '//foundation_problem(status), error)
+      end if
+   end subroutine read_foundation
+
+   !> *SPRING [, BILATERAL] [, NAME=name]: lines `target, angle_deg, k`, a discrete spring of stiffness k
+   !> at each node of the target pushing the node along the direction `angle` (gap g = n·u, offset 0).
+   subroutine read_spring(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, line, count
+      real(dp) :: angle, stiffness
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: nodes(:), spring_nodes(:)
+      real(dp), allocatable :: directions(:, :), stiffnesses(:, :)
+      character(len=:), allocatable :: name
+
+      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, deck, 'spring', name, error)
+      if (allocated(error)) return
+      if (card%n_data == 0) then
+         call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, 'expected data lines ' // &
+                    '`target, angle, k` after *SPRING, found none', error)
+         return
+      end if
+      ! one column per spring: its node, its direction, its stiffness (a 1-row array, to grow like the others)
+      allocate (spring_nodes(8), directions(2, 8), stiffnesses(1, 8))
+      count = 0
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         call require_field_count(source, line, fields, 3, 3, 'target, angle, k', error)
+         if (allocated(error)) return
+         call resolve_nodes(source, deck, line, fields(1), nodes, error)
+         if (allocated(error)) return
+         call field_real(source, deck%parameters, line, fields(2), 'an angle in degrees', angle, error)
+         if (allocated(error)) return
+         call field_real(source, deck%parameters, line, fields(3), 'a stiffness k', stiffness, error)
+         if (allocated(error)) return
+         if (.not. stiffness > 0.0_dp) then
+            call raise(source, line, fields(3)%column, 'expected a positive stiffness k, found '// &
+                       real_to_string(stiffness), error)
+            return
+         end if
+         if (count + size(nodes) > size(spring_nodes)) then
+            call grow_reals_2(directions, max(2*size(spring_nodes), count + size(nodes)))
+            call grow_reals_2(stiffnesses, max(2*size(spring_nodes), count + size(nodes)))
+         end if
+         call append_integers(spring_nodes, count, nodes)
+         directions(:, count - size(nodes) + 1:count) = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
+         stiffnesses(1, count - size(nodes) + 1:count) = stiffness
       end do
-   end subroutine nodal_left_normals
+      call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
+                       option_index(card, 'BILATERAL') > 0)
+   end subroutine read_spring
 
-   !> Total turning of a chain of elements: the sum, over the nodes where one element of `elements` ends
-   !> and another starts, of the cross product t_in × t_out of their unit tangents. Positive when the
-   !> chain turns counter-clockwise, i.e. when its centre of curvature, its concave side, is on its left.
-   pure function total_turning(coordinates, connectivity, elements) result(turning)
-      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
-      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
-      integer, intent(in) :: elements(:)
-      real(dp) :: turning
-      integer, allocatable :: incoming(:), outgoing(:)
-      real(dp) :: t_in(2), t_out(2)
-      integer :: i, node
 
-      allocate (incoming(size(coordinates, 2)), outgoing(size(coordinates, 2)), source=0)
-      do i = 1, size(elements)
-         if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
-         if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
+   !> *OBSTACLE, TYPE=PLANE|CIRCLE, NSET=set [, SIDE=INSIDE|OUTSIDE] [, STIFFNESS=k] [, END_FACTOR=f]
+   !> [, NAME=name] [, SCALE=s]: a rigid (or, with STIFFNESS, elastic) obstacle for every node of the set.
+   !>
+   !> PLANE `px, py, angle`: the line through p whose normal n = (cos, sin) points to the free side;
+   !> g = n·(x0 − p) + n·u. CIRCLE `xc, yc, R`: g = R − |x − c| (INSIDE a cavity, the default) or
+   !> |x − c| − R (OUTSIDE a cylinder). A node that starts inside the obstacle is an error.
+   subroutine read_obstacle(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: type_option, set_option, side_option, stiffness_option, factor_option, line, i, gap_kind, bad
+      real(dp) :: values(3), scale, stiffness, end_factor, normal(2), depth
+      type(field_t) :: field
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: nodes(:)
+      character(len=:), allocatable :: name, kind, layout, surface
+      character(len=5), parameter :: plane_names(3) = ['px   ', 'py   ', 'angle']
+      character(len=5), parameter :: circle_names(3) = ['xc   ', 'yc   ', 'R    ']
+
+      call check_options(source, card, [character(len=11) :: 'TYPE=', 'NSET=', 'SIDE=', 'STIFFNESS=', &
+                                        'END_FACTOR=', 'NAME=', 'SCALE='], error)
+      if (allocated(error)) return
+      call contact_group_name(source, card, deck, 'obstacle', name, error)
+      if (allocated(error)) return
+      call require_option(source, card, 'TYPE', type_option, error)
+      if (allocated(error)) return
+      kind = to_upper(card%options(type_option)%value)
+      if (kind /= 'PLANE' .and. kind /= 'CIRCLE') then
+         call raise(source, card%line, card%options(type_option)%value_column, 'expected TYPE=PLANE or ' // &
+                    'TYPE=CIRCLE, found '''//clip(card%options(type_option)%value)//'''', error)
+         return
+      end if
+      call require_option(source, card, 'NSET', set_option, error)
+      if (allocated(error)) return
+      field = option_field(card, set_option)
+      call resolve_nodes(source, deck, card%line, field, nodes, error)
+      if (allocated(error)) return
+      if (size(nodes) == 0) then
+         call raise(source, card%line, field%column, 'expected a node set with nodes, found '''// &
+                    field%text//''' empty', error)
+         return
+      end if
+
+      gap_kind = gap_fixed_direction
+      if (kind == 'CIRCLE') gap_kind = gap_circle_inside
+      side_option = option_index(card, 'SIDE')
+      if (side_option > 0) then
+         if (kind /= 'CIRCLE') then
+            call raise(source, card%line, card%options(side_option)%column, 'expected SIDE= only with ' // &
+                       'TYPE=CIRCLE (a plane''s free side is its normal''s), found it with TYPE='//kind, error)
+            return
+         end if
+         select case (to_upper(card%options(side_option)%value))
+         case ('INSIDE')
+            gap_kind = gap_circle_inside
+         case ('OUTSIDE')
+            gap_kind = gap_circle_outside
+         case default
+            call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INSIDE ' // &
+                       'or SIDE=OUTSIDE, found '''//clip(card%options(side_option)%value)//'''', error)
+            return
+         end select
+      end if
+
+      stiffness = 0.0_dp
+      stiffness_option = option_index(card, 'STIFFNESS')
+      if (stiffness_option > 0) then
+         call option_real(source, card, deck, stiffness_option, 'a stiffness', stiffness, error)
+         if (allocated(error)) return
+         ! STIFFNESS=0 is the rigid obstacle, so that a sweep over k (-D k=...) can include it.
+         if (stiffness < 0.0_dp .or. .not. stiffness < huge(1.0_dp)) then
+            call raise(source, card%line, card%options(stiffness_option)%value_column, 'expected a ' // &
+                       'STIFFNESS >= 0 (0 or none: a rigid obstacle), found '// &
+                       real_to_string(stiffness), error)
+            return
+         end if
+      end if
+      end_factor = 1.0_dp
+      factor_option = option_index(card, 'END_FACTOR')
+      if (factor_option > 0) then
+         if (stiffness_option == 0) then
+            call raise(source, card%line, card%options(factor_option)%column, 'expected END_FACTOR= only ' // &
+                       'with STIFFNESS= (a rigid obstacle has no stiffness to scale), found it alone', error)
+            return
+         end if
+         call option_real(source, card, deck, factor_option, 'a factor', end_factor, error)
+         if (allocated(error)) return
+         if (.not. end_factor > 0.0_dp) then
+            call raise(source, card%line, card%options(factor_option)%value_column, 'expected a positive ' // &
+                       'END_FACTOR, found '//real_to_string(end_factor), error)
+            return
+         end if
+      end if
+      call contact_scale(source, card, deck, scale, error)
+      if (allocated(error)) return
+
+      call require_one_data_line(source, card, error)
+      if (allocated(error)) return
+      line = card%data_lines(1)
+      call data_fields(source, line, fields)
+      if (kind == 'PLANE') then
+         layout = 'px, py, angle'
+      else
+         layout = 'xc, yc, R'
+      end if
+      call require_field_count(source, line, fields, 3, 3, layout, error)
+      if (allocated(error)) return
+      do i = 1, 3
+         if (kind == 'PLANE') then
+            call field_real(source, deck%parameters, line, fields(i), trim(plane_names(i)), values(i), error)
+         else
+            call field_real(source, deck%parameters, line, fields(i), trim(circle_names(i)), values(i), error)
+         end if
+         if (allocated(error)) return
       end do
-      turning = 0.0_dp
-      do node = 1, size(coordinates, 2)
-         if (incoming(node) == 0 .or. outgoing(node) == 0) cycle
-         t_in = unit_tangent(incoming(node))
-         t_out = unit_tangent(outgoing(node))
-         turning = turning + (t_in(1)*t_out(2) - t_in(2)*t_out(1))
+      if (kind == 'CIRCLE' .and. .not. values(3) > 0.0_dp) then
+         call raise(source, line, fields(3)%column, 'expected a positive radius R, found '// &
+                    real_to_string(values(3)), error)
+         return
+      end if
+
+      ! The builder makes the candidates (uniarc_contact_law) and finds a node that starts inside; the
+      ! message says it here with the position.
+      normal = [cos_degrees(values(3)), sin_degrees(values(3))]
+      call add_obstacle(deck%model, name, gap_kind, values(1:2), normal, values(3), nodes, stiffness, end_factor, &
+                        scale, error, bad, depth)
+      if (.not. allocated(error)) return
+      select case (gap_kind)
+      case (gap_fixed_direction)
+         surface = 'the plane'
+      case (gap_circle_inside)
+         surface = 'the circular cavity'
+      case default
+         surface = 'the cylinder'
+      end select
+      call raise(source, line, fields(1)%column, 'expected every node of '''//field%text// &
+                 ''' clear of '//surface//', found node '//integer_to_string(deck%model%node_label(nodes(bad)))// &
+                 ' inside it by '//real_to_string(depth), error)
+   end subroutine read_obstacle
+
+
+   !> The SCALE= option of a contact card (default 1): the factor from arc length to the coordinate of
+   !> the contact-region output. Zero would make every coordinate 0, so it must not be.
+   subroutine contact_scale(source, card, deck, scale, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      real(dp), intent(out) :: scale
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      scale = 1.0_dp
+      k = option_index(card, 'SCALE')
+      if (k == 0) return
+      call option_real(source, card, deck, k, 'a scale', scale, error)
+      if (allocated(error)) return
+      if (.not. abs(scale) > 0.0_dp) then
+         call raise(source, card%line, card%options(k)%value_column, 'expected a non-zero SCALE, found '// &
+                    real_to_string(scale), error)
+      end if
+   end subroutine contact_scale
+
+   !> The name of the contact group a card makes: its NAME= option, or `default_stem_<index>` with the
+   !> group's index. Either must be new among the contact groups (case-insensitive).
+   subroutine contact_group_name(source, card, deck, default_stem, name, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      character(len=*), intent(in) :: default_stem
+      character(len=:), allocatable, intent(out) :: name
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, column, i
+      k = option_index(card, 'NAME')
+      if (k > 0) then
+         name = card%options(k)%value
+         column = card%options(k)%value_column
+         if (.not. is_name(name)) then
+            call raise(source, card%line, column, 'expected a contact group name (a letter, then letters, ' // &
+                       'digits, _), found '''//clip(name)//'''', error)
+            return
+         end if
+      else
+         name = default_stem//'_'//integer_to_string(deck%model%n_contact_groups + 1)
+         column = card%column
+      end if
+      do i = 1, deck%model%n_contact_groups
+         if (same_text(deck%model%contact_groups(i)%name, name)) then
+            if (k > 0) then
+               call raise(source, card%line, column, 'expected a new contact group name, found '''// &
+                          name//''' again', error)
+            else
+               call raise(source, card%line, column, 'expected a new contact group name, found the ' // &
+                          'default name '''//name//''' already taken (give this card a NAME=)', error)
+            end if
+            return
+         end if
       end do
-
-   contains
-
-      pure function unit_tangent(e) result(t)
-         integer, intent(in) :: e
-         real(dp) :: t(2)
-         t = coordinates(:, connectivity(2, e)) - coordinates(:, connectivity(1, e))
-         t = t/norm2(t)
-      end function unit_tangent
-
-   end function total_turning
-
-   !> Arc length along `nodes` in the initial geometry: 0 at the first node, then the cumulative
-   !> distance between consecutive nodes of the list.
-   pure function path_coordinates(coordinates, nodes) result(s)
-      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
-      integer, intent(in) :: nodes(:)
-      real(dp), allocatable :: s(:)
-      integer :: i
-      allocate (s(size(nodes)))
-      if (size(nodes) == 0) return
-      s(1) = 0.0_dp
-      do i = 2, size(nodes)
-         s(i) = s(i - 1) + norm2(coordinates(:, nodes(i)) - coordinates(:, nodes(i - 1)))
-      end do
-   end function path_coordinates
+   end subroutine contact_group_name
 
 end module uniarc_deck_contact

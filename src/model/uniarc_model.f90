@@ -1,10 +1,11 @@
 !> The model: what a deck describes, independent of how it is analysed.
 !>
-!> Built by the deck reader (uniarc_deck), read by the analysis. Nodes and elements are stored in the
+!> Built through uniarc_model_builder (by the deck reader and by tests), read by the analysis. Nodes and elements are stored in the
 !> order the deck created them (internal indices 1..n); user labels are kept for messages and output.
 !> The equation numbering (bandwidth reduction, eliminated DOFs) belongs to the analysis, not here.
 module uniarc_model
    use uniarc_kinds, only: dp
+   use uniarc_strings, only: same_text
    implicit none
    private
    public :: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t
@@ -17,6 +18,8 @@ module uniarc_model
    public :: find_node_set, find_element_set, element_length
    public :: contact_candidate_t, contact_group_t
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
+   public :: foundation_t, foundation_winkler
+   public :: side_left, side_right, side_inner, side_outer, side_direction
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
    integer, parameter :: dofs_per_node = 3
@@ -93,6 +96,33 @@ module uniarc_model
       integer, allocatable :: candidates(:)
    end type contact_group_t
 
+   !> Laws of a foundation (the reaction of the bed against the deflection toward it).
+   integer, parameter :: foundation_winkler = 1  !< Winkler (1867): independent springs, K per unit length
+
+   !> Where a foundation lies, which fixes the direction n in which it pushes (docs/input.md, *FOUNDATION).
+   integer, parameter :: side_left = 1       !< on the left of the elements: n = −(nodal left normal)
+   integer, parameter :: side_right = 2      !< on the right: n = +(nodal left normal)
+   integer, parameter :: side_inner = 3      !< on the concave side: n points away from it
+   integer, parameter :: side_outer = 4      !< on the convex side: n points toward the concave side
+   integer, parameter :: side_direction = 5  !< a fixed direction n, the same at every node
+
+   !> A foundation of the deck as described, before it is lumped to nodes: the model keeps it so that
+   !> laws other than Winkler's can be derived from it. Its candidates (`contact_candidate_t`, one per node
+   !> of the element set) are derived by uniarc_contact_law and form contact group `group`.
+   type :: foundation_t
+      character(len=:), allocatable :: name        !< the name of its contact group
+      integer :: law = foundation_winkler
+      real(dp) :: modulus = 0.0_dp                 !< K: force per unit length per unit deflection (≥ 0)
+      integer :: side = side_direction
+      real(dp) :: direction(2) = 0.0_dp            !< side_direction: the unit n in which the bed pushes
+      character(len=:), allocatable :: element_set !< the element set (or label) as the deck names it
+      integer, allocatable :: elements(:)          !< its elements (internal indices), in set order
+      logical :: bilateral = .false.               !< bonded: reacts in tension too
+      real(dp) :: gap = 0.0_dp                     !< initial gap g0 at every node (0: in touch at start)
+      real(dp) :: scale = 1.0_dp                   !< arc length → coordinate of the contact output
+      integer :: group = 0                         !< the contact group of its candidates
+   end type foundation_t
+
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).
    integer, parameter :: control_load = 1          !< fixed load increments
    integer, parameter :: control_displacement = 2  !< fixed increments of one displacement
@@ -151,6 +181,7 @@ module uniarc_model
       type(track_t), allocatable :: tracks(:)
       type(contact_candidate_t), allocatable :: contacts(:)  !< every contact candidate (may be empty)
       type(contact_group_t), allocatable :: contact_groups(:)
+      type(foundation_t), allocatable :: foundations(:)      !< the foundations as described (may be empty)
       type(analysis_options_t) :: analysis
       type(output_options_t) :: output
    end type model_t
@@ -166,7 +197,7 @@ contains
       index = 0
       if (.not. allocated(model%node_sets)) return
       do i = 1, size(model%node_sets)
-         if (same_name(model%node_sets(i)%name, name)) then
+         if (same_text(model%node_sets(i)%name, name)) then
             index = i
             return
          end if
@@ -182,7 +213,7 @@ contains
       index = 0
       if (.not. allocated(model%element_sets)) return
       do i = 1, size(model%element_sets)
-         if (same_name(model%element_sets(i)%name, name)) then
+         if (same_text(model%element_sets(i)%name, name)) then
             index = i
             return
          end if
@@ -198,19 +229,5 @@ contains
       d = model%coordinates(:, model%connectivity(2, e)) - model%coordinates(:, model%connectivity(1, e))
       length = norm2(d)
    end function element_length
-
-   pure logical function same_name(a, b)
-      character(len=*), intent(in) :: a, b
-      integer :: i, ca, cb
-      same_name = .false.
-      if (len_trim(a) /= len_trim(b)) return
-      do i = 1, len_trim(a)
-         ca = iachar(a(i:i)); cb = iachar(b(i:i))
-         if (ca >= iachar('a') .and. ca <= iachar('z')) ca = ca - 32
-         if (cb >= iachar('a') .and. cb <= iachar('z')) cb = cb - 32
-         if (ca /= cb) return
-      end do
-      same_name = .true.
-   end function same_name
 
 end module uniarc_model

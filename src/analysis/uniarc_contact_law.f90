@@ -1,0 +1,407 @@
+!> The contact laws: how a unilateral medium's gap follows from the displacements, and how a
+!> foundation's description becomes per-node contact candidates.
+!>
+!> The one place for (docs/input.md, "Foundations and obstacles"; docs/theory.md §3):
+!> - the gap g of every obstacle shape and its derivatives ∂g/∂u, ∂²g/∂u² (`candidate_gap`), which the
+!>   analysis uses at every iteration and the deck reader at u = 0 to find nodes that start inside an
+!>   obstacle (`obstacle_candidate`, `initial_gap`);
+!> - the Winkler foundation law (Winkler 1867, Kerr 1964): the modulus K lumped onto the nodes by the
+!>   trapezoidal rule for ∫ K w δw ds, a diagonal foundation matrix C_b in the paper's Eq. (7)
+!>   (Silveira, Nogueira & Gonçalves 2013), i.e. a spring k = K × (tributary length) per node whose
+!>   flexibility 1/k is the candidate's T_cc (`winkler_flexibility`, `foundation_candidates`);
+!> - the geometry of a foundation's element set on which that rests: the nodes in chain order, their
+!>   tributary lengths and nodal normals, the side that is concave, the arc length along the nodes.
+!>
+!> Everything is pure, works on the initial geometry passed in, and reports problems as status codes
+!> that the caller (the model builder, the deck) turns into messages.
+module uniarc_contact_law
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: contact_candidate_t, foundation_t, gap_fixed_direction, gap_circle_inside, &
+                           gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction
+   implicit none
+   private
+   public :: candidate_gap, initial_gap, obstacle_candidate
+   public :: winkler_flexibility, spring_flexibility, foundation_candidates
+   public :: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, path_coordinates
+   public :: normals_valid, normals_branch, normals_opposed, normals_folded, foundation_straight
+   public :: foundation_problem
+
+   !> Outcomes of `nodal_left_normals` and `foundation_candidates`.
+   integer, parameter :: normals_valid = 0        !< every node has a normal
+   integer, parameter :: normals_branch = 1       !< a node joins more than two elements of the set
+   integer, parameter :: normals_opposed = 2      !< two elements of the set both start, or both end, at a node
+   integer, parameter :: normals_folded = 3       !< two elements fold back on each other: no mean normal
+   integer, parameter :: foundation_straight = 4  !< SIDE inner/outer on a straight set: no concave side
+
+   !> Length of the mean of two unit normals under which they are taken as opposite (a fold of the set).
+   real(dp), parameter :: fold_tolerance = 1.0e-9_dp
+
+   !> Total turning (sum of cross products of unit tangents) under which a set counts as straight, so
+   !> that it has no concave side.
+   real(dp), parameter :: straight_tolerance = 1.0e-9_dp
+
+contains
+
+   ! ================================================================================================
+   ! Gaps
+   ! ================================================================================================
+
+   !> Gap g, its gradient a = ∂g/∂u (2) and Hessian h = ∂²g/∂u² (2×2) of a candidate whose node has
+   !> initial position x0 and displacement u (translations), lengths in the model's unit.
+   !>
+   !> Fixed direction: g = g0 + n·u (a = n, h = 0). Circle of centre c and radius R, with d = x0 + u − c
+   !> and e = d/|d|: inside a cavity g = R − |d| (a = −e, h = −(I − e eᵀ)/|d|), outside a cylinder
+   !> g = |d| − R (a = e, h = (I − e eᵀ)/|d|).
+   pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: x0(2), u(2)
+      real(dp), intent(out) :: gap, gradient(2), hessian(2, 2)
+      real(dp) :: d(2), distance, n(2), projector(2, 2)
+      hessian = 0.0_dp
+      select case (candidate%gap_kind)
+      case (gap_circle_inside, gap_circle_outside)
+         d = x0 + u - candidate%centre
+         distance = max(norm2(d), tiny(1.0_dp))
+         n = d/distance
+         projector = reshape([1.0_dp - n(1)**2, -n(1)*n(2), -n(1)*n(2), 1.0_dp - n(2)**2], [2, 2])
+         if (candidate%gap_kind == gap_circle_inside) then
+            gap = candidate%radius - distance
+            gradient = -n
+            hessian = -projector/distance
+         else
+            gap = distance - candidate%radius
+            gradient = n
+            hessian = projector/distance
+         end if
+      case default
+         gap = candidate%offset + dot_product(candidate%direction, u)
+         gradient = candidate%direction
+      end select
+   end subroutine candidate_gap
+
+   !> The gap of a candidate in the initial geometry (u = 0): negative when its node starts inside the
+   !> obstacle.
+   pure real(dp) function initial_gap(candidate, x0) result(gap)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: x0(2)             !< initial position of the candidate's node
+      real(dp) :: gradient(2), hessian(2, 2)
+      call candidate_gap(candidate, x0, [0.0_dp, 0.0_dp], gap, gradient, hessian)
+   end function initial_gap
+
+   !> The candidate of a node at initial position `x0` facing an obstacle of kind `gap_kind`.
+   !>
+   !> gap_fixed_direction: the line through `point` whose unit normal `normal` points to the free side;
+   !> the candidate's offset is the initial gap n·(x0 − p). gap_circle_inside, gap_circle_outside: the
+   !> circle of centre `point` and radius `radius` (> 0). Flexibility 0 (rigid), group and coordinate
+   !> are left to the caller.
+   pure function obstacle_candidate(gap_kind, point, normal, radius, node, x0) result(candidate)
+      integer, intent(in) :: gap_kind
+      real(dp), intent(in) :: point(2)          !< a point of the plane, or the circle's centre
+      real(dp), intent(in) :: normal(2)         !< plane: unit normal toward the free side (else unused)
+      real(dp), intent(in) :: radius            !< circle: radius (else unused)
+      integer, intent(in) :: node               !< the node (internal index)
+      real(dp), intent(in) :: x0(2)             !< its initial position
+      type(contact_candidate_t) :: candidate
+      candidate%node = node
+      candidate%gap_kind = gap_kind
+      if (gap_kind == gap_fixed_direction) then
+         candidate%direction = normal
+         candidate%offset = dot_product(normal, x0 - point)
+      else
+         candidate%centre = point
+         candidate%radius = radius
+      end if
+   end function obstacle_candidate
+
+   ! ================================================================================================
+   ! Foundation laws
+   ! ================================================================================================
+
+   !> Flexibility 1/k of a discrete spring of stiffness k > 0 (force per length).
+   pure real(dp) function spring_flexibility(stiffness) result(flexibility)
+      real(dp), intent(in) :: stiffness
+      flexibility = 1.0_dp/stiffness
+   end function spring_flexibility
+
+   !> Winkler lumping: the flexibility 1/k of the node spring k = K × L of a bed of modulus K > 0 (force
+   !> per unit length per unit deflection) over the tributary length L > 0 the node carries.
+   pure real(dp) function winkler_flexibility(modulus, length) result(flexibility)
+      real(dp), intent(in) :: modulus, length
+      flexibility = 1.0_dp/(modulus*length)
+   end function winkler_flexibility
+
+   !> The contact candidates of a foundation: one per node of its element set, in chain order
+   !> (`chain_nodes`), with gap g = g0 + n·u, the Winkler flexibility of the node's tributary length,
+   !> and the coordinate scale × (arc length along the nodes). A foundation of modulus 0 has none.
+   !>
+   !> n is the foundation's direction (side_direction) or ± the nodal left normal: −(left normal) for a
+   !> bed on the left, + on the right; for side_inner/side_outer the concave side is the left one when
+   !> the set's total turning is positive (counter-clockwise). `status` is normals_valid, or says why not:
+   !> a normal of node `nodes(bad)` undefined (normals_branch, normals_opposed, normals_folded; `bad`
+   !> indexes the chain's nodes, see `chain_nodes`), or foundation_straight. The group is left to the caller.
+   pure subroutine foundation_candidates(foundation, coordinates, connectivity, candidates, status, bad_node)
+      type(foundation_t), intent(in) :: foundation
+      real(dp), intent(in) :: coordinates(:, :)          !< (2, n_nodes) initial positions
+      integer, intent(in) :: connectivity(:, :)          !< (2, n_elements) internal node indices
+      type(contact_candidate_t), allocatable, intent(out) :: candidates(:)
+      integer, intent(out) :: status
+      integer, intent(out) :: bad_node                   !< the node (internal index) of a normal problem, else 0
+      integer, allocatable :: nodes(:)
+      real(dp), allocatable :: lengths(:), normals(:, :), s(:)
+      real(dp) :: turning, sign
+      integer :: i, bad
+
+      allocate (candidates(0))
+      status = normals_valid
+      bad_node = 0
+      nodes = chain_nodes(size(coordinates, 2), connectivity, foundation%elements)
+      lengths = tributary_lengths(coordinates, connectivity, foundation%elements, nodes)
+      allocate (normals(2, size(nodes)))
+      if (foundation%side == side_direction) then
+         normals = spread(foundation%direction, 2, size(nodes))
+      else
+         call nodal_left_normals(coordinates, connectivity, foundation%elements, nodes, normals, status, bad)
+         if (status /= normals_valid) then
+            bad_node = nodes(bad)
+            return
+         end if
+         ! sign: +1 when the foundation is on the right (n = + left normal), -1 on the left
+         select case (foundation%side)
+         case (side_left)
+            sign = -1.0_dp
+         case (side_right)
+            sign = 1.0_dp
+         case default
+            turning = total_turning(coordinates, connectivity, foundation%elements)
+            if (abs(turning) <= straight_tolerance) then
+               status = foundation_straight
+               return
+            end if
+            ! turning > 0: the set turns counter-clockwise, its concave side is the left one
+            sign = merge(-1.0_dp, 1.0_dp, turning > 0.0_dp)
+            if (foundation%side == side_outer) sign = -sign
+         end select
+         normals = sign*normals
+      end if
+      if (.not. foundation%modulus > 0.0_dp) return
+      s = foundation%scale*path_coordinates(coordinates, nodes)
+
+      deallocate (candidates)
+      allocate (candidates(size(nodes)))
+      do i = 1, size(nodes)
+         candidates(i)%node = nodes(i)
+         candidates(i)%gap_kind = gap_fixed_direction
+         candidates(i)%direction = normals(:, i)
+         candidates(i)%offset = foundation%gap
+         candidates(i)%flexibility = winkler_flexibility(foundation%modulus, lengths(i))
+         candidates(i)%bilateral = foundation%bilateral
+         candidates(i)%coordinate = s(i)
+      end do
+   end subroutine foundation_candidates
+
+   !> What a `foundation_candidates` status other than normals_valid means, for messages: what is wrong
+   !> at the node concerned (branch, opposed, folded), or with the whole set (foundation_straight).
+   pure function foundation_problem(status) result(text)
+      integer, intent(in) :: status
+      character(len=:), allocatable :: text
+      select case (status)
+      case (normals_branch)
+         text = 'more than two elements of the set'
+      case (normals_opposed)
+         text = 'two elements of the set running in opposite directions'
+      case (foundation_straight)
+         text = 'a straight element set, which has no concave side'
+      case default
+         text = 'two elements of the set folded back on each other'
+      end select
+   end function foundation_problem
+
+   ! ================================================================================================
+   ! Geometry of a foundation's element set
+   ! ================================================================================================
+
+
+   !> The nodes of the elements `elements`, in order along the elements' direction (node1 → node2).
+   !>
+   !> Each chain of consecutive elements (one's node2 is the next one's node1) is walked from its first
+   !> node; chains come in the order of the first of their elements in `elements`. A closed chain (a
+   !> ring) starts at node1 of its first listed element. Elements that do not form chains (opposed
+   !> directions, branches) still contribute each of their nodes once, in the order met.
+   pure function chain_nodes(n_nodes, connectivity, elements) result(nodes)
+      integer, intent(in) :: n_nodes                  !< number of nodes of the model
+      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements) internal node indices
+      integer, intent(in) :: elements(:)              !< the set's elements
+      integer, allocatable :: nodes(:)
+      integer, allocatable :: incoming(:), outgoing(:)
+      logical, allocatable :: added(:)
+      integer :: i, end, node, start, previous, current, count, steps
+
+      allocate (incoming(n_nodes), outgoing(n_nodes), source=0)
+      allocate (added(n_nodes), source=.false.)
+      do i = 1, size(elements)
+         if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
+         if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
+      end do
+
+      allocate (nodes(2*size(elements)))
+      count = 0
+      do i = 1, size(elements)
+         do end = 1, 2
+            node = connectivity(end, elements(i))
+            if (added(node)) cycle
+            ! back to where this chain starts: a node nothing enters, a node already taken, or, round a
+            ! closed chain, the node itself
+            start = node
+            do steps = 1, size(elements)
+               if (incoming(start) == 0) exit
+               previous = connectivity(1, incoming(start))
+               if (added(previous)) exit
+               if (previous == node) then
+                  start = node
+                  exit
+               end if
+               start = previous
+            end do
+            current = start
+            do
+               if (added(current)) exit
+               count = count + 1
+               nodes(count) = current
+               added(current) = .true.
+               if (outgoing(current) == 0) exit
+               current = connectivity(2, outgoing(current))
+            end do
+         end do
+      end do
+      nodes = nodes(1:count)
+   end function chain_nodes
+
+   !> Tributary lengths: for each of `nodes`, half the sum of the initial lengths of its adjacent elements
+   !> that are in `elements` (the length of foundation the node carries; an end node gets half an element).
+   pure function tributary_lengths(coordinates, connectivity, elements, nodes) result(lengths)
+      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes) initial positions
+      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
+      integer, intent(in) :: elements(:)
+      integer, intent(in) :: nodes(:)
+      real(dp), allocatable :: lengths(:)
+      real(dp), allocatable :: per_node(:)
+      real(dp) :: half
+      integer :: i
+
+      allocate (per_node(size(coordinates, 2)), source=0.0_dp)
+      do i = 1, size(elements)
+         associate (ends => connectivity(:, elements(i)))
+            half = 0.5_dp*norm2(coordinates(:, ends(2)) - coordinates(:, ends(1)))
+            per_node(ends(1)) = per_node(ends(1)) + half
+            per_node(ends(2)) = per_node(ends(2)) + half
+         end associate
+      end do
+      lengths = per_node(nodes)
+   end function tributary_lengths
+
+   !> The unit nodal normals of a chain of elements: at each of `nodes`, the normalised mean of the
+   !> left normals (tangent node1 → node2 turned by +90°) of its adjacent elements in `elements`.
+   !>
+   !> `status` is `normals_valid`, or says why the normal of node `nodes(bad)` is not defined: more than
+   !> two adjacent elements, two adjacent elements of opposed direction, or a fold (mean normal ~ 0).
+   pure subroutine nodal_left_normals(coordinates, connectivity, elements, nodes, normals, status, bad)
+      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
+      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
+      integer, intent(in) :: elements(:)
+      integer, intent(in) :: nodes(:)
+      real(dp), intent(out) :: normals(:, :)          !< (2, size(nodes))
+      integer, intent(out) :: status
+      integer, intent(out) :: bad                     !< index into `nodes` of the offending node, 0 if none
+      real(dp), allocatable :: sum_normals(:, :)
+      integer, allocatable :: starting(:), ending(:)
+      real(dp) :: tangent(2), length
+      integer :: i, node
+
+      allocate (sum_normals(2, size(coordinates, 2)), source=0.0_dp)
+      allocate (starting(size(coordinates, 2)), ending(size(coordinates, 2)), source=0)
+      do i = 1, size(elements)
+         associate (ends => connectivity(:, elements(i)))
+            tangent = coordinates(:, ends(2)) - coordinates(:, ends(1))
+            tangent = tangent/norm2(tangent)
+            sum_normals(:, ends) = sum_normals(:, ends) + spread([-tangent(2), tangent(1)], 2, 2)
+            starting(ends(1)) = starting(ends(1)) + 1
+            ending(ends(2)) = ending(ends(2)) + 1
+         end associate
+      end do
+
+      status = normals_valid
+      bad = 0
+      normals = 0.0_dp
+      do i = 1, size(nodes)
+         node = nodes(i)
+         if (starting(node) + ending(node) > 2) then
+            status = normals_branch
+         else if (starting(node) > 1 .or. ending(node) > 1) then
+            status = normals_opposed
+         else
+            ! two unit normals: their sum is 2 cos(half the angle between them) long
+            length = norm2(sum_normals(:, node))
+            if (length <= fold_tolerance) then
+               status = normals_folded
+            else
+               normals(:, i) = sum_normals(:, node)/length
+               cycle
+            end if
+         end if
+         bad = i
+         return
+      end do
+   end subroutine nodal_left_normals
+
+   !> Total turning of a chain of elements: the sum, over the nodes where one element of `elements` ends
+   !> and another starts, of the cross product t_in × t_out of their unit tangents. Positive when the
+   !> chain turns counter-clockwise, i.e. when its centre of curvature, its concave side, is on its left.
+   pure function total_turning(coordinates, connectivity, elements) result(turning)
+      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
+      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
+      integer, intent(in) :: elements(:)
+      real(dp) :: turning
+      integer, allocatable :: incoming(:), outgoing(:)
+      real(dp) :: t_in(2), t_out(2)
+      integer :: i, node
+
+      allocate (incoming(size(coordinates, 2)), outgoing(size(coordinates, 2)), source=0)
+      do i = 1, size(elements)
+         if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
+         if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
+      end do
+      turning = 0.0_dp
+      do node = 1, size(coordinates, 2)
+         if (incoming(node) == 0 .or. outgoing(node) == 0) cycle
+         t_in = unit_tangent(incoming(node))
+         t_out = unit_tangent(outgoing(node))
+         turning = turning + (t_in(1)*t_out(2) - t_in(2)*t_out(1))
+      end do
+
+   contains
+
+      pure function unit_tangent(e) result(t)
+         integer, intent(in) :: e
+         real(dp) :: t(2)
+         t = coordinates(:, connectivity(2, e)) - coordinates(:, connectivity(1, e))
+         t = t/norm2(t)
+      end function unit_tangent
+
+   end function total_turning
+
+   !> Arc length along `nodes` in the initial geometry: 0 at the first node, then the cumulative
+   !> distance between consecutive nodes of the list.
+   pure function path_coordinates(coordinates, nodes) result(s)
+      real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
+      integer, intent(in) :: nodes(:)
+      real(dp), allocatable :: s(:)
+      integer :: i
+      allocate (s(size(nodes)))
+      if (size(nodes) == 0) return
+      s(1) = 0.0_dp
+      do i = 2, size(nodes)
+         s(i) = s(i - 1) + norm2(coordinates(:, nodes(i)) - coordinates(:, nodes(i - 1)))
+      end do
+   end function path_coordinates
+
+end module uniarc_contact_law

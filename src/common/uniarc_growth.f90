@@ -1,0 +1,64 @@
+!> Arrays that grow as a reader or builder appends to them: capacities double, so that n appends cost
+!> O(n) copies in all (the deck of 1e5 nodes is read in linear time).
+module uniarc_growth
+   use uniarc_kinds, only: dp
+   implicit none
+   private
+   public :: append_integers, grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
+
+contains
+
+   !> Append `values` to `list(1:count)`, doubling the capacity of `list` when needed; `count` is updated.
+   pure subroutine append_integers(list, count, values)
+      integer, allocatable, intent(inout) :: list(:)   !< allocated on entry; entries past count are spare
+      integer, intent(inout) :: count
+      integer, intent(in) :: values(:)
+      if (count + size(values) > size(list)) call grow_integers(list, max(2*size(list), count + size(values)))
+      list(count + 1:count + size(values)) = values
+      count = count + size(values)
+   end subroutine append_integers
+
+   !> Make sure `list` holds at least `needed` entries (at least doubling it), keeping its contents; new
+   !> entries are 0. An unallocated `list` is allocated.
+   pure subroutine grow_integers(list, needed)
+      integer, allocatable, intent(inout) :: list(:)
+      integer, intent(in) :: needed
+      integer, allocatable :: grown(:)
+      if (.not. allocated(list)) allocate (list(0))
+      if (size(list) >= needed) return
+      allocate (grown(max(needed, 2*size(list))), source=0)
+      grown(1:size(list)) = list
+      call move_alloc(grown, list)
+   end subroutine grow_integers
+
+   !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are 0.
+   pure subroutine grow_integers_2(array, columns)
+      integer, allocatable, intent(inout) :: array(:, :)
+      integer, intent(in) :: columns
+      integer, allocatable :: grown(:, :)
+      allocate (grown(size(array, 1), columns), source=0)
+      grown(:, 1:size(array, 2)) = array
+      call move_alloc(grown, array)
+   end subroutine grow_integers_2
+
+   !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are 0.
+   pure subroutine grow_reals_2(array, columns)
+      real(dp), allocatable, intent(inout) :: array(:, :)
+      integer, intent(in) :: columns
+      real(dp), allocatable :: grown(:, :)
+      allocate (grown(size(array, 1), columns), source=0.0_dp)
+      grown(:, 1:size(array, 2)) = array
+      call move_alloc(grown, array)
+   end subroutine grow_reals_2
+
+   !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are false.
+   pure subroutine grow_logicals_2(array, columns)
+      logical, allocatable, intent(inout) :: array(:, :)
+      integer, intent(in) :: columns
+      logical, allocatable :: grown(:, :)
+      allocate (grown(size(array, 1), columns), source=.false.)
+      grown(:, 1:size(array, 2)) = array
+      call move_alloc(grown, array)
+   end subroutine grow_logicals_2
+
+end module uniarc_growth

@@ -1,0 +1,178 @@
+!> The state of a deck being read, and the pieces every card family shares.
+!>
+!> A `deck_t` is a local of `read_deck` (never module state): the model under construction (a
+!> `model_builder_t`), the parameters with the lines that defined them, the command-line overrides, and
+!> what only the deck knows — where each node was defined, which analysis and output cards were seen.
+!> The card readers (uniarc_deck_mesh, uniarc_deck_loads, uniarc_deck_contact, uniarc_deck_analysis)
+!> take it with the source and the card; the shared pieces here turn option values and target fields
+!> (a label or a set name) into values and internal indices, with positioned messages.
+module uniarc_deck_state
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_strings, only: field_t, is_name, integer_to_string
+   use uniarc_growth, only: grow_integers
+   use uniarc_expression, only: parameter_table_t, find_parameter
+   use uniarc_deck_source, only: source_t, card_t, raise, clip, field_real, field_integer
+   use uniarc_model_builder, only: model_builder_t, add_node, node_index, element_index, node_set_index, &
+                                   element_set_index
+   implicit none
+   private
+   public :: parameter_override_t, deck_t
+   public :: add_deck_node, option_field, option_real, require_one_data_line
+   public :: resolve_nodes, resolve_elements, read_dof
+
+   !> A `-D name=value` of the command line: replaces the deck's definition of parameter `name`.
+   type :: parameter_override_t
+      character(len=:), allocatable :: name
+      character(len=:), allocatable :: value   !< an expression, evaluated where the deck defines `name`
+   end type parameter_override_t
+
+   !> Everything the cards have read so far.
+   type :: deck_t
+      type(model_builder_t) :: model                  !< the model the cards build
+      type(parameter_table_t) :: parameters
+      integer, allocatable :: parameter_line(:)       !< line that defined each parameter
+      type(parameter_override_t), allocatable :: overrides(:)
+      logical, allocatable :: override_used(:)
+      integer :: analysis_line = 0                    !< line of the analysis card, 0 if none yet
+      integer, allocatable :: node_line(:), node_column(:)   !< where each node was defined
+      character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
+      integer :: stop_track_line = 0, stop_track_column = 0
+      integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
+   end type deck_t
+
+contains
+
+   !> Add node `label` at `point` to the model, remembering that it was defined at `line`, `column`.
+   subroutine add_deck_node(deck, label, point, line, column)
+      type(deck_t), intent(inout) :: deck
+      integer, intent(in) :: label
+      real(dp), intent(in) :: point(2)
+      integer, intent(in) :: line, column
+      call add_node(deck%model, label, point)
+      call grow_integers(deck%node_line, deck%model%n_nodes)
+      call grow_integers(deck%node_column, deck%model%n_nodes)
+      deck%node_line(deck%model%n_nodes) = line
+      deck%node_column(deck%model%n_nodes) = column
+   end subroutine add_deck_node
+
+   !> An option's value as a field (text and column), to be read like a data field.
+   pure function option_field(card, k) result(field)
+      type(card_t), intent(in) :: card
+      integer, intent(in) :: k
+      type(field_t) :: field
+      field%text = card%options(k)%value
+      field%column = card%options(k)%value_column
+   end function option_field
+
+   !> The value of option `k` of the card, an expression; `what` names it when it is empty.
+   subroutine option_real(source, card, deck, k, what, value, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: k
+      character(len=*), intent(in) :: what
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      call field_real(source, deck%parameters, card%line, option_field(card, k), what, value, error)
+   end subroutine option_real
+
+   !> Cards with exactly one data line (sections, generators).
+   subroutine require_one_data_line(source, card, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(error_t), allocatable, intent(out) :: error
+      if (card%n_data == 0) then
+         call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, &
+                    'expected a data line after *'//card%keyword//', found none', error)
+      else if (card%n_data > 1) then
+         call raise(source, card%data_lines(2), verify(source%lines(card%data_lines(2))%text, ' '), &
+                    'expected a new card (*'//card%keyword//' takes one data line), found a second data line', &
+                    error)
+      end if
+   end subroutine require_one_data_line
+
+   !> The nodes a target field names: a node-set name or a node label (an integer expression).
+   subroutine resolve_nodes(source, deck, line, field, nodes, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      integer, allocatable, intent(out) :: nodes(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: set, label, index
+
+      if (is_name(field%text)) then
+         set = node_set_index(deck%model, field%text)
+         if (set > 0) then
+            nodes = deck%model%node_sets(set)%nodes
+            return
+         end if
+         if (find_parameter(deck%parameters, field%text) == 0) then
+            call raise(source, line, field%column, 'expected a node label or a node set defined above, found '''// &
+                       clip(field%text)//'''', error)
+            return
+         end if
+      end if
+      call field_integer(source, deck%parameters, line, field, 'a node label or a node set', label, error)
+      if (allocated(error)) return
+      index = node_index(deck%model, label)
+      if (index == 0) then
+         call raise(source, line, field%column, 'expected a defined node label, found '// &
+                    integer_to_string(label), error)
+         return
+      end if
+      nodes = [index]
+   end subroutine resolve_nodes
+
+   !> The elements a target field names: an element-set name or an element label.
+   subroutine resolve_elements(source, deck, line, field, elements, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      integer, allocatable, intent(out) :: elements(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: set, label, index
+
+      if (is_name(field%text)) then
+         set = element_set_index(deck%model, field%text)
+         if (set > 0) then
+            elements = deck%model%element_sets(set)%elements
+            return
+         end if
+         if (find_parameter(deck%parameters, field%text) == 0) then
+            call raise(source, line, field%column, 'expected an element label or an element set defined above, ' // &
+                       'found '''//clip(field%text)//'''', error)
+            return
+         end if
+      end if
+      call field_integer(source, deck%parameters, line, field, 'an element label or an element set', &
+                         label, error)
+      if (allocated(error)) return
+      index = element_index(deck%model, label)
+      if (index == 0) then
+         call raise(source, line, field%column, 'expected a defined element label, found '// &
+                    integer_to_string(label), error)
+         return
+      end if
+      elements = [index]
+   end subroutine resolve_elements
+
+   !> A DOF field: an integer expression 1 (ux), 2 (uy) or 3 (rz).
+   subroutine read_dof(source, deck, line, field, dof, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      integer, intent(out) :: dof
+      type(error_t), allocatable, intent(out) :: error
+      call field_integer(source, deck%parameters, line, field, 'a DOF', dof, error)
+      if (allocated(error)) return
+      if (dof < 1 .or. dof > 3) then
+         call raise(source, line, field%column, 'expected a DOF 1 (ux), 2 (uy) or 3 (rz), found '// &
+                    integer_to_string(dof), error)
+      end if
+   end subroutine read_dof
+
+end module uniarc_deck_state

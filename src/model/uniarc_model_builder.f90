@@ -1,0 +1,702 @@
+!> The model builder: the one way to make a `model_t` without filling its fields by hand. The deck reader
+!> builds every model through it, and tests build small models with it directly.
+!>
+!> A `model_builder_t` grows as entities are added (capacities double, so building is linear in the
+!> model's size); `finish_model` validates the whole and copies it, arrays cut to size, into a
+!> `model_t`. Entities refer to each other by internal index (1..n in order of addition): `add_node`
+!> makes node n_nodes, `add_element` element n_elements, `add_section` section n_sections; user labels
+!> are kept for messages and output. Its components may be read (the deck's checks look up nodes, sets
+!> and groups); they are written only by the procedures here.
+!>
+!> Usage:
+!>
+!>     type(model_builder_t) :: b
+!>     call add_section(b, 'rib', ea=420.0_dp, ei=1.4_dp)
+!>     call add_node(b, 1, [0.0_dp, 0.0_dp]);  call add_node(b, 2, [1.0_dp, 0.0_dp])
+!>     call add_element(b, 1, [1, 2], section=1)
+!>     call add_support(b, 1, [.true., .true., .true.])
+!>     call add_nodal_load(b, 2, dof_uy, -1.0_dp)
+!>     call finish_model(b, model, error)
+module uniarc_model_builder
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_strings, only: same_text, integer_to_string
+   use uniarc_growth, only: grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
+   use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
+                           analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
+                           foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
+                           gap_fixed_direction
+   use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
+                                 path_coordinates, normals_valid, foundation_straight, foundation_problem
+   implicit none
+   private
+   public :: model_builder_t, finish_model
+   public :: add_section, add_node, add_element, add_to_node_set, add_to_element_set
+   public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
+   public :: add_springs, add_foundation, add_obstacle
+   public :: node_index, element_index, section_index, node_set_index, element_set_index
+   public :: unused_node, element_without_section, model_size
+   public :: penetration_tolerance
+
+   !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
+   !> of a node placed exactly on the surface stays far below it.
+   real(dp), parameter :: penetration_tolerance = 1.0e-9_dp
+
+   !> Slots of an element's distributed-load records: one fixed-direction, one pressure, one follower.
+   integer, parameter :: slot_fixed = 1, slot_pressure = 2, slot_follower = 3
+
+   !> A model under construction (see the module header). Read its components; write them through the
+   !> procedures of this module.
+   type :: model_builder_t
+      character(len=:), allocatable :: title
+
+      integer :: n_nodes = 0
+      real(dp), allocatable :: coordinates(:, :)      !< (2, capacity) initial x, y
+      integer, allocatable :: node_label(:)
+      logical, allocatable :: fixed(:, :)             !< (3, capacity) DOF held at zero
+      real(dp), allocatable :: nodal_load(:, :)       !< (3, capacity) reference nodal forces/moments
+      integer :: largest_node_label = 0
+      integer, allocatable :: node_of_label(:)        !< label → index (0: none), for labels up to its size
+
+      integer :: n_elements = 0
+      integer, allocatable :: connectivity(:, :)      !< (2, capacity) internal node indices
+      integer, allocatable :: element_label(:)
+      integer, allocatable :: element_section(:)      !< index into sections (0: none)
+      integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
+      integer :: largest_element_label = 0
+      integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
+
+      integer :: n_sections = 0
+      type(section_t), allocatable :: sections(:)
+      integer :: n_node_sets = 0
+      type(node_set_t), allocatable :: node_sets(:)
+      integer :: n_element_sets = 0
+      type(element_set_t), allocatable :: element_sets(:)
+      integer :: n_loads = 0
+      type(distributed_load_t), allocatable :: loads(:)
+      integer :: n_tracks = 0
+      type(track_t), allocatable :: tracks(:)
+      integer :: n_contacts = 0
+      type(contact_candidate_t), allocatable :: contacts(:)
+      integer :: n_contact_groups = 0
+      type(contact_group_t), allocatable :: contact_groups(:)
+      integer :: n_foundations = 0
+      type(foundation_t), allocatable :: foundations(:)
+
+      type(analysis_options_t) :: analysis            !< linear static unless set otherwise
+      type(output_options_t) :: output                !< extra result files
+   end type model_builder_t
+
+contains
+
+   ! ================================================================================================
+   ! Structure
+   ! ================================================================================================
+
+   !> Add a section of axial stiffness `ea` and bending stiffness `ei` (both > 0; force, force × length²);
+   !> it becomes section `builder%n_sections`. Names are compared case-insensitively by `section_index`.
+   pure subroutine add_section(builder, name, ea, ei)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: ea, ei
+      type(section_t), allocatable :: grown(:)
+      if (.not. allocated(builder%sections)) allocate (builder%sections(4))
+      if (builder%n_sections == size(builder%sections)) then
+         allocate (grown(2*size(builder%sections)))
+         grown(1:size(builder%sections)) = builder%sections
+         call move_alloc(grown, builder%sections)
+      end if
+      builder%n_sections = builder%n_sections + 1
+      builder%sections(builder%n_sections)%name = name
+      builder%sections(builder%n_sections)%ea = ea
+      builder%sections(builder%n_sections)%ei = ei
+   end subroutine add_section
+
+   !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
+   !> and unloaded.
+   pure subroutine add_node(builder, label, point)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: label
+      real(dp), intent(in) :: point(2)
+      integer :: capacity
+      call start_nodes(builder)
+      capacity = size(builder%node_label)
+      if (builder%n_nodes == capacity) then
+         call grow_reals_2(builder%coordinates, 2*capacity)
+         call grow_reals_2(builder%nodal_load, 2*capacity)
+         call grow_logicals_2(builder%fixed, 2*capacity)
+         call grow_integers(builder%node_label, 2*capacity)
+      end if
+      builder%n_nodes = builder%n_nodes + 1
+      builder%coordinates(:, builder%n_nodes) = point
+      builder%node_label(builder%n_nodes) = label
+      builder%fixed(:, builder%n_nodes) = .false.
+      builder%nodal_load(:, builder%n_nodes) = 0.0_dp
+      builder%largest_node_label = max(builder%largest_node_label, label)
+      call record_label(builder%node_of_label, label, builder%n_nodes)
+   end subroutine add_node
+
+   !> Add element `label` (positive, not used yet) from node `ends(1)` to node `ends(2)` (internal
+   !> indices) with section `section` (an index; 0 leaves it without one, which `finish_model` rejects).
+   pure subroutine add_element(builder, label, ends, section)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: label, ends(2), section
+      integer :: capacity
+      call start_elements(builder)
+      capacity = size(builder%element_label)
+      if (builder%n_elements == capacity) then
+         call grow_integers_2(builder%connectivity, 2*capacity)
+         call grow_integers_2(builder%load_index, 2*capacity)
+         call grow_integers(builder%element_label, 2*capacity)
+         call grow_integers(builder%element_section, 2*capacity)
+      end if
+      builder%n_elements = builder%n_elements + 1
+      builder%connectivity(:, builder%n_elements) = ends
+      builder%element_label(builder%n_elements) = label
+      builder%element_section(builder%n_elements) = section
+      builder%load_index(:, builder%n_elements) = 0
+      builder%largest_element_label = max(builder%largest_element_label, label)
+      call record_label(builder%element_of_label, label, builder%n_elements)
+   end subroutine add_element
+
+   !> Add `members` (node indices) to node set `name` (created if new), skipping nodes already in it.
+   pure subroutine add_to_node_set(builder, name, members)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: members(:)
+      type(node_set_t), allocatable :: grown(:)
+      integer :: set
+      if (.not. allocated(builder%node_sets)) allocate (builder%node_sets(8))
+      set = node_set_index(builder, name)
+      if (set == 0) then
+         if (builder%n_node_sets == size(builder%node_sets)) then
+            allocate (grown(2*size(builder%node_sets)))
+            grown(1:builder%n_node_sets) = builder%node_sets(1:builder%n_node_sets)
+            call move_alloc(grown, builder%node_sets)
+         end if
+         builder%n_node_sets = builder%n_node_sets + 1
+         set = builder%n_node_sets
+         builder%node_sets(set)%name = name
+         allocate (builder%node_sets(set)%nodes(0))
+      end if
+      call merge_members(builder%node_sets(set)%nodes, members, builder%n_nodes)
+   end subroutine add_to_node_set
+
+   !> Add `members` (element indices) to element set `name` (created if new), skipping elements already
+   !> in it.
+   pure subroutine add_to_element_set(builder, name, members)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: members(:)
+      type(element_set_t), allocatable :: grown(:)
+      integer :: set
+      if (.not. allocated(builder%element_sets)) allocate (builder%element_sets(8))
+      set = element_set_index(builder, name)
+      if (set == 0) then
+         if (builder%n_element_sets == size(builder%element_sets)) then
+            allocate (grown(2*size(builder%element_sets)))
+            grown(1:builder%n_element_sets) = builder%element_sets(1:builder%n_element_sets)
+            call move_alloc(grown, builder%element_sets)
+         end if
+         builder%n_element_sets = builder%n_element_sets + 1
+         set = builder%n_element_sets
+         builder%element_sets(set)%name = name
+         allocate (builder%element_sets(set)%elements(0))
+      end if
+      call merge_members(builder%element_sets(set)%elements, members, builder%n_elements)
+   end subroutine add_to_element_set
+
+   ! ================================================================================================
+   ! Supports, loads, tracked displacements
+   ! ================================================================================================
+
+   !> Hold the DOFs of `node` where `held` (ux, uy, rz) is true; supports accumulate.
+   pure subroutine add_support(builder, node, held)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node
+      logical, intent(in) :: held(dofs_per_node)
+      builder%fixed(:, node) = builder%fixed(:, node) .or. held
+   end subroutine add_support
+
+   !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
+   pure subroutine add_nodal_load(builder, node, dof, value)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node, dof
+      real(dp), intent(in) :: value
+      builder%nodal_load(dof, node) = builder%nodal_load(dof, node) + value
+   end subroutine add_nodal_load
+
+   !> Add a reference force per unit initial length `value` in global direction `dof` (dof_ux: x, else y)
+   !> on `element`; such loads on one element are summed into its one fixed-direction record.
+   pure subroutine add_line_load(builder, element, dof, value)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element, dof
+      real(dp), intent(in) :: value
+      integer :: record
+      call load_record(builder, element, slot_fixed, record)
+      if (dof == dof_ux) then
+         builder%loads(record)%qx = builder%loads(record)%qx + value
+      else
+         builder%loads(record)%qy = builder%loads(record)%qy + value
+      end if
+   end subroutine add_line_load
+
+   !> Add a reference pressure per unit length `value` along the left normal of `element` (its tangent
+   !> node1 → node2 turned by +90°), following the deformed normal if `follower`; summed per element
+   !> into one pressure and one follower-pressure record.
+   pure subroutine add_pressure(builder, element, value, follower)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element
+      real(dp), intent(in) :: value
+      logical, intent(in) :: follower
+      integer :: record
+      call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record)
+      builder%loads(record)%pressure = builder%loads(record)%pressure + value
+   end subroutine add_pressure
+
+   !> The load record of `element` in `slot`, made if the element has none there yet.
+   pure subroutine load_record(builder, element, slot, record)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element, slot
+      integer, intent(out) :: record
+      type(distributed_load_t), allocatable :: grown(:)
+      record = builder%load_index(slot, element)
+      if (record > 0) return
+      if (.not. allocated(builder%loads)) allocate (builder%loads(16))
+      if (builder%n_loads == size(builder%loads)) then
+         allocate (grown(2*size(builder%loads)))
+         grown(1:builder%n_loads) = builder%loads(1:builder%n_loads)
+         call move_alloc(grown, builder%loads)
+      end if
+      builder%n_loads = builder%n_loads + 1
+      record = builder%n_loads
+      builder%loads(record) = distributed_load_t(element=element, kind=merge(load_fixed_direction, &
+                                                 load_pressure, slot == slot_fixed), follower=slot == slot_follower)
+      builder%load_index(slot, element) = record
+   end subroutine load_record
+
+   !> Add the path-file column `name` holding scale × u(dof) of `node` (dof_ux, dof_uy or dof_rz).
+   pure subroutine add_track(builder, name, node, dof, scale)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: node, dof
+      real(dp), intent(in) :: scale
+      type(track_t), allocatable :: grown(:)
+      if (.not. allocated(builder%tracks)) allocate (builder%tracks(4))
+      if (builder%n_tracks == size(builder%tracks)) then
+         allocate (grown(2*size(builder%tracks)))
+         grown(1:builder%n_tracks) = builder%tracks(1:builder%n_tracks)
+         call move_alloc(grown, builder%tracks)
+      end if
+      builder%n_tracks = builder%n_tracks + 1
+      builder%tracks(builder%n_tracks) = track_t(name=name, node=node, dof=dof, scale=scale)
+   end subroutine add_track
+
+   ! ================================================================================================
+   ! Foundations and obstacles: each makes one contact group of candidates (uniarc_contact_law)
+   ! ================================================================================================
+
+   !> Add a group `name` of discrete springs: at `nodes(i)` a spring of stiffness `stiffness(i)` > 0
+   !> (force per length) pushing along the unit `directions(:, i)`, gap g = n·u; coordinates the
+   !> cumulative distance between the nodes in order.
+   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: nodes(:)
+      real(dp), intent(in) :: directions(:, :)         !< (2, size(nodes))
+      real(dp), intent(in) :: stiffness(:)             !< (size(nodes))
+      logical, intent(in) :: bilateral
+      type(contact_candidate_t), allocatable :: candidates(:)
+      integer :: i
+      allocate (candidates(size(nodes)))
+      do i = 1, size(nodes)
+         candidates(i)%node = nodes(i)
+         candidates(i)%gap_kind = gap_fixed_direction
+         candidates(i)%direction = directions(:, i)
+         candidates(i)%offset = 0.0_dp
+         candidates(i)%flexibility = spring_flexibility(stiffness(i))
+         candidates(i)%bilateral = bilateral
+      end do
+      candidates%coordinate = path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
+      call add_contact_group(builder, name, candidates)
+   end subroutine add_springs
+
+   !> Add a foundation as described (`foundation%elements` internal indices; its name names its group):
+   !> the model keeps the description, and its candidates are derived by `foundation_candidates`.
+   !>
+   !> Errors (category error_input): a side (not side_direction) on a set whose nodal normals are not
+   !> defined, or inner/outer on a straight set. Then `status` (if present) is the contact law's code
+   !> (normals_branch, normals_opposed, normals_folded, foundation_straight) and `bad_node` the node
+   !> concerned (0 for foundation_straight), and nothing is added.
+   subroutine add_foundation(builder, foundation, error, status, bad_node)
+      type(model_builder_t), intent(inout) :: builder
+      type(foundation_t), intent(in) :: foundation
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(out), optional :: status
+      integer, intent(out), optional :: bad_node
+      type(contact_candidate_t), allocatable :: candidates(:)
+      type(foundation_t), allocatable :: grown(:)
+      integer :: outcome, node
+      character(len=:), allocatable :: problem
+
+      call foundation_candidates(foundation, builder%coordinates(:, 1:builder%n_nodes), &
+                                 builder%connectivity(:, 1:builder%n_elements), candidates, outcome, node)
+      if (present(status)) status = outcome
+      if (present(bad_node)) bad_node = node
+      if (outcome /= normals_valid) then
+         if (outcome == foundation_straight) then
+            problem = foundation_problem(outcome)
+         else
+            problem = 'at node '//integer_to_string(builder%node_label(node))//', '//foundation_problem(outcome)
+         end if
+         call make_error(error, 'foundation '''//foundation%name//''': '//problem, error_input)
+         return
+      end if
+
+      if (.not. allocated(builder%foundations)) allocate (builder%foundations(2))
+      if (builder%n_foundations == size(builder%foundations)) then
+         allocate (grown(2*size(builder%foundations)))
+         grown(1:builder%n_foundations) = builder%foundations(1:builder%n_foundations)
+         call move_alloc(grown, builder%foundations)
+      end if
+      builder%n_foundations = builder%n_foundations + 1
+      builder%foundations(builder%n_foundations) = foundation
+      builder%foundations(builder%n_foundations)%group = builder%n_contact_groups + 1
+      call add_contact_group(builder, foundation%name, candidates)
+   end subroutine add_foundation
+
+   !> Add an obstacle group `name`: one candidate per node of `nodes` facing the obstacle of kind
+   !> `gap_kind` (`obstacle_candidate`: a plane through `point` with unit `normal` to the free side, or a
+   !> circle of centre `point` and `radius`). `stiffness` > 0 makes it elastic, a spring per node, the
+   !> first and the last node's multiplied by `end_factor`; 0 makes it rigid. Coordinates: scale × the
+   !> cumulative distance between the nodes.
+   !>
+   !> Error (category error_input): a node starting inside the obstacle (initial gap below
+   !> −penetration_tolerance × `model_size`); then `bad` (if present) is its index in `nodes` and `depth`
+   !> how far inside it is, and nothing is added.
+   subroutine add_obstacle(builder, name, gap_kind, point, normal, radius, nodes, stiffness, end_factor, &
+                                scale, error, bad, depth)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: gap_kind
+      real(dp), intent(in) :: point(2), normal(2), radius
+      integer, intent(in) :: nodes(:)
+      real(dp), intent(in) :: stiffness, end_factor, scale
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(out), optional :: bad
+      real(dp), intent(out), optional :: depth
+      type(contact_candidate_t), allocatable :: candidates(:)
+      real(dp) :: tolerance, gap, factor
+      integer :: i
+
+      if (present(bad)) bad = 0
+      if (present(depth)) depth = 0.0_dp
+      tolerance = penetration_tolerance*model_size(builder)
+      allocate (candidates(size(nodes)))
+      do i = 1, size(nodes)
+         candidates(i) = obstacle_candidate(gap_kind, point, normal, radius, nodes(i), builder%coordinates(:, nodes(i)))
+         gap = initial_gap(candidates(i), builder%coordinates(:, nodes(i)))
+         if (gap < -tolerance) then
+            if (present(bad)) bad = i
+            if (present(depth)) depth = -gap
+            call make_error(error, 'obstacle '''//name//''': node '//integer_to_string(builder%node_label(nodes(i)))// &
+                            ' starts inside it', error_input)
+            return
+         end if
+         if (stiffness > 0.0_dp) then
+            factor = 1.0_dp
+            if (i == 1 .or. i == size(nodes)) factor = end_factor
+            candidates(i)%flexibility = spring_flexibility(factor*stiffness)
+         end if
+      end do
+      candidates%coordinate = scale*path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
+      call add_contact_group(builder, name, candidates)
+   end subroutine add_obstacle
+
+   !> Append the contact group `name` made of `candidates` (in node order).
+   pure subroutine add_contact_group(builder, name, candidates)
+      type(model_builder_t), intent(inout) :: builder
+      character(len=*), intent(in) :: name
+      type(contact_candidate_t), intent(in) :: candidates(:)
+      type(contact_candidate_t), allocatable :: grown(:)
+      type(contact_group_t), allocatable :: grown_groups(:)
+      integer :: first, group, i
+
+      if (.not. allocated(builder%contacts)) allocate (builder%contacts(max(16, size(candidates))))
+      if (.not. allocated(builder%contact_groups)) allocate (builder%contact_groups(4))
+      if (builder%n_contacts + size(candidates) > size(builder%contacts)) then
+         allocate (grown(max(2*size(builder%contacts), builder%n_contacts + size(candidates))))
+         grown(1:builder%n_contacts) = builder%contacts(1:builder%n_contacts)
+         call move_alloc(grown, builder%contacts)
+      end if
+      if (builder%n_contact_groups == size(builder%contact_groups)) then
+         allocate (grown_groups(2*size(builder%contact_groups)))
+         grown_groups(1:builder%n_contact_groups) = builder%contact_groups(1:builder%n_contact_groups)
+         call move_alloc(grown_groups, builder%contact_groups)
+      end if
+
+      builder%n_contact_groups = builder%n_contact_groups + 1
+      group = builder%n_contact_groups
+      first = builder%n_contacts + 1
+      builder%contacts(first:first + size(candidates) - 1) = candidates
+      builder%contacts(first:first + size(candidates) - 1)%group = group
+      builder%n_contacts = builder%n_contacts + size(candidates)
+      builder%contact_groups(group)%name = name
+      builder%contact_groups(group)%candidates = [(i, i = first, builder%n_contacts)]
+   end subroutine add_contact_group
+
+   ! ================================================================================================
+   ! The model
+   ! ================================================================================================
+
+   !> Validate what was built and copy it into `model`, arrays cut to size; `origin` (default '') is
+   !> the file the model was read from, for messages.
+   !>
+   !> Errors (category error_input; `model` is then not to be used): no element; a node in no element
+   !> (its DOFs would make the stiffness singular); an element without a section or with a node index
+   !> out of range.
+   subroutine finish_model(builder, model, error, origin)
+      type(model_builder_t), intent(in) :: builder
+      type(model_t), intent(out) :: model
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: origin
+      integer :: n, e, bad
+
+      n = builder%n_nodes
+      e = builder%n_elements
+      if (e == 0) then
+         call make_error(error, 'model: expected at least one element, found none', error_input)
+         return
+      end if
+      if (any(builder%connectivity(:, 1:e) < 1 .or. builder%connectivity(:, 1:e) > n)) then
+         call make_error(error, 'model: expected elements between defined nodes, found a node index out ' // &
+                         'of 1 to '//integer_to_string(n), error_input)
+         return
+      end if
+      bad = element_without_section(builder)
+      if (bad > 0) then
+         call make_error(error, 'model: expected a section for every element, found element '// &
+                         integer_to_string(builder%element_label(bad))//' without one', error_input)
+         return
+      end if
+      bad = unused_node(builder)
+      if (bad > 0) then
+         call make_error(error, 'model: expected every node in an element, found node '// &
+                         integer_to_string(builder%node_label(bad))//' in none', error_input)
+         return
+      end if
+
+      model%deck_path = ''
+      if (present(origin)) model%deck_path = origin
+      model%title = ''
+      if (allocated(builder%title)) model%title = builder%title
+      model%n_nodes = n
+      model%n_elements = e
+      model%coordinates = builder%coordinates(:, 1:n)
+      model%node_label = builder%node_label(1:n)
+      model%fixed = builder%fixed(:, 1:n)
+      model%nodal_load = builder%nodal_load(:, 1:n)
+      model%connectivity = builder%connectivity(:, 1:e)
+      model%element_label = builder%element_label(1:e)
+      model%element_section = builder%element_section(1:e)
+      model%sections = builder%sections(1:builder%n_sections)
+      allocate (model%node_sets(builder%n_node_sets), model%element_sets(builder%n_element_sets), &
+                model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &
+                model%contacts(builder%n_contacts), model%contact_groups(builder%n_contact_groups), &
+                model%foundations(builder%n_foundations))
+      if (builder%n_node_sets > 0) model%node_sets = builder%node_sets(1:builder%n_node_sets)
+      if (builder%n_element_sets > 0) model%element_sets = builder%element_sets(1:builder%n_element_sets)
+      if (builder%n_loads > 0) model%distributed_loads = builder%loads(1:builder%n_loads)
+      if (builder%n_tracks > 0) model%tracks = builder%tracks(1:builder%n_tracks)
+      if (builder%n_contacts > 0) model%contacts = builder%contacts(1:builder%n_contacts)
+      if (builder%n_contact_groups > 0) model%contact_groups = builder%contact_groups(1:builder%n_contact_groups)
+      if (builder%n_foundations > 0) model%foundations = builder%foundations(1:builder%n_foundations)
+      model%analysis = builder%analysis
+      model%output = builder%output
+   end subroutine finish_model
+
+   ! ================================================================================================
+   ! Look-ups
+   ! ================================================================================================
+
+   !> Index of the node labelled `label`, 0 if there is none.
+   pure integer function node_index(builder, label) result(index)
+      type(model_builder_t), intent(in) :: builder
+      integer, intent(in) :: label
+      index = 0
+      if (builder%n_nodes == 0) return
+      index = label_index(builder%node_of_label, builder%node_label(1:builder%n_nodes), label)
+   end function node_index
+
+   !> Index of the element labelled `label`, 0 if there is none.
+   pure integer function element_index(builder, label) result(index)
+      type(model_builder_t), intent(in) :: builder
+      integer, intent(in) :: label
+      index = 0
+      if (builder%n_elements == 0) return
+      index = label_index(builder%element_of_label, builder%element_label(1:builder%n_elements), label)
+   end function element_index
+
+   !> Index of the section called `name` (case-insensitive), 0 if there is none.
+   pure integer function section_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      integer :: i
+      index = 0
+      do i = 1, builder%n_sections
+         if (same_text(builder%sections(i)%name, name)) index = i
+      end do
+   end function section_index
+
+   !> Index of the node set called `name` (case-insensitive), 0 if there is none.
+   pure integer function node_set_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      integer :: i
+      index = 0
+      do i = 1, builder%n_node_sets
+         if (same_text(builder%node_sets(i)%name, name)) index = i
+      end do
+   end function node_set_index
+
+   !> Index of the element set called `name` (case-insensitive), 0 if there is none.
+   pure integer function element_set_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      integer :: i
+      index = 0
+      do i = 1, builder%n_element_sets
+         if (same_text(builder%element_sets(i)%name, name)) index = i
+      end do
+   end function element_set_index
+
+   !> The first node (index) that no element uses, 0 if every node is used.
+   pure integer function unused_node(builder) result(node)
+      type(model_builder_t), intent(in) :: builder
+      logical, allocatable :: used(:)
+      integer :: i
+      node = 0
+      allocate (used(builder%n_nodes), source=.false.)
+      do i = 1, builder%n_elements
+         used(builder%connectivity(:, i)) = .true.
+      end do
+      do i = 1, builder%n_nodes
+         if (.not. used(i)) then
+            node = i
+            return
+         end if
+      end do
+   end function unused_node
+
+   !> The first element (index) without a valid section, 0 if every element has one.
+   pure integer function element_without_section(builder) result(element)
+      type(model_builder_t), intent(in) :: builder
+      integer :: i
+      element = 0
+      do i = 1, builder%n_elements
+         if (builder%element_section(i) < 1 .or. builder%element_section(i) > builder%n_sections) then
+            element = i
+            return
+         end if
+      end do
+   end function element_without_section
+
+   !> The diagonal of the box around the nodes added so far (0 without nodes): the length that obstacle
+   !> tolerances scale.
+   pure real(dp) function model_size(builder)
+      type(model_builder_t), intent(in) :: builder
+      if (builder%n_nodes == 0) then
+         model_size = 0.0_dp
+      else
+         model_size = norm2(maxval(builder%coordinates(:, 1:builder%n_nodes), dim=2) - &
+                            minval(builder%coordinates(:, 1:builder%n_nodes), dim=2))
+      end if
+   end function model_size
+
+   ! ================================================================================================
+   ! Tables
+   ! ================================================================================================
+
+   pure subroutine start_nodes(builder)
+      type(model_builder_t), intent(inout) :: builder
+      if (allocated(builder%node_label)) return
+      allocate (builder%coordinates(2, 64), builder%node_label(64), builder%fixed(dofs_per_node, 64), &
+                builder%nodal_load(dofs_per_node, 64))
+   end subroutine start_nodes
+
+   pure subroutine start_elements(builder)
+      type(model_builder_t), intent(inout) :: builder
+      if (allocated(builder%element_label)) return
+      allocate (builder%connectivity(2, 64), builder%element_label(64), builder%element_section(64), &
+                builder%load_index(3, 64))
+   end subroutine start_elements
+
+   !> The entry labelled `label`: from the direct table when it covers the label, else by a scan of
+   !> `labels`.
+   pure integer function label_index(table, labels, label) result(index)
+      integer, allocatable, intent(in) :: table(:)
+      integer, intent(in) :: labels(:)
+      integer, intent(in) :: label
+      integer :: i
+      index = 0
+      if (allocated(table)) then
+         if (label >= 1 .and. label <= size(table)) then
+            index = table(label)
+            return
+         end if
+      end if
+      do i = 1, size(labels)
+         if (labels(i) == label) then
+            index = i
+            return
+         end if
+      end do
+   end function label_index
+
+   !> Remember that `label` is entry `index`, so that label look-ups are O(1) instead of a scan.
+   !> Labels are kept in a direct table while they stay below 4 × (entries) + 1000; a table that would
+   !> grow larger than that (very sparse labels) is dropped and look-ups fall back to the scan.
+   pure subroutine record_label(table, label, index)
+      integer, allocatable, intent(inout) :: table(:)
+      integer, intent(in) :: label, index
+      integer, allocatable :: grown(:)
+      integer :: capacity
+      if (.not. allocated(table)) then
+         if (index > 1) return                   ! the table was dropped: stay with the scan
+         allocate (table(1024), source=0)
+      end if
+      if (label > size(table)) then
+         capacity = max(2*size(table), label)
+         if (capacity > 4*index + 1000) then
+            deallocate (table)
+            return
+         end if
+         allocate (grown(capacity), source=0)
+         grown(1:size(table)) = table
+         call move_alloc(grown, table)
+      end if
+      if (label >= 1) table(label) = index
+   end subroutine record_label
+
+   !> Append to `set` the entries of `members` (indices 1..n) that are not in it yet, in their order.
+   pure subroutine merge_members(set, members, n)
+      integer, allocatable, intent(inout) :: set(:)
+      integer, intent(in) :: members(:)
+      integer, intent(in) :: n
+      logical, allocatable :: present(:)
+      integer, allocatable :: added(:)
+      integer :: i, count
+      allocate (present(n), source=.false.)
+      present(set) = .true.
+      allocate (added(size(members)))
+      count = 0
+      do i = 1, size(members)
+         if (present(members(i))) cycle
+         present(members(i)) = .true.
+         count = count + 1
+         added(count) = members(i)
+      end do
+      set = [set, added(1:count)]
+   end subroutine merge_members
+
+end module uniarc_model_builder
