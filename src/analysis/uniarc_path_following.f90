@@ -13,6 +13,7 @@
 module uniarc_path_following
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, analysis_options_t, dofs_per_node, control_load, control_displacement, &
                            control_arclength, iteration_chan, iteration_cylindrical, iteration_riks
    use uniarc_dof_map, only: dof_map_t, build_dof_map
@@ -28,6 +29,9 @@ module uniarc_path_following
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
    public :: candidate_reactions
+
+   !> How a real is written in the messages of a failed step (λ, the step length): 6 digits suffice.
+   character(len=*), parameter :: message_edit = '(es12.5)'
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -149,8 +153,8 @@ contains
          end do
          if (.not. converged) then
             call make_error(error, 'no convergence ('//reason//') after cutting the step down to '// &
-                            real_text(length/state%first_length)//' of the first', error_analysis)
-            call add_where(error, 'step '//int_text(state%point%step + 1), state)
+                            real_to_string(length/state%first_length, message_edit)//' of the first', error_analysis)
+            call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
             return
          end if
          state%u = state%u + increment
@@ -160,7 +164,7 @@ contains
          state%point%s = state%point%s + masked_norm(state%map, increment)
          call tangent_at_committed_state(model, state, error)
          if (allocated(error)) then
-            call add_where(error, 'step '//int_text(state%point%step + 1)//' (converged state)', state)
+            call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
             return
          end if
          select case (options%control)
@@ -827,23 +831,7 @@ contains
       type(error_t), intent(inout) :: error
       character(len=*), intent(in) :: where
       type(path_state_t), intent(in) :: state
-      error%message = where//', from lambda = '//real_text(state%lambda)//': '//error%message
+      error%message = where//', from lambda = '//real_to_string(state%lambda, message_edit)//': '//error%message
    end subroutine add_where
-
-   pure function int_text(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=16) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function int_text
-
-   pure function real_text(x) result(text)
-      real(dp), intent(in) :: x
-      character(len=:), allocatable :: text
-      character(len=24) :: buffer
-      write (buffer, '(es12.5)') x
-      text = trim(adjustl(buffer))
-   end function real_text
 
 end module uniarc_path_following

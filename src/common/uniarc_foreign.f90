@@ -7,6 +7,7 @@ module uniarc_foreign
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis, error_internal
+   use uniarc_strings, only: integer_to_string
    implicit none
    private
    public :: dgbtrf, dgbtrs, dgetrf, dgetrs
@@ -80,14 +81,14 @@ contains
       character(len=*), intent(in) :: routine
       integer, intent(in) :: info
       type(error_t), allocatable, intent(out) :: error
-      character(len=16) :: text
+      character(len=:), allocatable :: text
       if (info == 0) return
-      write (text, '(i0)') abs(info)
+      text = integer_to_string(abs(info))
       if (info < 0) then
-         call make_error(error, routine//': argument '//trim(text)//' has an illegal value', error_internal)
+         call make_error(error, routine//': argument '//text//' has an illegal value', error_internal)
       else
          call make_error(error, routine//': the matrix is singular (zero pivot at equation '// &
-                         trim(text)//')', error_analysis)
+                         text//')', error_analysis)
       end if
    end subroutine lapack_check
 

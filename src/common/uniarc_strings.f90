@@ -184,16 +184,24 @@ contains
       text = trim(buffer)
    end function integer_to_string
 
-   !> Readable representation of a real for messages ("found 2.5"), with 12 significant digits.
+   !> A real as text, without surrounding blanks: the one real-to-text conversion of the program.
    !>
-   !> Fixed notation between 1e-3 and 1e9, scientific notation outside; trailing zeros of the mantissa
-   !> are removed either way.
-   pure function real_to_string(value) result(text)
+   !> With `edit` (a Fortran format of one real edit descriptor of at most 48 characters' width, e.g.
+   !> '(es21.12e3)', the result files' format), exactly what that format writes. Without it, the readable
+   !> form of messages ("found 2.5"): 12 significant digits, fixed notation between 1e-3 and 1e9,
+   !> scientific notation outside, trailing zeros of the mantissa removed either way.
+   pure function real_to_string(value, edit) result(text)
       real(dp), intent(in) :: value
+      character(len=*), intent(in), optional :: edit
       character(len=:), allocatable :: text
       character(len=48) :: buffer
       integer :: e_position, last, digits_before
 
+      if (present(edit)) then
+         write (buffer, edit) value
+         text = trim(adjustl(buffer))
+         return
+      end if
       if (abs(value) < tiny(1.0_dp)) then
          text = '0'
          return

@@ -18,7 +18,8 @@
 module uniarc_expression
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
-   use uniarc_strings, only: is_digit, is_letter, is_blank, to_lower, same_text, real_to_string
+   use uniarc_strings, only: is_digit, is_letter, is_blank, to_lower, same_text, real_to_string, &
+                             integer_to_string
    implicit none
    private
    public :: parameter_table_t
@@ -479,7 +480,7 @@ contains
          return
       case ('atan2')
          if (size(arguments) /= 2) then
-            message = 'expected 2 arguments of ''atan2'', found '//count_text(size(arguments))
+            message = 'expected 2 arguments of ''atan2'', found '//integer_to_string(size(arguments))
             return
          end if
          if (abs(arguments(1)) < tiny(1.0_dp) .and. abs(arguments(2)) < tiny(1.0_dp)) then
@@ -491,7 +492,7 @@ contains
       case ('sin', 'cos', 'tan', 'asin', 'acos', 'atan', 'sqrt', 'exp', 'log', 'log10', 'abs', &
             'sind', 'cosd', 'tand', 'deg2rad', 'rad2deg')
          if (size(arguments) /= 1) then
-            message = 'expected 1 argument of '''//name//''', found '//count_text(size(arguments))
+            message = 'expected 1 argument of '''//name//''', found '//integer_to_string(size(arguments))
             return
          end if
       case default
@@ -569,14 +570,6 @@ contains
          text = real_to_string(value)
       end if
    end function base_text
-
-   pure function count_text(count) result(text)
-      integer, intent(in) :: count
-      character(len=:), allocatable :: text
-      character(len=12) :: buffer
-      write (buffer, '(i0)') count
-      text = trim(buffer)
-   end function count_text
 
    ! ------------------------------------------------------------------------------------------------
    ! Tokens

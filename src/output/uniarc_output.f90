@@ -6,6 +6,7 @@
 module uniarc_output
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_foreign, only: rename_file, make_directory
    use uniarc_model, only: model_t
    implicit none
@@ -138,7 +139,7 @@ contains
       nodal_reaction = nodal_reactions(model, record%reactions)
       do i = 1, model%n_nodes
          write (files%shape%unit, '(i0,*(1x,a))') record%step, trim(format_number(record%lambda)), &
-            trim(int_text(model%node_label(i))), &
+            integer_to_string(model%node_label(i)), &
             (trim(format_number(model%coordinates(k, i))), k=1, 2), &
             (trim(format_number(record%displacement(k, i))), k=1, 3), &
             (trim(format_number(model%coordinates(k, i) + record%displacement(k, i))), k=1, 2), &
@@ -173,18 +174,11 @@ contains
    end subroutine commit_outputs
 
    !> A real as text in the files' number format, without surrounding blanks.
-   elemental function format_number(x) result(text)
+   pure function format_number(x) result(text)
       real(dp), intent(in) :: x
-      character(len=21) :: text
-      write (text, number_format) x
-      text = adjustl(text)
+      character(len=:), allocatable :: text
+      text = real_to_string(x, number_format)
    end function format_number
-
-   pure function int_text(i) result(text)
-      integer, intent(in) :: i
-      character(len=12) :: text
-      write (text, '(i0)') i
-   end function int_text
 
    subroutine open_table(table, path, header, error)
       type(table_file_t), intent(out) :: table

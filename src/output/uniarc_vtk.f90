@@ -32,6 +32,7 @@ module uniarc_vtk
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_foreign, only: rename_file
+   use uniarc_strings, only: integer_text => integer_to_string
    use uniarc_model, only: model_t, analysis_linear
    use uniarc_frame_linear, only: basic_stiffness, basic_to_global
    use uniarc_assembly, only: element_coordinates
@@ -438,13 +439,5 @@ contains
          end select
       end do
    end function xml_escaped
-
-   pure function integer_text(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      character(len=12) :: buffer
-      write (buffer, '(i0)') i
-      text = trim(buffer)
-   end function integer_text
 
 end module uniarc_vtk
