@@ -20,6 +20,7 @@ module uniarc_deck
                            control_arclength, iteration_chan, iteration_cylindrical, iteration_riks, &
                            contact_candidate_t, contact_group_t, gap_fixed_direction, gap_circle_inside, &
                            gap_circle_outside
+   use uniarc_deck_element, only: read_element_type, record_element_kind, element_kinds, restrain_truss_nodes
    use uniarc_deck_contact, only: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, &
                                   path_coordinates, normals_valid, normals_branch, normals_opposed
    implicit none
@@ -68,6 +69,7 @@ module uniarc_deck
       integer, allocatable :: connectivity(:, :)
       integer, allocatable :: element_label(:)
       integer, allocatable :: element_section(:)
+      integer, allocatable :: element_kind(:)         !< kinds given by *ELEMENT, TYPE= (uniarc_deck_element)
       integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
       integer :: largest_element_label = 0
       integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
@@ -416,18 +418,20 @@ contains
       if (set_option > 0) call add_to_node_set(builder, card%options(set_option)%value, created)
    end subroutine read_node
 
-   !> *ELEMENT, SECTION=s [, ELSET=name]: lines `label, node1, node2` (node labels).
+   !> *ELEMENT, SECTION=s [, ELSET=name] [, TYPE=BEAM|TRUSS]: lines `label, node1, node2` (node labels).
    subroutine read_element(source, card, builder, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(builder_t), intent(inout) :: builder
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, label, existing, section, set_option
+      integer :: i, j, line, label, existing, section, set_option, kind
       integer :: ends(2), node_labels(2)
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: created(:)
 
-      call check_options(source, card, [character(len=8) :: 'SECTION=', 'ELSET='], error)
+      call check_options(source, card, [character(len=8) :: 'SECTION=', 'ELSET=', 'TYPE='], error)
+      if (allocated(error)) return
+      call read_element_type(source, card, kind, error)
       if (allocated(error)) return
       call card_section(source, card, builder, section, error)
       if (allocated(error)) return
@@ -476,6 +480,7 @@ contains
          call add_element(builder, label, ends, section)
          created(i) = builder%n_elements
       end do
+      call record_element_kind(builder%element_kind, created, kind)
       if (set_option > 0) call add_to_element_set(builder, card%options(set_option)%value, created)
    end subroutine read_element
 
@@ -1883,7 +1888,8 @@ contains
    ! ================================================================================================
 
    !> Checks that need the whole deck: every -D used, at least one element, no node outside every
-   !> element (it would make the stiffness singular), every element with a section.
+   !> element (it would make the stiffness singular), every element with a section; the rotation of a
+   !> node that only trusses use is held (uniarc_deck_element).
    subroutine check_whole_deck(source, builder, error)
       type(source_t), intent(in) :: source
       type(builder_t), intent(inout) :: builder
@@ -1931,6 +1937,12 @@ contains
             return
          end if
       end do
+      call restrain_truss_nodes(source, builder%connectivity(:, 1:builder%n_elements), &
+                                element_kinds(builder%element_kind, builder%n_elements), &
+                                builder%node_label(1:builder%n_nodes), builder%node_line(1:builder%n_nodes), &
+                                builder%node_column(1:builder%n_nodes), builder%element_label(1:builder%n_elements), &
+                                builder%loads(1:builder%n_loads), builder%fixed(:, 1:builder%n_nodes), &
+                                builder%nodal_load(:, 1:builder%n_nodes), error)
    end subroutine check_whole_deck
 
    !> Copy what the cards built into the model, arrays cut to size.
@@ -1953,6 +1965,7 @@ contains
       model%connectivity = builder%connectivity(:, 1:e)
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
+      model%element_kind = element_kinds(builder%element_kind, e)
       model%sections = builder%sections(1:builder%n_sections)
       if (builder%n_node_sets > 0) then
          model%node_sets = builder%node_sets(1:builder%n_node_sets)
