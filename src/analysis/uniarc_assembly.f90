@@ -4,35 +4,27 @@ module uniarc_assembly
    use uniarc_model, only: model_t, dofs_per_node, load_fixed_direction, load_pressure
    use uniarc_dof_map, only: dof_map_t, element_equations
    use uniarc_band, only: band_matrix_t, band_add_element, band_zero
-   use uniarc_frame_linear, only: linear_frame_stiffness, fixed_direction_load_vector, pressure_load_vector
+   use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
+   use uniarc_element, only: element_response_t, element_response, element_coordinates, transformation_linear
    implicit none
    private
    public :: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
-   public :: element_coordinates
 
 contains
 
-   !> Initial end coordinates (2×2) of element `e`.
-   pure function element_coordinates(model, e) result(x)
-      type(model_t), intent(in) :: model
-      integer, intent(in) :: e
-      real(dp) :: x(2, 2)
-      x(:, 1) = model%coordinates(:, model%connectivity(1, e))
-      x(:, 2) = model%coordinates(:, model%connectivity(2, e))
-   end function element_coordinates
-
-   !> K = Σ_e Bᵀ Kb B of the linear frame elements on the initial geometry.
+   !> K = Σ_e B0ᵀ Kb B0: the tangents of the elements (uniarc_element, any kind) under the linear
+   !> transformation at u = 0, on the initial geometry.
    subroutine assemble_linear_stiffness(model, map, stiffness)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(inout) :: stiffness
+      real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
+      type(element_response_t) :: response
       integer :: e
       call band_zero(stiffness)
       do e = 1, model%n_elements
-         associate (section => model%sections(model%element_section(e)))
-            call band_add_element(stiffness, element_equations(model, map, e), &
-                                  linear_frame_stiffness(element_coordinates(model, e), section%ea, section%ei))
-         end associate
+         call element_response(model, e, at_rest, transformation_linear, response)
+         call band_add_element(stiffness, element_equations(model, map, e), response%tangent)
       end do
    end subroutine assemble_linear_stiffness
 

@@ -1,17 +1,20 @@
 !> The nonlinear equilibrium equations of the structure at a state (u, λ):
 !>   g(u, λ) = λ R(u) − F(u) = 0,   K_T = ∂F/∂u − λ ∂R/∂u
-!> F the internal forces of the corotational elements, R the reference load (paper Eq. 17: R = λ R_r;
-!> fixed-direction loads do not depend on u, follower pressure does).
+!> F the internal forces of the elements (uniarc_element under the corotational transformation), R the
+!> reference load (paper Eq. 17: R = λ R_r; fixed-direction loads do not depend on u, follower pressure
+!> does).
 module uniarc_equilibrium
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, dofs_per_node, load_pressure
    use uniarc_dof_map, only: dof_map_t, element_equations
    use uniarc_band, only: band_matrix_t, band_add_element, band_zero
-   use uniarc_assembly, only: assemble_reference_load, element_coordinates, scatter_add
-   use uniarc_corotational, only: corotational_response, follower_pressure
+   use uniarc_assembly, only: scatter_add
+   use uniarc_element, only: element_response_t, element_response, element_stiffness_scale, &
+                             element_coordinates, element_displacements, transformation_corotational
+   use uniarc_corotational, only: follower_pressure
    implicit none
    private
-   public :: assemble_equilibrium, element_displacements, element_basic_forces
+   public :: assemble_equilibrium
 
 contains
 
@@ -19,9 +22,10 @@ contains
    !> and load factor λ (λ enters K_T only through the load stiffness of follower pressure).
    !> `force_scale` = sqrt(Σ_e ‖f_e‖²), the size of the element forces that cancel in F: round-off in
    !> the residual is proportional to it, so convergence tests measure the residual against it too.
-   !> `roundoff` (optional) = 100 ε sqrt(Σ_e ((EA/L0 + 12 EI/L0³) |x_e|)²): the residual that round-off
-   !> of the node positions alone leaves (a chord computed from coordinates of size |x| carries ε|x|,
-   !> times the largest axial or bending stiffness of the element); no iteration can go below it, so it
+   !> `roundoff` (optional) = 100 ε sqrt(Σ_e (k_e |x_e|)²), k_e = element_stiffness_scale (EA/L0 +
+   !> 12 EI/L0³ for a beam-column, EA/L0 for a truss): the residual that round-off of the node positions
+   !> alone leaves (a chord computed from coordinates of size |x| carries ε|x|, times the largest axial
+   !> or bending stiffness of the element); no iteration can go below it, so it
    !> is a floor of the convergence test (it matters for rings of many short elements far from the origin).
    subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
                                    force_scale, roundoff)
@@ -35,8 +39,9 @@ contains
       real(dp), intent(out) :: reference(:)
       real(dp), intent(out) :: force_scale
       real(dp), intent(out), optional :: roundoff
-      real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node), length
-      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), basic_force(3)
+      real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node)
+      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
+      type(element_response_t) :: response
       integer :: e, i
       call band_zero(tangent)
       internal = 0.0_dp
@@ -44,20 +49,14 @@ contains
       force_scale = 0.0_dp
       position_noise = 0.0_dp
       do e = 1, model%n_elements
-         associate (section => model%sections(model%element_section(e)))
-            call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
-                                       section%ea, section%ei, f, k, basic_force)
-         end associate
-         call band_add_element(tangent, element_equations(model, map, e), k)
-         call scatter_add(element_equations(model, map, e), f, internal)
-         force_scale = force_scale + dot_product(f, f)
-         x = element_coordinates(model, e)
          u = element_displacements(model, e, displacement)
-         length = norm2(x(:, 2) - x(:, 1))
-         associate (section => model%sections(model%element_section(e)))
-            position_noise = position_noise + ((section%ea/length + 12.0_dp*section%ei/length**3) &
-                                               *max(maxval(abs(x(:, 1) + u(1:2))), maxval(abs(x(:, 2) + u(4:5)))))**2
-         end associate
+         call element_response(model, e, u, transformation_corotational, response)
+         call band_add_element(tangent, element_equations(model, map, e), response%tangent)
+         call scatter_add(element_equations(model, map, e), response%internal_force, internal)
+         force_scale = force_scale + dot_product(response%internal_force, response%internal_force)
+         x = element_coordinates(model, e)
+         position_noise = position_noise + (element_stiffness_scale(model, e) &
+                                            *max(maxval(abs(x(:, 1) + u(1:2))), maxval(abs(x(:, 2) + u(4:5)))))**2
       end do
       force_scale = sqrt(force_scale)
       if (present(roundoff)) roundoff = 100.0_dp*epsilon(1.0_dp)*sqrt(position_noise)
@@ -73,30 +72,5 @@ contains
          end associate
       end do
    end subroutine assemble_equilibrium
-
-   !> The 6 global displacements of element `e` from the nodal array (3, n).
-   pure function element_displacements(model, e, displacement) result(u)
-      type(model_t), intent(in) :: model
-      integer, intent(in) :: e
-      real(dp), intent(in) :: displacement(:, :)
-      real(dp) :: u(2*dofs_per_node)
-      u(1:3) = displacement(:, model%connectivity(1, e))
-      u(4:6) = displacement(:, model%connectivity(2, e))
-   end function element_displacements
-
-   !> Basic forces (N, M1, M2) of every element at nodal displacements u: for output.
-   pure subroutine element_basic_forces(model, displacement, forces)
-      type(model_t), intent(in) :: model
-      real(dp), intent(in) :: displacement(:, :)
-      real(dp), intent(out) :: forces(:, :)   !< (3, n_elements)
-      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
-      integer :: e
-      do e = 1, model%n_elements
-         associate (section => model%sections(model%element_section(e)))
-            call corotational_response(element_coordinates(model, e), element_displacements(model, e, displacement), &
-                                       section%ea, section%ei, f, k, forces(:, e))
-         end associate
-      end do
-   end subroutine element_basic_forces
 
 end module uniarc_equilibrium

@@ -9,7 +9,9 @@ module uniarc_deck_mesh
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real, field_integer
    use uniarc_model_builder, only: model_builder_t, add_section, add_element, add_to_node_set, add_to_element_set, &
-                                   node_index, element_index, section_index, node_set_index, element_set_index
+                                   node_index, element_index, section_index, node_set_index, element_set_index, &
+                                  set_element_kind
+   use uniarc_deck_element, only: read_element_type
    use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements
    implicit none
    private
@@ -156,18 +158,20 @@ contains
       if (set_option > 0) call add_to_node_set(deck%model, card%options(set_option)%value, created)
    end subroutine read_node
 
-   !> *ELEMENT, SECTION=s [, ELSET=name]: lines `label, node1, node2` (node labels).
+   !> *ELEMENT, SECTION=s [, ELSET=name] [, TYPE=BEAM|TRUSS]: lines `label, node1, node2` (node labels).
    subroutine read_element(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, label, existing, section, set_option
+      integer :: i, j, line, label, existing, section, set_option, kind
       integer :: ends(2), node_labels(2)
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: created(:)
 
-      call check_options(source, card, [character(len=8) :: 'SECTION=', 'ELSET='], error)
+      call check_options(source, card, [character(len=8) :: 'SECTION=', 'ELSET=', 'TYPE='], error)
+      if (allocated(error)) return
+      call read_element_type(source, card, kind, error)
       if (allocated(error)) return
       call card_section(source, card, deck, section, error)
       if (allocated(error)) return
@@ -216,6 +220,7 @@ contains
          call add_element(deck%model, label, ends, section)
          created(i) = deck%model%n_elements
       end do
+      call set_element_kind(deck%model, created, kind)
       if (set_option > 0) call add_to_element_set(deck%model, card%options(set_option)%value, created)
    end subroutine read_element
 

@@ -12,6 +12,7 @@ module uniarc_model
    public :: analysis_options_t, output_options_t
    public :: dofs_per_node, dof_ux, dof_uy, dof_rz
    public :: load_fixed_direction, load_pressure
+   public :: element_beam_column, element_truss, element_kind_of
    public :: analysis_linear, analysis_nonlinear
    public :: control_load, control_displacement, control_arclength
    public :: iteration_chan, iteration_cylindrical, iteration_riks
@@ -28,6 +29,11 @@ module uniarc_model
    !> Kinds of distributed load.
    integer, parameter :: load_fixed_direction = 1 !< force per unit initial length, global (qx, qy)
    integer, parameter :: load_pressure = 2        !< normal pressure along the element's left normal
+
+   !> Kinds of element (the basic element of docs/theory.md §1.8; every kind has the same six element
+   !> DOFs (u_x1, u_y1, θ1, u_x2, u_y2, θ2), a truss leaving its rotations untouched).
+   integer, parameter :: element_beam_column = 1 !< Euler–Bernoulli beam-column: N, M1, M2 (the default)
+   integer, parameter :: element_truss = 2       !< bar: axial force N only, pinned ends
 
    !> Kinds of analysis.
    integer, parameter :: analysis_linear = 1
@@ -172,6 +178,9 @@ module uniarc_model
       integer, allocatable :: connectivity(:, :)   !< (2, n_elements) internal node indices
       integer, allocatable :: element_label(:)     !< (n_elements) user number
       integer, allocatable :: element_section(:)   !< (n_elements) index into sections
+      !> (n_elements) element_beam_column or element_truss; unallocated means every element is a
+      !> beam-column (models built field by field, as in the unit tests). Read it through element_kind_of.
+      integer, allocatable :: element_kind(:)
       type(section_t), allocatable :: sections(:)
       type(node_set_t), allocatable :: node_sets(:)
       type(element_set_t), allocatable :: element_sets(:)
@@ -229,5 +238,14 @@ contains
       d = model%coordinates(:, model%connectivity(2, e)) - model%coordinates(:, model%connectivity(1, e))
       length = norm2(d)
    end function element_length
+
+   !> Kind of element `e` (element_beam_column or element_truss): model%element_kind(e), or the
+   !> beam-column when the model has no element kinds.
+   pure integer function element_kind_of(model, e) result(kind)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: e
+      kind = element_beam_column
+      if (allocated(model%element_kind)) kind = model%element_kind(e)
+   end function element_kind_of
 
 end module uniarc_model

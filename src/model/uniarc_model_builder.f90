@@ -25,7 +25,7 @@ module uniarc_model_builder
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
-                           gap_fixed_direction
+                           gap_fixed_direction, element_beam_column
    use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
                                  path_coordinates, normals_valid, foundation_straight, foundation_problem
    implicit none
@@ -33,7 +33,7 @@ module uniarc_model_builder
    public :: model_builder_t, finish_model
    public :: add_section, add_node, add_element, add_to_node_set, add_to_element_set
    public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
-   public :: add_springs, add_foundation, add_obstacle
+   public :: add_springs, add_foundation, add_obstacle, set_element_kind, element_kinds
    public :: node_index, element_index, section_index, node_set_index, element_set_index
    public :: unused_node, element_without_section, model_size
    public :: penetration_tolerance
@@ -62,6 +62,7 @@ module uniarc_model_builder
       integer, allocatable :: connectivity(:, :)      !< (2, capacity) internal node indices
       integer, allocatable :: element_label(:)
       integer, allocatable :: element_section(:)      !< index into sections (0: none)
+      integer, allocatable :: element_kind(:)         !< kinds set by set_element_kind (others: beam-column)
       integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
       integer :: largest_element_label = 0
       integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
@@ -158,6 +159,36 @@ contains
       builder%largest_element_label = max(builder%largest_element_label, label)
       call record_label(builder%element_of_label, label, builder%n_elements)
    end subroutine add_element
+
+   !> Make the elements `elements` (internal indices) of kind `kind` (element_beam_column or
+   !> element_truss of uniarc_model); elements never set are beam-columns. Only non-default kinds need
+   !> setting: a model of beams only keeps no kind array.
+   pure subroutine set_element_kind(builder, elements, kind)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: elements(:)
+      integer, intent(in) :: kind
+      integer :: capacity
+      if (size(elements) == 0) return
+      if (kind == element_beam_column .and. .not. allocated(builder%element_kind)) return
+      capacity = 0
+      if (allocated(builder%element_kind)) capacity = size(builder%element_kind)
+      if (maxval(elements) > capacity) &
+         builder%element_kind = element_kinds(builder, max(maxval(elements), 2*capacity))
+      builder%element_kind(elements) = kind
+   end subroutine set_element_kind
+
+   !> The kinds of elements 1..n (shape (n)): those set by set_element_kind, the beam-column for the
+   !> others.
+   pure function element_kinds(builder, n) result(kinds)
+      type(model_builder_t), intent(in) :: builder
+      integer, intent(in) :: n
+      integer :: kinds(n)
+      integer :: k
+      kinds = element_beam_column
+      if (.not. allocated(builder%element_kind)) return
+      k = min(size(builder%element_kind), n)
+      kinds(1:k) = builder%element_kind(1:k)
+   end function element_kinds
 
    !> Add `members` (node indices) to node set `name` (created if new), skipping nodes already in it.
    pure subroutine add_to_node_set(builder, name, members)
@@ -499,6 +530,7 @@ contains
       model%connectivity = builder%connectivity(:, 1:e)
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
+      if (allocated(builder%element_kind)) model%element_kind = element_kinds(builder, e)
       model%sections = builder%sections(1:builder%n_sections)
       allocate (model%node_sets(builder%n_node_sets), model%element_sets(builder%n_element_sets), &
                 model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &

@@ -12,12 +12,11 @@
 !> "simple legacy" and the "XML" formats of "VTK File Formats" (Kitware, The VTK User's Guide, 11th ed.,
 !> 2010), the XML one with ASCII data arrays.
 !>
-!> Bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2: positive when
-!> the element bends towards its left normal. With the corotational end moments (M1, M2) acting on the
-!> element counter-clockwise (uniarc_corotational), the moment at node 1 is −M1 and at node 2 is M2:
-!> a uniform κ has θ̄1 = −κL/2, θ̄2 = κL/2, and the basic law [M1; M2] = EI/L [4 2; 2 4] [θ̄1; θ̄2]
-!> (Crisfield 1991, vol. 1, §7.2) gives M1 = −EIκ, M2 = EIκ. Between the ends the moment of the
-!> element's cubic field is linear, so the mean is the moment at mid-element. Like every moment of a
+!> The element forces are the element layer's (uniarc_element: axial force and end moments of any
+!> element kind); bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2:
+!> positive when the element bends towards its left normal (uniarc_transformation,
+!> transform_end_forces). Between the ends the moment of the element's cubic field is linear, so the
+!> mean is the moment at mid-element (zero for a truss). Like every moment of a
 !> displacement-based element it leaves out the fixed-end moments of a load distributed on the
 !> element itself, a difference that vanishes as the mesh is refined.
 !>
@@ -33,10 +32,8 @@ module uniarc_vtk
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_foreign, only: rename_file
    use uniarc_strings, only: integer_text => integer_to_string
-   use uniarc_model, only: model_t, analysis_linear
-   use uniarc_frame_linear, only: basic_stiffness, basic_to_global
-   use uniarc_assembly, only: element_coordinates
-   use uniarc_equilibrium, only: element_basic_forces, element_displacements
+   use uniarc_model, only: model_t
+   use uniarc_element, only: element_response_t, element_response, element_displacements, analysis_transformation
    use uniarc_output, only: step_record_t, format_number, nodal_reactions
    implicit none
    private
@@ -164,33 +161,25 @@ contains
    end function vtk_file_name
 
 
-   !> Axial force and bending moments at both ends of every element: rows (N, M_start, M_end).
+   !> Axial force and bending moments at both ends of every element: rows (N, M_start, M_end), shape
+   !> (3, n_elements), from the element layer (uniarc_element) at nodal displacements (3, n_nodes).
    !>
-   !> A nonlinear analysis takes the corotational basic forces (N, M1, M2) of the deformed element
-   !> (uniarc_equilibrium); a linear one the small-displacement forces Kb B0 u_e on the initial chord,
-   !> which are the forces its solution is in equilibrium with. M_start = −M1 and M_end = M2 turn the
-   !> counter-clockwise end moments into the beam convention M = EI κ (see the module header).
+   !> The transformation is the analysis' (analysis_transformation): a nonlinear analysis reports the
+   !> corotational forces of the deformed element, a linear one the small-displacement forces Kb B0 u_e
+   !> on the initial chord, which are the forces its solution is in equilibrium with. The moments are
+   !> in the beam convention M = EI κ (see the module header).
    pure function element_moments(model, displacement) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp) :: forces(3, model%n_elements)
-      real(dp) :: x(2, 2), d(2), length
-      integer :: e
-      if (model%analysis%kind == analysis_linear) then
-         do e = 1, model%n_elements
-            x = element_coordinates(model, e)
-            d = x(:, 2) - x(:, 1)
-            length = norm2(d)
-            associate (section => model%sections(model%element_section(e)))
-               forces(:, e) = matmul(basic_stiffness(length, section%ea, section%ei), &
-                                     matmul(basic_to_global(d(1)/length, d(2)/length, length), &
-                                            element_displacements(model, e, displacement)))
-            end associate
-         end do
-      else
-         call element_basic_forces(model, displacement, forces)
-      end if
-      forces(2, :) = -forces(2, :)
+      type(element_response_t) :: response
+      integer :: e, transformation
+      transformation = analysis_transformation(model%analysis%kind)
+      do e = 1, model%n_elements
+         call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         forces(1, e) = response%axial_force
+         forces(2:3, e) = response%end_moments
+      end do
    end function element_moments
 
    !> The legacy VTK file of one snapshot (ASCII, UNSTRUCTURED_GRID, VTK_LINE cells).

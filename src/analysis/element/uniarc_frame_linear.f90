@@ -1,49 +1,32 @@
 !> Linear 2-D Euler–Bernoulli frame element (3 DOF per node: u_x, u_y, θ_z) and consistent loads.
 !>
 !> DOF order of an element vector: (u_x1, u_y1, θ1, u_x2, u_y2, θ2) in global axes.
-!> The element's basic (natural) stiffness relates the chord elongation e and the two end rotations
-!> relative to the chord (θ̄1, θ̄2) to the axial force N and end moments (M1, M2):
-!>   N = EA/L e,  [M1; M2] = EI/L [4 2; 2 4] [θ̄1; θ̄2]     (e.g. Crisfield 1991, §7.2)
-!> The corotational element of the nonlinear analysis reuses this basic stiffness.
+!> `linear_frame_stiffness` is the linear transformation (uniarc_transformation) around the basic beam
+!> (uniarc_basic_beam, N = EA/L e, [M1; M2] = EI/L [4 2; 2 4] [θ̄1; θ̄2], Crisfield 1991, §7.2) for one
+!> element given by its coordinates, as the element layer (uniarc_element) computes it for a model's
+!> beam-column. The consistent loads of distributed loads on the element (Hermite shape functions) are
+!> the loads of every analysis, on the initial geometry or, for follower pressure, the current one.
 module uniarc_frame_linear
    use uniarc_kinds, only: dp
+   use uniarc_transformation, only: chord_t, transformation_linear, transform_deformations, transform_to_global
+   use uniarc_basic_beam, only: beam_basic_response
    implicit none
    private
-   public :: basic_stiffness, basic_to_global, linear_frame_stiffness
+   public :: linear_frame_stiffness
    public :: fixed_direction_load_vector, pressure_load_vector
 
 contains
-
-   !> Basic stiffness (3×3) relating (e, θ̄1, θ̄2) to (N, M1, M2) of a straight element of length `length`.
-   pure function basic_stiffness(length, ea, ei) result(kb)
-      real(dp), intent(in) :: length, ea, ei
-      real(dp) :: kb(3, 3)
-      kb = 0.0_dp
-      kb(1, 1) = ea/length
-      kb(2, 2) = 4.0_dp*ei/length
-      kb(3, 3) = 4.0_dp*ei/length
-      kb(2, 3) = 2.0_dp*ei/length
-      kb(3, 2) = 2.0_dp*ei/length
-   end function basic_stiffness
-
-   !> Compatibility matrix B (3×6): (de, dθ̄1, dθ̄2) = B du for a chord of direction (c, s) and length L.
-   pure function basic_to_global(c, s, length) result(b)
-      real(dp), intent(in) :: c, s, length
-      real(dp) :: b(3, 6)
-      b(1, :) = [-c, -s, 0.0_dp, c, s, 0.0_dp]
-      b(2, :) = [-s/length, c/length, 1.0_dp, s/length, -c/length, 0.0_dp]
-      b(3, :) = [-s/length, c/length, 0.0_dp, s/length, -c/length, 1.0_dp]
-   end function basic_to_global
 
    !> Global linear stiffness (6×6) of the element with end coordinates x(:, 1), x(:, 2): Bᵀ Kb B.
    pure function linear_frame_stiffness(x, ea, ei) result(k)
       real(dp), intent(in) :: x(2, 2), ea, ei
       real(dp) :: k(6, 6)
-      real(dp) :: d(2), length, b(3, 6)
-      d = x(:, 2) - x(:, 1)
-      length = norm2(d)
-      b = basic_to_global(d(1)/length, d(2)/length, length)
-      k = matmul(transpose(b), matmul(basic_stiffness(length, ea, ei), b))
+      real(dp), parameter :: at_rest(6) = 0.0_dp
+      type(chord_t) :: chord
+      real(dp) :: deformation(3), q(3), kb(3, 3), f(6)
+      call transform_deformations(transformation_linear, x, at_rest, chord, deformation)
+      call beam_basic_response(chord%initial_length, ea, ei, deformation, q, kb)
+      call transform_to_global(transformation_linear, chord, q, kb, f, k)
    end function linear_frame_stiffness
 
    !> Consistent nodal loads (6) of a uniform load (qx, qy) per unit length in fixed global directions on

@@ -2,9 +2,10 @@
 !>
 !> The element follows Crisfield (1991, vol. 1, ch. 7): a frame that moves with the chord between the
 !> two current end nodes carries the rigid-body motion exactly, and in that frame the element is the
-!> small-strain linear element of uniarc_frame_linear (basic stiffness Kb, compatibility matrix B),
-!> whose routines are reused here. The equations are derived in docs/theory.md, section
-!> "Beam-column element".
+!> small-strain Euler–Bernoulli basic element. `corotational_response` is that composition — the
+!> corotational transformation (uniarc_transformation) around the basic beam (uniarc_basic_beam) — for
+!> one element given by its coordinates and section, as the element layer (uniarc_element) computes it
+!> for a model's beam-column. The equations are derived in docs/theory.md, section "Beam-column element".
 !>
 !> DOF order of an element vector: (u_x1, u_y1, θ1, u_x2, u_y2, θ2) in global axes, total (not
 !> incremental) displacements from the stress-free straight configuration x0. Rotations are
@@ -14,7 +15,10 @@
 !> All kernels are pure and allocation-free: the assembly calls them once per element per iteration.
 module uniarc_corotational
    use uniarc_kinds, only: dp
-   use uniarc_frame_linear, only: basic_stiffness, basic_to_global, pressure_load_vector
+   use uniarc_frame_linear, only: pressure_load_vector
+   use uniarc_transformation, only: chord_t, transformation_corotational, transform_deformations, &
+                                    transform_to_global, corotational_kinematics
+   use uniarc_basic_beam, only: beam_basic_response
    implicit none
    private
    public :: corotational_response, follower_pressure
@@ -42,23 +46,14 @@ contains
       real(dp), intent(out) :: f_int(6)
       real(dp), intent(out) :: k_t(6, 6)
       real(dp), intent(out) :: basic_force(3)
-      real(dp) :: d(2), initial_length, length, c, s, elongation, theta_bar(2)
-      real(dp) :: kb(3, 3), b(3, 6), r(6), z(6)
+      type(chord_t) :: chord
+      real(dp) :: deformation(3), kb(3, 3)
 
-      call chord_kinematics(x0, u, d, initial_length, length, c, s, elongation, theta_bar)
-
+      call transform_deformations(transformation_corotational, x0, u, chord, deformation)
       ! The constitutive law lives in the corotated frame, referred to the initial length (small
       ! strains): the same Kb as the linear element.
-      kb = basic_stiffness(initial_length, ea, ei)
-      basic_force = matmul(kb, [elongation, theta_bar])
-      b = basic_to_global(c, s, length)
-      f_int = matmul(transpose(b), basic_force)
-
-      r = b(1, :)
-      z = [s, -c, 0.0_dp, -s, c, 0.0_dp]
-      k_t = matmul(transpose(b), matmul(kb, b)) &
-            + (basic_force(1)/length)*outer(z, z) &
-            + ((basic_force(2) + basic_force(3))/length**2)*(outer(r, z) + outer(z, r))
+      call beam_basic_response(chord%initial_length, ea, ei, deformation, basic_force, kb)
+      call transform_to_global(transformation_corotational, chord, basic_force, kb, f_int, k_t)
    end subroutine corotational_response
 
    !> Consistent nodal loads of a uniform pressure on the current (deformed) element and their load
@@ -88,7 +83,7 @@ contains
       real(dp) :: d(2), initial_length, length, c, s, elongation, theta_bar(2), x(2, 2), v(6)
       real(dp) :: relative_turn
 
-      call chord_kinematics(x0, u, d, initial_length, length, c, s, elongation, theta_bar)
+      call corotational_kinematics(x0, u, d, initial_length, length, c, s, elongation, theta_bar)
       x(:, 1) = x0(:, 1) + u(1:2)
       x(:, 2) = x0(:, 2) + u(4:5)
       relative_turn = theta_bar(1) - theta_bar(2)
@@ -102,40 +97,6 @@ contains
                - (pressure/6.0_dp)*(outer(e_t, v) + outer(v, e_t)) &
                - (pressure*relative_turn/6.0_dp)*(outer(e_x, e_x) + outer(e_y, e_y))
    end subroutine follower_pressure
-
-   !> Current chord and local deformations of the corotational element (Crisfield 1991, vol. 1, ch. 7).
-   !>
-   !> d, length, (c, s): current chord vector, length and direction; elongation e = Ln − L0, evaluated as
-   !> (Ln² − L0²)/(Ln + L0) with Ln² − L0² = Δ·(2 d0 + Δ), Δ the relative end translation, so that small
-   !> strains are not lost to cancellation between two nearly equal lengths. theta_bar(i) is the
-   !> rotation of end i relative to the chord, θi − (β − β0), reduced to (−π, π] through atan2 of its
-   !> sine and cosine: a rigid rotation of any size, including whole turns, gives zero to round-off.
-   pure subroutine chord_kinematics(x0, u, d, initial_length, length, c, s, elongation, theta_bar)
-      real(dp), intent(in) :: x0(2, 2), u(6)
-      real(dp), intent(out) :: d(2), initial_length, length, c, s, elongation, theta_bar(2)
-      real(dp) :: d0(2), delta(2), c0, s0, cos_chord_turn, sin_chord_turn, theta
-      integer :: i
-
-      d0 = x0(:, 2) - x0(:, 1)
-      initial_length = norm2(d0)
-      delta = u(4:5) - u(1:2)
-      d = d0 + delta
-      length = norm2(d)
-      c0 = d0(1)/initial_length
-      s0 = d0(2)/initial_length
-      c = d(1)/length
-      s = d(2)/length
-      elongation = dot_product(delta, 2.0_dp*d0 + delta)/(length + initial_length)
-
-      ! Chord rotation β − β0 through its cosine and sine, never as an angle: no branch cut.
-      cos_chord_turn = c0*c + s0*s
-      sin_chord_turn = c0*s - s0*c
-      do i = 1, 2
-         theta = u(3*i)
-         theta_bar(i) = atan2(sin(theta)*cos_chord_turn - cos(theta)*sin_chord_turn, &
-                              cos(theta)*cos_chord_turn + sin(theta)*sin_chord_turn)
-      end do
-   end subroutine chord_kinematics
 
    !> Outer product a bᵀ of two 6-vectors.
    pure function outer(a, b) result(m)
