@@ -208,7 +208,8 @@ contains
       type(implicit_lcp_report_t) :: report
       real(dp), allocatable :: residual(:), ut_kept(:)
       logical :: kept
-      logical :: small_correction, has_contacts, at_floor, ready, reuse_factors
+      logical :: small_correction, has_contacts, at_floor, ready, reuse_factors, in_equilibrium, update_set, &
+                 solved, fresh_set
       real(dp) :: residual_norm, previous_residual
       integer :: n, set_changes
       integer, parameter :: max_set_changes = 40
@@ -219,6 +220,7 @@ contains
       ready = state%predictor_ready
       state%predictor_ready = .false.
       reuse_factors = .false.
+      fresh_set = .false.
       converged = .false.
       reason = 'iteration limit'
       active = state%active
@@ -304,10 +306,12 @@ contains
             at_floor = iterations > 1 .and. residual_norm <= roundoff .and. previous_residual <= roundoff .and. &
                        residual_norm >= 0.5_dp*previous_residual
             previous_residual = residual_norm
-            if (iterations > 0 .and. (small_correction .or. at_floor) .and. &
-                residual_norm <= max(options%force_tolerance*force_scale, roundoff) .and. &
-                constraint_residual(state%map, rhs(:, 1)) <= options%displacement_tolerance* &
-                max(maxval(abs(state%map%metric*trial)), 1.0e-12_dp*state%length_scale)) then
+            in_equilibrium = iterations > 0 .and. (small_correction .or. at_floor) .and. &
+                             residual_norm <= max(options%force_tolerance*force_scale, roundoff) .and. &
+                             constraint_residual(state%map, rhs(:, 1)) <= options%displacement_tolerance* &
+                             max(maxval(abs(state%map%metric*trial)), 1.0e-12_dp*state%length_scale)
+            update_set = .false.
+            if (in_equilibrium) then
                ! A step must go forward: a correction that lands behind the predictor (possible with
                ! Chan's constraint-free correction when the contact set changes within the step) would
                ! make the path turn back on itself. Such an attempt is cut instead.
@@ -324,11 +328,27 @@ contains
                   exit
                end if
                ! Equilibrium with a wrong contact set: the LCP at this state gives the next set.
+               update_set = .true.
+            else
+               if (iterations == options%max_iterations) exit
+               ! The working set is updated within Newton too (docs/theory.md §3.4): a trial state that
+               ! a correction has reached with a violated contact gets the LCP linearised at it, whose
+               ! solution is the Newton correction of the complementarity problem (Josephy–Newton). It
+               ! uses the factors this iteration needs anyway, so a change of the set costs no extra
+               ! factorisation and the set converges along with equilibrium instead of after it.
+               update_set = has_contacts .and. .not. fresh_set
+               if (update_set) update_set = .not. complementary(model, state, trial, nodal, active)
+            end if
+            solved = .false.
+            if (update_set) then
                set_changes = set_changes + 1
                if (set_changes > max_set_changes) then
                   reason = 'the contact set does not settle'
                   exit
                end if
+               ! state%tangent holds K_S assembled at this state (any factors kept from an earlier
+               ! LCP belong to the same set and are simply not used).
+               reuse_factors = .false.
                residual = rhs(:, 1)
                call band_copy(state%tangent, state%assembled)
                call factorize_and_solve(state%tangent, residual, reference, rhs, error)
@@ -346,32 +366,41 @@ contains
                   reason = error%message
                   exit
                end if
-               if (.not. any(new_active .neqv. active)) then
+               if (any(new_active .neqv. active)) then
+                  active = new_active
+                  small_correction = .false.
+                  previous_residual = huge(1.0_dp)
+                  fresh_set = .true.
+                  ! The LCP's last frame is K_S of the new set at this very state: its factors serve
+                  ! the next correction (the loop assembles into state%tangent, so they wait in
+                  ! `assembled`).
+                  reuse_factors = kept
+                  if (reuse_factors) call band_copy(state%tangent, state%assembled)
+                  cycle
+               end if
+               if (in_equilibrium) then
                   reason = 'the LCP keeps a contact set that violates complementarity'
                   exit
                end if
-               active = new_active
-               small_correction = .false.
-               previous_residual = huge(1.0_dp)
-               ! The LCP's last frame is K_S of the new set at this very state: its factors serve the
-               ! next correction (the loop assembles into state%tangent, so they wait in `assembled`).
-               reuse_factors = kept
-               if (reuse_factors) call band_copy(state%tangent, state%assembled)
-               cycle
+               ! The linearised problem keeps the set: the correction of this set, already solved
+               ! (rhs holds K_S⁻¹g and K_S⁻¹R), is the Newton correction.
+               solved = .true.
             end if
-            if (iterations == options%max_iterations) exit
             iterations = iterations + 1
-            if (reuse_factors) then
-               rhs(:, 2) = reference
-               call band_solve(state%assembled, rhs, error)
-               reuse_factors = .false.
-            else
-               call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+            if (.not. solved) then
+               if (reuse_factors) then
+                  rhs(:, 2) = reference
+                  call band_solve(state%assembled, rhs, error)
+                  reuse_factors = .false.
+               else
+                  call factorize_and_solve(state%tangent, rhs(:, 1), reference, rhs, error)
+               end if
+               if (allocated(error)) then
+                  reason = 'singular tangent'
+                  exit
+               end if
             end if
-            if (allocated(error)) then
-               reason = 'singular tangent'
-               exit
-            end if
+            fresh_set = .false.
             ! rhs(:, 1) = δx_g (residual correction), rhs(:, 2) = δx_t (tangent correction)
             select case (options%control)
             case (control_load)
