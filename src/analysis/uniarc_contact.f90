@@ -12,9 +12,13 @@
 !>     [ −a_cᵀ                 −t_c ] [δr] = [ g_c + t_c r_c      ]   for c ∈ S (w_c = 0 enforced)
 !>     [ 0                      1   ]        [ −r_c               ]   for c ∉ S (r_c = 0)
 !> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
+!>
+!> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
+!> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
+!> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
 module uniarc_contact
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, contact_candidate_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add
@@ -51,6 +55,12 @@ contains
       integer :: c, i, j, row, node, eq(2)
       do c = 1, size(map%candidate_equation)
          row = map%candidate_equation(c)
+         if (map%condensed(c)) then
+            if (active(c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
+                                                     displacement(1:2, model%contacts(c)%node), &
+                                                     map%equation(1:2, model%contacts(c)%node), tangent, internal)
+            cycle
+         end if
          if (row == 0) cycle
          associate (candidate => model%contacts(c))
             node = candidate%node
@@ -79,6 +89,28 @@ contains
          end associate
       end do
    end subroutine assemble_contact
+
+   !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
+   !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).
+   pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: x0(2), u(2)
+      integer, intent(in) :: eq(2)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: internal(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), reaction
+      integer :: i, j
+      call candidate_gap(candidate, x0, u, gap, gradient, hessian)
+      reaction = -gap/candidate%flexibility
+      do i = 1, 2
+         if (eq(i) == 0) cycle
+         internal(eq(i)) = internal(eq(i)) - gradient(i)*reaction
+         do j = 1, 2
+            if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
+                                         gradient(i)*gradient(j)/candidate%flexibility - reaction*hessian(i, j))
+         end do
+      end do
+   end subroutine add_condensed_spring
 
    !> Contact columns of the path file: candidates in contact (r > 0), contiguous regions along each
    !> group, the ends of the first region (smallest coordinate), largest and total reaction.

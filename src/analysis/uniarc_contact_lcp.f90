@@ -18,9 +18,9 @@ module uniarc_contact_lcp
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_model, only: model_t
-   use uniarc_dof_map, only: dof_map_t
+   use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set, &
-                          band_copy, band_move, band_multiply
+                          band_add, band_copy, band_move, band_multiply
    use uniarc_contact, only: candidate_gap
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
@@ -52,9 +52,10 @@ module uniarc_contact_lcp
    !> The contact LCP at a state, in the frame of a working set (module header).
    type, extends(lcp_operator_t) :: contact_lcp_operator_t
       integer :: m = 0
-      integer, allocatable :: row(:)          !< (m) equation of the candidate's reaction
+      integer, allocatable :: row(:)          !< (m) equation of the candidate's reaction (0: condensed)
       integer, allocatable :: eq(:, :)        !< (2, m) equations of its node's translations (0: held)
       real(dp), allocatable :: gradient(:, :) !< (2, m) a_c = ∂g/∂u at the state
+      real(dp), allocatable :: hessian(:, :, :)  !< (2, 2, m) ∂a_c/∂u at the state
       real(dp), allocatable :: flexibility(:) !< (m) t_c = 1/k_c (0: rigid)
       real(dp), allocatable :: gap(:)         !< (m) g_c at the state
       real(dp), allocatable :: reaction(:)    !< (m) r_c, the unknown at the state
@@ -123,7 +124,7 @@ contains
       new_active = active
       if (present(kept)) kept = .false.
       unilateral = pack([(c, c=1, size(map%candidate_equation))], &
-                        [(map%candidate_equation(c) > 0 .and. .not. model%contacts(c)%bilateral, &
+                        [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
       call candidate_data(model, map, x, nodal, unilateral, active, lcp)
       report%status = lemke_solved
@@ -198,21 +199,26 @@ contains
       integer, intent(in) :: unilateral(:)
       logical, intent(in) :: active(:)
       type(contact_lcp_operator_t), intent(inout) :: lcp
-      real(dp) :: hessian(2, 2)
       integer :: j, c, node
       lcp%m = size(unilateral)
-      allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%gradient(2, lcp%m), lcp%flexibility(lcp%m), &
-                lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m))
+      allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%gradient(2, lcp%m), lcp%hessian(2, 2, lcp%m), &
+                lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m))
       do j = 1, lcp%m
          c = unilateral(j)
          node = model%contacts(c)%node
          lcp%row(j) = map%candidate_equation(c)
          lcp%eq(:, j) = map%equation(1:2, node)
          lcp%flexibility(j) = model%contacts(c)%flexibility
-         lcp%reaction(j) = x(lcp%row(j))
          lcp%active(j) = active(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), lcp%gap(j), &
-                            lcp%gradient(:, j), hessian)
+                            lcp%gradient(:, j), lcp%hessian(:, :, j))
+         if (lcp%row(j) > 0) then
+            lcp%reaction(j) = x(lcp%row(j))
+         else if (lcp%active(j)) then
+            lcp%reaction(j) = -lcp%gap(j)/lcp%flexibility(j)   ! a condensed spring in contact
+         else
+            lcp%reaction(j) = 0.0_dp
+         end if
       end do
    end subroutine candidate_data
 
@@ -248,7 +254,15 @@ contains
          do i = 1, 2
             if (self%eq(i, j) > 0) largest_displacement = max(largest_displacement, abs(particular(self%eq(i, j))))
          end do
-         if (self%active(j)) then
+         if (self%row(j) == 0) then
+            ! condensed spring: r = −(g + a·p)/t in the set, the gap g + a·p out of it
+            if (self%active(j)) then
+               q(j) = -(self%gap(j) + along(self, j, particular))/self%flexibility(j)
+               largest_reaction = max(largest_reaction, abs(q(j)))
+            else
+               q(j) = self%gap(j) + along(self, j, particular)
+            end if
+         else if (self%active(j)) then
             q(j) = self%reaction(j) + particular(self%row(j))
             largest_reaction = max(largest_reaction, abs(q(j)))
          else
@@ -265,7 +279,14 @@ contains
       if (allocated(self%correction)) then
          particular = abs(self%correction(:, 1)) + abs(dlambda*self%correction(:, 2))
          do j = 1, self%m
-            if (self%active(j)) then
+            if (self%row(j) == 0) then
+               self%round_off(j) = abs(along(self, j, particular))
+               do i = 1, 2
+                  if (self%eq(i, j) > 0) self%round_off(j) = max(self%round_off(j), &
+                                                                 abs(self%gradient(i, j))*particular(self%eq(i, j)))
+               end do
+               if (self%active(j)) self%round_off(j) = self%round_off(j)/self%flexibility(j)
+            else if (self%active(j)) then
                self%round_off(j) = particular(self%row(j))
             else
                self%round_off(j) = abs(along(self, j, particular)) + self%flexibility(j)*particular(self%row(j))
@@ -304,7 +325,14 @@ contains
       integer :: j
       self%work = 0.0_dp
       do j = 1, self%m
-         if (self%active(j)) then
+         if (self%row(j) == 0) then
+            ! condensed spring: a force a y (out of the set, y a reaction) or a y/t (in it, y a gap)
+            if (self%active(j)) then
+               call add_along(self, j, y(j)/self%flexibility(j), self%work(:, 1))
+            else
+               call add_along(self, j, y(j), self%work(:, 1))
+            end if
+         else if (self%active(j)) then
             self%work(self%row(j), 1) = -y(j)
          else
             self%work(self%row(j), 1) = y(j)
@@ -314,7 +342,13 @@ contains
       if (allocated(error)) return
       self%work(:, 1) = self%work(:, 1) - self%du_tangent*dot_product(self%border, self%work(:, 1))
       do j = 1, self%m
-         if (self%active(j)) then
+         if (self%row(j) == 0) then
+            if (self%active(j)) then
+               v(j) = (y(j) - along(self, j, self%work(:, 1)))/self%flexibility(j)
+            else
+               v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*y(j)
+            end if
+         else if (self%active(j)) then
             v(j) = self%work(self%row(j), 1)
          else
             v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*self%work(self%row(j), 1)
@@ -332,7 +366,14 @@ contains
       integer :: j, i
       self%work = 0.0_dp
       do j = 1, self%m
-         if (self%active(j)) then
+         if (self%row(j) == 0) then
+            ! condensed spring: the output functional −aᵀ/t (in the set) or aᵀ (out of it)
+            if (self%active(j)) then
+               call add_along(self, j, -y(j)/self%flexibility(j), self%work(:, 1))
+            else
+               call add_along(self, j, y(j), self%work(:, 1))
+            end if
+         else if (self%active(j)) then
             self%work(self%row(j), 1) = self%work(self%row(j), 1) + y(j)
          else
             do i = 1, 2
@@ -346,7 +387,14 @@ contains
       call band_solve_transpose(self%factors, self%work, error)
       if (allocated(error)) return
       do j = 1, self%m
-         if (self%active(j)) then
+         if (self%row(j) == 0) then
+            ! the input column (a/t in the set, a out of it) and the direct term (1/t, t)
+            if (self%active(j)) then
+               v(j) = (along(self, j, self%work(:, 1)) + y(j))/self%flexibility(j)
+            else
+               v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*y(j)
+            end if
+         else if (self%active(j)) then
             v(j) = -self%work(self%row(j), 1)
          else
             v(j) = self%work(self%row(j), 1)
@@ -375,12 +423,28 @@ contains
    subroutine toggle(self, flip)
       type(contact_lcp_operator_t), intent(inout) :: self
       logical, intent(in) :: flip(:)
-      integer :: j, i, row
+      integer :: j, i, k, row
+      real(dp) :: sign
       do j = 1, self%m
          if (.not. flip(j)) cycle
          self%active(j) = .not. self%active(j)
          row = self%row(j)
-         if (self%active(j)) then
+         if (row == 0) then
+            ! condensed spring: its stiffness a aᵀ/t − r ∂a/∂u and its force −a r, r = −g/t at the
+            ! state, come in or go out
+            sign = -1.0_dp
+            if (self%active(j)) sign = 1.0_dp
+            do i = 1, 2
+               if (self%eq(i, j) == 0) cycle
+               do k = 1, 2
+                  if (self%eq(k, j) > 0) call band_add(self%matrix, self%eq(i, j), self%eq(k, j), &
+                                                       sign*(self%gradient(i, j)*self%gradient(k, j) + &
+                                                             self%gap(j)*self%hessian(i, k, j))/self%flexibility(j))
+               end do
+               self%residual(self%eq(i, j)) = self%residual(self%eq(i, j)) - &
+                                              sign*self%gradient(i, j)*self%gap(j)/self%flexibility(j)
+            end do
+         else if (self%active(j)) then
             do i = 1, 2
                if (self%eq(i, j) > 0) call band_set(self%matrix, row, self%eq(i, j), -self%gradient(i, j))
             end do
@@ -467,6 +531,18 @@ contains
          if (self%eq(i, j) > 0) along = along + self%gradient(i, j)*v(self%eq(i, j))
       end do
    end function along
+
+   !> v ← v + s a_c at candidate j's node (an augmented vector v).
+   pure subroutine add_along(self, j, s, v)
+      type(contact_lcp_operator_t), intent(in) :: self
+      integer, intent(in) :: j
+      real(dp), intent(in) :: s
+      real(dp), intent(inout) :: v(:)
+      integer :: i
+      do i = 1, 2
+         if (self%eq(i, j) > 0) v(self%eq(i, j)) = v(self%eq(i, j)) + s*self%gradient(i, j)
+      end do
+   end subroutine add_along
 
    !> δλ of the bordered system for a response v = K_S⁻¹(·): the constraint with the given target.
    pure real(dp) function bordered_dlambda(constraint, v, du_tangent, target) result(dlambda)

@@ -16,7 +16,7 @@ module uniarc_path_following
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, analysis_options_t, dofs_per_node, control_load, control_displacement, &
                            control_arclength, iteration_chan, iteration_cylindrical, iteration_riks
-   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
                           band_inertia_from_factors
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
@@ -62,6 +62,7 @@ module uniarc_path_following
       real(dp), allocatable :: eigenvector(:)   !< last mode of least eigenvalue (warm start)
       real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
       logical, allocatable :: active(:)         !< committed working set of contact candidates
+      real(dp), allocatable :: reactions(:)     !< committed reaction of every candidate (0 out of the set)
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: fixed_load(:)    !< u-independent part of the reference load R_r
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
@@ -224,7 +225,7 @@ contains
       converged = .false.
       reason = 'iteration limit'
       active = state%active
-      has_contacts = any(state%map%candidate_equation > 0)
+      has_contacts = any(state%map%candidate_equation > 0 .or. state%map%condensed)
       lcp_pivots = 0
       set_changes = 0
       iterations = 0
@@ -256,7 +257,7 @@ contains
             call step_constraint(options, state, ut, dlambda, constraint)
             allocate (new_active(size(active)))
             call select_contact_set(model, state%map, state%assembled, state%tangent, state%u, nodal, residual, reference, &
-                                    rhs(:, 1), rhs(:, 2), constraint, contact_units(state, state%u, active), &
+                                    rhs(:, 1), rhs(:, 2), constraint, units_at(model, state, state%u, nodal, active), &
                                     active, new_active, report, error, kept, ut_kept)
             lcp_pivots = lcp_pivots + report%pivots
             if (allocated(error)) then
@@ -359,7 +360,7 @@ contains
                call correction_constraint(options, state, increment, constraint)
                if (.not. allocated(new_active)) allocate (new_active(size(active)))
                call select_contact_set(model, state%map, state%assembled, state%tangent, trial, nodal, residual, &
-                                       reference, rhs(:, 1), rhs(:, 2), constraint, contact_units(state, trial, active), &
+                                       reference, rhs(:, 1), rhs(:, 2), constraint, units_at(model, state, trial, nodal, active), &
                                        active, new_active, report, error, kept, ut_kept)
                lcp_pivots = lcp_pivots + report%pivots
                if (allocated(error)) then
@@ -500,7 +501,7 @@ contains
       logical, intent(in) :: active(:)
       logical :: ok
       real(dp), allocatable :: reaction(:), gap(:)
-      call candidate_state(model, state%map, x, nodal, reaction, gap)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
       ok = violation(model, state, x, reaction, gap, active) <= model%analysis%displacement_tolerance
    end function complementary
 
@@ -518,11 +519,11 @@ contains
       if (size(reaction) == 0) return
       ! Scales: the largest reaction in contact, at least the load scale (reactions of free candidates
       ! are round-off of zero and must not set it); the largest displacement.
-      units = contact_units(state, x, active)
+      units = contact_units(state, x, reaction, active)
       r_scale = units%force
       g_scale = units%gap
       do c = 1, size(reaction)
-         if (state%map%candidate_equation(c) == 0 .or. model%contacts(c)%bilateral) cycle
+         if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
          r = 0.0_dp
          if (active(c)) r = reaction(c)
          w = gap(c) + model%contacts(c)%flexibility*r
@@ -534,27 +535,40 @@ contains
    !> contact, at least the load scale (reactions of free candidates are round-off of zero and must not
    !> set it); the largest displacement, at least 1e-6 of the model size (gaps computed from
    !> coordinates carry round-off of ε × size).
-   pure function contact_units(state, x, active) result(units)
+   pure function contact_units(state, x, reaction, active) result(units)
       type(path_state_t), intent(in) :: state
-      real(dp), intent(in) :: x(:)
+      real(dp), intent(in) :: x(:), reaction(:)
       logical, intent(in) :: active(:)
       type(contact_scales_t) :: units
       real(dp) :: largest
-      integer :: c, row
+      integer :: c
       largest = 0.0_dp
       do c = 1, size(active)
-         row = state%map%candidate_equation(c)
-         if (row > 0 .and. active(c)) largest = max(largest, abs(x(row)))
+         if (candidate_live(state%map, c) .and. active(c)) largest = max(largest, abs(reaction(c)))
       end do
       units%force = max(largest, state%load_norm, tiny(1.0_dp))
       units%gap = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
    end function contact_units
 
-   !> Reactions (from the unknowns) and current gaps of every candidate.
-   pure subroutine candidate_state(model, map, x, nodal, reaction, gap)
+   !> Contact units at unknowns x (nodal: their nodal displacements) with working set `active`.
+   function units_at(model, state, x, nodal, active) result(units)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: reaction(:), gap(:)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      units = contact_units(state, x, reaction, active)
+   end function units_at
+
+   !> Reactions and current gaps of every candidate: a reaction unknown of x, or for a condensed spring
+   !> −g/t in the working set `active` and 0 out of it.
+   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
       real(dp), allocatable, intent(out) :: reaction(:), gap(:)
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c, node
@@ -564,7 +578,11 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian)
          reaction(c) = 0.0_dp
-         if (map%candidate_equation(c) > 0) reaction(c) = x(map%candidate_equation(c))
+         if (map%candidate_equation(c) > 0) then
+            reaction(c) = x(map%candidate_equation(c))
+         else if (map%condensed(c) .and. active(c)) then
+            reaction(c) = -gap(c)/model%contacts(c)%flexibility
+         end if
       end do
    end subroutine candidate_state
 
@@ -574,10 +592,10 @@ contains
       real(dp), allocatable :: reaction(:)
       integer :: c
       allocate (reaction(size(state%map%candidate_equation)), source=0.0_dp)
+      if (.not. allocated(state%reactions)) return
       ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
-      do c = 1, size(state%map%candidate_equation)
-         if (state%map%candidate_equation(c) > 0 .and. state%active(c)) &
-            reaction(c) = state%u(state%map%candidate_equation(c))
+      do c = 1, size(reaction)
+         if (state%active(c)) reaction(c) = state%reactions(c)
       end do
    end function candidate_reactions
 
@@ -592,7 +610,7 @@ contains
       do c = 1, size(state%map%candidate_equation)
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
-         active(c) = state%map%candidate_equation(c) > 0 .and. &
+         active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
       end do
    end subroutine touching_candidates
@@ -760,20 +778,27 @@ contains
       state%point%contact_rate = [(0.0_dp, c=1, m)]
       if (m > 0) then
          call nodal_displacements(model, state, nodal)
-         call candidate_state(model, state%map, state%u, nodal, reaction, gap)
+         call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
+         state%reactions = reaction
          state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active)
          ! Reaction (in contact) or gap (free) of each candidate and its rate along the path, from the
          ! tangent: where a contact starts or ends between two steps is found from them.
          do c = 1, m
             row = state%map%candidate_equation(c)
-            if (row == 0) cycle
+            if (.not. candidate_live(state%map, c)) cycle
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
                                hessian)
             state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
             if (state%point%in_contact(c)) then
                state%point%contact_value(c) = reaction(c)
-               state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
+               if (row > 0) then
+                  state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
+               else
+                  ! condensed: r = −g/t, dr/ds = −(a·du/ds)/t
+                  state%point%contact_rate(c) = -state%direction*along(state%tangent_displacement)/norm/ &
+                                                model%contacts(c)%flexibility
+               end if
             else
                state%point%contact_value(c) = g
                state%point%contact_rate(c) = state%direction*along(state%tangent_displacement)/norm
