@@ -11,8 +11,11 @@
 !>    (bench/bench_pinched_ring.inp) as its elements get shorter.
 !>
 !> Why a program and not a script over whole runs: it calls the library (read_deck with -D overrides,
-!> path_initialize / path_advance) so that the analysis is timed apart from reading the deck and
-!> writing the result files, and it can time the parts of one iteration, which a whole run cannot show.
+!> the path driver of uniarc_path_driver, which the program uses too: same steps, stop rules and
+!> critical points) so that the analysis is timed apart from reading the deck and writing the result
+!> files, and it can time the parts of one iteration, which a whole run cannot show. The time of a
+!> step is that of driver_step: path_advance and the driver's O(n) bookkeeping after it (nodal
+!> displacements, tracked values, critical points).
 !> Times are wall-clock (system_clock); a run is repeated and the fastest kept, because the machine is
 !> shared and other loads only ever add time.
 program bench_path
@@ -22,10 +25,9 @@ program bench_path
    use uniarc_foreign, only: exit_program
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_deck, only: parameter_override_t, read_deck
-   use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
-                                    nodal_displacements
-   use uniarc_critical_points, only: critical_event_t, find_critical_events
-   use uniarc_output, only: tracked_values
+   use uniarc_path_following, only: path_state_t, path_initialize
+   use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
+                                 stop_load_limit, stop_track_limit, stop_step_limit
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_inertia
    use uniarc_equilibrium, only: assemble_equilibrium
    use uniarc_assembly, only: gather_nodal
@@ -36,7 +38,7 @@ program bench_path
       integer :: steps = 0
       integer :: iterations = 0           !< Newton iterations of the converged attempts
       integer :: cuts = 0                 !< step halvings (their iterations are not in `iterations`)
-      real(dp) :: seconds = 0.0_dp        !< path_initialize + every path_advance
+      real(dp) :: seconds = 0.0_dp        !< driver_start + every driver_step
       real(dp) :: lambda = 0.0_dp         !< at the last step
       real(dp) :: limit_lambda = 0.0_dp   !< first limit point (Hermite interpolation)
       logical :: has_limit = .false.
@@ -313,76 +315,46 @@ contains
       if (present(state)) state = final
    end subroutine trace_fastest
 
-   !> Trace the path of `model` to its stop (the criteria of uniarc_run: |λ| >= lambda_max, the limit
-   !> on a tracked value, the number of steps), timing only path_initialize and path_advance.
+   !> Trace the path of `model` to its stop with the path driver (its stop rules, cut-back count and
+   !> critical points), timing only driver_start and driver_step.
    subroutine trace_path(model, run, state)
       type(model_t), intent(in) :: model
       type(path_run_t), intent(out) :: run
       type(path_state_t), intent(out) :: state
       type(error_t), allocatable :: error
-      type(path_point_t) :: previous
-      type(critical_event_t), allocatable :: events(:)
-      real(dp), allocatable :: nodal(:, :), tracked(:)
-      real(dp) :: length_before
+      type(path_driver_t) :: driver
+      type(step_outcome_t) :: outcome
       integer(int64) :: start
       integer :: k
       start = clock()
-      call path_initialize(model, state, error)
+      call driver_start(model, driver, error)
       run%seconds = seconds_since(start)
-      if (allocated(error)) call fail('path_initialize: '//error%message)
-      do
-         previous = state%point
-         length_before = state%step_length
+      if (allocated(error)) call fail('driver_start: '//error%message)
+      do while (driver%stop == stop_none)
          start = clock()
-         call path_advance(model, state, error)
+         call driver_step(model, driver, outcome, error)
          run%seconds = run%seconds + seconds_since(start)
-         if (allocated(error)) call fail('path_advance: '//error%message)
-         run%steps = state%point%step
-         run%iterations = run%iterations + state%point%iterations
-         run%cuts = run%cuts + cuts_of_step(model, state, length_before)
-         run%lambda = state%lambda
-         call find_critical_events(previous, state%point, events)
-         do k = 1, size(events)
-            if (run%has_limit .or. events(k)%kind(1:5) /= 'limit') cycle
-            run%limit_lambda = events(k)%lambda
+         if (allocated(error)) call fail('driver_step: '//error%message)
+         run%steps = outcome%step
+         run%iterations = run%iterations + outcome%iterations
+         run%cuts = run%cuts + outcome%cuts
+         run%lambda = outcome%lambda
+         do k = 1, size(outcome%events)
+            if (run%has_limit .or. outcome%events(k)%kind(1:5) /= 'limit') cycle
+            run%limit_lambda = outcome%events(k)%lambda
             run%has_limit = .true.
          end do
-         if (abs(state%lambda) >= model%analysis%lambda_max) then
-            run%stop_reason = 'lambda_max'
-            exit
-         end if
-         if (model%analysis%stop_track > 0) then
-            call nodal_displacements(model, state, nodal)
-            tracked = tracked_values(model, nodal)
-            if (abs(tracked(model%analysis%stop_track)) >= model%analysis%stop_value) then
-               run%stop_reason = 'stop_track'
-               exit
-            end if
-         end if
-         if (state%point%step >= model%analysis%max_steps) then
-            run%stop_reason = 'steps'
-            exit
-         end if
       end do
+      select case (driver%stop)
+      case (stop_load_limit)
+         run%stop_reason = 'lambda_max'
+      case (stop_track_limit)
+         run%stop_reason = 'stop_track'
+      case (stop_step_limit)
+         run%stop_reason = 'steps'
+      end select
+      state = driver%state
    end subroutine trace_path
-
-   !> Step halvings inside the last path_advance, read off the step lengths: path_advance multiplies
-   !> the length it converged with by f = sqrt(desired/iterations) within 0.25…2 (docs/theory.md §2.1),
-   !> so without a cut the next length is the previous one times f, with c cuts it is 2^-c of that.
-   !> A length clipped to the min/max increment hides the cuts; they are then not counted.
-   pure integer function cuts_of_step(model, state, length_before) result(cuts)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      real(dp), intent(in) :: length_before
-      real(dp) :: factor, lower, upper
-      cuts = 0
-      factor = sqrt(real(model%analysis%desired_iterations, dp)/real(max(state%point%iterations, 1), dp))
-      factor = min(2.0_dp, max(0.25_dp, factor))
-      lower = model%analysis%min_increment*state%first_length
-      upper = model%analysis%max_increment*state%first_length
-      if (state%step_length <= lower*(1.0_dp + 1.0e-12_dp) .or. state%step_length >= upper*(1.0_dp - 1.0e-12_dp)) return
-      cuts = max(0, nint(log(length_before*factor/state%step_length)/log(2.0_dp)))
-   end function cuts_of_step
 
    !> Read a deck with -D overrides and time the reading (the deck reader is not part of the analysis).
    subroutine load_model(deck, overrides, model, seconds)

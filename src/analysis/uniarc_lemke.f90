@@ -34,13 +34,14 @@
 !> - After the last pivot the basic solution is improved by iterative refinement against the
 !>   original basis columns (O(n^2) per step); if the verification from the original M and q still
 !>   fails, the basis is factorised afresh by LAPACK's LU, the basic solution is solved and refined
-!>   with the factors, and the check is repeated.
+!>   with the factors, and the check is repeated. The refinement and the LU refactorisation of the
+!>   basis are in `uniarc_lemke_basis`; this module does the pivoting and the verification.
 module uniarc_lemke
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
-   use uniarc_foreign, only: dgetrf, dgetrs
    use uniarc_lemke_scaling, only: equilibrate, scale_down, saturating_product, saturating_sum, safe_divide
+   use uniarc_lemke_basis, only: value_limit, identity, original_column, refine, refactor
    implicit none
    private
    public :: lemke_options_t, lemke_report_t, lemke_solve, lemke_status_name
@@ -56,15 +57,6 @@ module uniarc_lemke
    !> Outcome: numerical breakdown (singular basis, values that would overflow, a solution that is
    !> not representable in real(dp), or failed verification).
    integer, parameter :: lemke_breakdown = 3
-
-   !> Bound on |B^-1| entries and basic values in the equilibrated problem (2^960, about 1e289).
-   !> Below it every sum of up to 2^31 such numbers times an equilibrated entry (<= 2) is finite;
-   !> a pivot whose result would exceed it is a numerical breakdown, detected before computing.
-   real(dp), parameter :: value_limit = 2.0_dp**960
-   !> At most this many steps of iterative refinement: each step multiplies the residual by about
-   !> cond(B) eps (Higham 2002, *Accuracy and Stability of Numerical Algorithms*, Ch. 12), so a
-   !> few steps reach the rounding level whenever cond(B) eps < 1/10.
-   integer, parameter :: max_refinement_steps = 5
 
    !> Outcomes of the ratio test.
    integer, parameter :: select_found = 0, select_ray = 1, select_failed = 2
@@ -420,16 +412,6 @@ contains
       end if
    end function complement
 
-   !> Set a square matrix to the identity.
-   pure subroutine identity(matrix)
-      real(dp), intent(out) :: matrix(:, :)
-      integer :: i
-      matrix = 0.0_dp
-      do i = 1, size(matrix, 1)
-         matrix(i, i) = 1.0_dp
-      end do
-   end subroutine identity
-
    !> Basic values fresh from a refactorisation: x_i = (B^-1 q)_i is computed from terms bounded by
    !> ||(B^-1)_i.||_1 ||q||_inf, so a value below zero_tolerance times that is an exact zero made
    !> inexact by round-off; flushing it keeps degenerate ties exact for the ratio test.
@@ -438,21 +420,6 @@ contains
       real(dp), intent(in) :: row_norm(:), q_norm, zero_tolerance
       where (abs(basic) <= zero_tolerance*row_norm*q_norm) basic = 0.0_dp
    end subroutine flush_roundoff
-
-   !> Column of the scaled system  w - M~ r - d~ z0 = q~  for one variable: e_i, -M~(:,j) or -d~.
-   pure subroutine original_column(matrix, covering, variable, n, column)
-      real(dp), intent(in) :: matrix(:, :), covering(:)
-      integer, intent(in) :: variable, n
-      real(dp), intent(out) :: column(:)
-      if (variable <= n) then
-         column = 0.0_dp
-         column(variable) = 1.0_dp
-      else if (variable <= 2*n) then
-         column = -matrix(:, variable - n)
-      else
-         column = -covering
-      end if
-   end subroutine original_column
 
    !> Entering column B^-1 a_e; O(n^2) for an r variable or z0, O(n) for a w variable (a unit
    !> column). column_norm = ||a_e||_inf, the scale of the column in the equilibrated problem.
@@ -600,114 +567,6 @@ contains
       end do
       basic(row) = pivot_row_value
    end subroutine pivot
-
-   !> The basis matrix B from the original (scaled) columns of its variables.
-   pure subroutine basis_matrix(matrix, covering, basis, b)
-      real(dp), intent(in) :: matrix(:, :), covering(:)
-      integer, intent(in) :: basis(:)
-      real(dp), intent(out) :: b(:, :)
-      integer :: i, n
-      n = size(basis)
-      do i = 1, n
-         call original_column(matrix, covering, basis(i), n, b(:, i))
-      end do
-   end subroutine basis_matrix
-
-   !> Iterative refinement of x_B in working precision: x += B^-1 (q - B x), with B from the
-   !> original columns and B^-1 applied either as the explicit inverse (O(n^2) per step) or by
-   !> the LU factors of dgetrf (lu, pivots). Refinement in fixed precision reduces the residual
-   !> q - B x (the backward error) to the rounding level even when the forward error cannot go
-   !> below cond(B) eps (Higham 2002, Sec. 12.2), so a step is kept only if it reduces the residual
-   !> and the iteration goes on only while each step at least halves it. Also stops when the
-   !> correction could exceed value_limit (row_norm: 1-norms of the rows of B^-1).
-   subroutine refine(matrix, q, covering, basis, basic, row_norm, inverse, lu, pivots)
-      real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
-      integer, intent(in) :: basis(:)
-      real(dp), intent(inout) :: basic(:)
-      real(dp), intent(in) :: row_norm(:)
-      real(dp), intent(in), optional :: inverse(:, :), lu(:, :)
-      integer, intent(in), optional :: pivots(:)
-      real(dp) :: residual(size(q)), correction(size(q)), trial(size(q)), size_now, size_trial
-      integer :: n, step, info
-
-      n = size(q)
-      call basis_residual(matrix, q, covering, basis, basic, residual)
-      size_now = maxval(abs(residual))
-      do step = 1, max_refinement_steps
-         if (.not. size_now > 0.0_dp) exit
-         if (saturating_product(maxval(row_norm), size_now) > value_limit) exit
-         correction = residual
-         if (present(lu) .and. present(pivots)) then
-            call dgetrs('N', n, 1, lu, n, pivots, correction, n, info)
-            if (info /= 0) exit
-         else if (present(inverse)) then
-            correction = matmul(inverse, residual)
-         else
-            exit
-         end if
-         trial = basic + correction
-         call basis_residual(matrix, q, covering, basis, trial, residual)
-         size_trial = maxval(abs(residual))
-         if (.not. size_trial < size_now) exit
-         basic = trial
-         if (.not. size_trial < size_now/2.0_dp) exit
-         size_now = size_trial
-      end do
-   end subroutine refine
-
-   !> residual = q - B x with B from the original (scaled) columns of the basis; O(n^2).
-   pure subroutine basis_residual(matrix, q, covering, basis, basic, residual)
-      real(dp), intent(in) :: matrix(:, :), q(:), covering(:), basic(:)
-      integer, intent(in) :: basis(:)
-      real(dp), intent(out) :: residual(:)
-      real(dp) :: column(size(q))
-      integer :: i, n
-      n = size(q)
-      residual = q
-      do i = 1, n
-         call original_column(matrix, covering, basis(i), n, column)
-         residual = residual - column*basic(i)
-      end do
-   end subroutine basis_residual
-
-   !> Factorise the basis afresh with LAPACK (dgetrf: LU with partial pivoting), then B^-1 from
-   !> the factors (dgetrs on the identity; the explicit inverse is what the Gauss-Jordan updates
-   !> and the lexicographic ratio test use) and x_B = B^-1 q by dgetrs, refined with the factors.
-   !> O(n^3). ok = .false. if B is singular to working precision: a pivot of U at most
-   !> n eps max|B| is within the backward error of the factorisation (Higham 2002, Thm. 9.3), so
-   !> B^-1 computed from it would be meaningless (and could overflow).
-   subroutine refactor(matrix, q, covering, basis, inverse, basic, row_norm, ok)
-      real(dp), intent(in) :: matrix(:, :), q(:), covering(:)
-      integer, intent(in) :: basis(:)
-      real(dp), intent(inout) :: inverse(:, :), basic(:), row_norm(:)
-      logical, intent(out) :: ok
-      real(dp), allocatable :: b(:, :), lu(:, :)
-      integer :: pivots(size(q)), k, n, info
-      real(dp) :: singular_level
-
-      n = size(q)
-      ok = .false.
-      allocate (b(n, n))
-      call basis_matrix(matrix, covering, basis, b)
-      lu = b
-      call dgetrf(n, n, lu, n, pivots, info)
-      if (info /= 0) return
-      singular_level = real(n, dp)*epsilon(1.0_dp)*maxval(abs(b))
-      do k = 1, n
-         if (abs(lu(k, k)) <= singular_level) return
-      end do
-      call identity(inverse)
-      call dgetrs('N', n, n, lu, n, pivots, inverse, n, info)
-      if (info /= 0) return
-      if (.not. all(ieee_is_finite(inverse))) return
-      row_norm = sum(abs(inverse), dim=2)
-      if (.not. maxval(row_norm) <= value_limit) return
-      basic = q
-      call dgetrs('N', n, 1, lu, n, pivots, basic, n, info)
-      if (info /= 0) return
-      call refine(matrix, q, covering, basis, basic, row_norm, lu=lu, pivots=pivots)
-      ok = all(ieee_is_finite(basic))
-   end subroutine refactor
 
    !> r from the basic values: r~_j where r_j is basic (negative round-off read as zero), then
    !> unscaled r_j = 2^(q_exp + column_exp(j)) r~_j. representable = .false. (and r = 0) if some

@@ -3,14 +3,14 @@ module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_internal
-   use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear
+   use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
-   use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
-                                    nodal_displacements, candidate_reactions
+   use uniarc_path_following, only: candidate_reactions
+   use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
+                                 stop_load_limit, stop_track_limit, stop_step_limit
    use uniarc_contact, only: contact_summary_t, summarize_contact
-   use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
-                            write_crit_row, commit_outputs, tracked_values, format_number
+                            write_crit_row, commit_outputs, format_number
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    implicit none
@@ -66,56 +66,47 @@ contains
       if (.not. options%quiet) call print_tracks(model, record)
    end subroutine run_linear
 
-   !> Follow the equilibrium path step by step, writing each converged step and the critical points.
+   !> Follow the equilibrium path with the path driver (uniarc_path_driver: the steps, the stop rules,
+   !> the critical points between steps), writing each converged step, its critical points and the
+   !> progress messages.
    subroutine run_path(model, options, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
-      type(path_state_t) :: state
-      type(path_point_t) :: previous
+      type(path_driver_t) :: driver
+      type(step_outcome_t) :: outcome
       type(step_record_t) :: record
-      type(critical_event_t), allocatable :: events(:)
       type(error_t), allocatable :: commit_error
-      real(dp), allocatable :: tracked_before(:), tracked_after(:)
-      character(len=:), allocatable :: stop_reason
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
       integer :: k, n_events
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
-      call path_initialize(model, state, error)
+      call driver_start(model, driver, error)
       if (allocated(error)) return
       call open_outputs(model, options%output_directory, options%stem, files, error)
       if (allocated(error)) return
       call open_vtk_series(model, options%output_directory, options%stem, vtk)
-      call record_state(model, state, record)
+      call record_state(model, driver, record)
       call write_path_row(files, model, record)
       call write_shape(files, model, record)
       n_events = 0
-      stop_reason = 'an error'
       call write_vtk_snapshot(vtk, model, record, error)
       done = allocated(error)
       do while (.not. done)
-         previous = state%point
-         tracked_before = tracked_values(model, record%displacement)
-         call path_advance(model, state, error)
+         call driver_step(model, driver, outcome, error)
          if (allocated(error)) exit
-         call record_state(model, state, record)
+         call record_state(model, driver, record)
          call write_path_row(files, model, record)
-         tracked_after = tracked_values(model, record%displacement)
-         call find_critical_events(previous, state%point, events)
-         call find_contact_events(previous, state%point, events)
-         do k = 1, size(events)
-            ! Tracked values at the event: linear between the steps (the event's λ is on the Hermite
-            ! interpolant; the displacements vary slowly there).
-            call write_crit_row(files, events(k)%kind, events(k)%position, events(k)%lambda, &
-                                tracked_before + events(k)%fraction*(tracked_after - tracked_before))
+         do k = 1, size(outcome%events)
+            call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
+                                outcome%events(k)%lambda, outcome%event_tracked(:, k))
             n_events = n_events + 1
-            if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a)') '  ', events(k)%kind, &
-               ' at step ', trim(format_number(events(k)%position)), ': lambda = ', &
-               trim(format_number(events(k)%lambda))
+            if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a)') '  ', outcome%events(k)%kind, &
+               ' at step ', trim(format_number(outcome%events(k)%position)), ': lambda = ', &
+               trim(format_number(outcome%events(k)%lambda))
          end do
          if (mod(record%step, model%analysis%shape_every) == 0) &
             call write_shape(files, model, record)
@@ -123,7 +114,7 @@ contains
             call write_vtk_snapshot(vtk, model, record, error)
             if (allocated(error)) exit
          end if
-         call stop_criteria(model, record, tracked_after, done, stop_reason)
+         done = driver%stop /= stop_none
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
              (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
@@ -150,25 +141,28 @@ contains
       end if
       if (.not. options%quiet) then
          write (output_unit, '(a,i0,a,a,a,a)') 'path traced: ', record%step, ' steps, lambda = ', &
-            trim(format_number(record%lambda)), '; stopped by ', stop_reason
+            trim(format_number(record%lambda)), '; stopped by ', stop_message(model, driver)
          write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
       end if
    end subroutine run_path
 
-   subroutine record_state(model, state, record)
+   !> The committed state of the path as a row of the result files.
+   subroutine record_state(model, driver, record)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
       type(contact_summary_t) :: summary
-      call nodal_displacements(model, state, record%displacement)
-      record%step = state%point%step
-      record%lambda = state%lambda
-      record%iterations = state%point%iterations
-      record%neg_pivots = state%point%neg_pivots
-      record%lcp_pivots = state%point%lcp_pivots
-      record%lcp_residual = state%point%lcp_residual
-      record%reactions = candidate_reactions(state)
-      summary = summarize_contact(model, record%reactions, state%active)
+      associate (state => driver%state)
+         record%displacement = driver%displacement
+         record%step = state%point%step
+         record%lambda = state%lambda
+         record%iterations = state%point%iterations
+         record%neg_pivots = state%point%neg_pivots
+         record%lcp_pivots = state%point%lcp_pivots
+         record%lcp_residual = state%point%lcp_residual
+         record%reactions = candidate_reactions(state)
+         summary = summarize_contact(model, record%reactions, state%active)
+      end associate
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
       record%s_contact = summary%s_contact
@@ -176,29 +170,22 @@ contains
       record%reaction_sum = summary%reaction_sum
    end subroutine record_state
 
-   pure subroutine stop_criteria(model, record, tracked, done, reason)
+   !> Which stop rule ended the path, for the closing message.
+   function stop_message(model, driver) result(message)
       type(model_t), intent(in) :: model
-      type(step_record_t), intent(in) :: record
-      real(dp), intent(in) :: tracked(:)
-      logical, intent(out) :: done
-      character(len=:), allocatable, intent(inout) :: reason
-      done = .true.
-      if (abs(record%lambda) >= model%analysis%lambda_max) then
-         reason = 'the load limit'
-         return
-      end if
-      if (model%analysis%stop_track > 0) then
-         if (abs(tracked(model%analysis%stop_track)) >= model%analysis%stop_value) then
-            reason = 'the limit on '//model%tracks(model%analysis%stop_track)%name
-            return
-         end if
-      end if
-      if (record%step >= model%analysis%max_steps) then
-         reason = 'the maximum number of steps'
-         return
-      end if
-      done = .false.
-   end subroutine stop_criteria
+      type(path_driver_t), intent(in) :: driver
+      character(len=:), allocatable :: message
+      select case (driver%stop)
+      case (stop_load_limit)
+         message = 'the load limit'
+      case (stop_track_limit)
+         message = 'the limit on '//model%tracks(driver%rules%track)%name
+      case (stop_step_limit)
+         message = 'the maximum number of steps'
+      case default
+         message = 'an error'
+      end select
+   end function stop_message
 
    subroutine print_tracks(model, record)
       type(model_t), intent(in) :: model

@@ -16,7 +16,7 @@ module uniarc_model
    public :: analysis_linear, analysis_nonlinear
    public :: control_load, control_displacement, control_arclength
    public :: iteration_chan, iteration_cylindrical, iteration_riks
-   public :: find_node_set, find_element_set, element_length
+   public :: find_node_set, find_element_set, element_length, tracked_values
    public :: contact_candidate_t, contact_group_t
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
    public :: foundation_t, foundation_winkler
@@ -247,5 +247,22 @@ contains
       kind = element_beam_column
       if (allocated(model%element_kind)) kind = model%element_kind(e)
    end function element_kind_of
+
+   !> Values of the tracked quantities (`*TRACK`, one per track, in the order of `tracks`):
+   !> scale × u(dof, node), from the nodal displacements `displacement` (dofs_per_node, n_nodes).
+   pure function tracked_values(model, displacement) result(values)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), allocatable :: values(:)
+      integer :: i
+      if (.not. allocated(model%tracks)) then
+         allocate (values(0))
+         return
+      end if
+      allocate (values(size(model%tracks)))
+      do i = 1, size(model%tracks)
+         values(i) = model%tracks(i)%scale*displacement(model%tracks(i)%dof, model%tracks(i)%node)
+      end do
+   end function tracked_values
 
 end module uniarc_model

@@ -8,12 +8,12 @@ module uniarc_output
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_foreign, only: rename_file, make_directory
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, tracked_values
    implicit none
    private
    public :: step_record_t, output_files_t
    public :: open_outputs, write_path_row, write_crit_row, write_shape, commit_outputs
-   public :: path_header, tracked_values, format_number, nodal_reactions
+   public :: path_header, format_number, nodal_reactions
 
    !> What a converged step reports (one row of the path file).
    type :: step_record_t
@@ -87,22 +87,6 @@ contains
          names = names//' '//model%tracks(i)%name
       end do
    end function track_names
-
-   !> Values of the tracked quantities: scale × u(dof, node) of each track.
-   pure function tracked_values(model, displacement) result(values)
-      type(model_t), intent(in) :: model
-      real(dp), intent(in) :: displacement(:, :)
-      real(dp), allocatable :: values(:)
-      integer :: i
-      if (.not. allocated(model%tracks)) then
-         allocate (values(0))
-         return
-      end if
-      allocate (values(size(model%tracks)))
-      do i = 1, size(model%tracks)
-         values(i) = model%tracks(i)%scale*displacement(model%tracks(i)%dof, model%tracks(i)%node)
-      end do
-   end function tracked_values
 
    !> One row of the path file.
    subroutine write_path_row(files, model, record)

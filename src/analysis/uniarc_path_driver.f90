@@ -1,0 +1,192 @@
+!> The path driver: traces a model's equilibrium path step by step to one of its stop rules, for every
+!> caller alike (the program, `src/app/uniarc_run.f90`; the benchmarks, `bench/bench_path.f90`; the
+!> tests). One call of `driver_step` is one converged step of `path_advance` (which sizes the step,
+!> cuts it back on failure and adapts the next length, uniarc_path_following) followed by what every
+!> caller needs of it: the nodal displacements and tracked values at the new point, the critical points
+!> and contact events between the previous point and the new one (uniarc_critical_points), the number
+!> of cut-backs the step used, and the stop rules of docs/contracts.md (exit code 0: "the analysis ended
+!> by one of its stop rules"). Writing files and messages is left to the caller.
+!>
+!>     call driver_start(model, driver, error)
+!>     do while (driver%stop == stop_none)
+!>        call driver_step(model, driver, outcome, error)
+!>        if (allocated(error)) exit          ! driver%stop == stop_failure
+!>        ... outcome%step, outcome%events, driver%state, driver%tracked ...
+!>     end do
+!>
+!> The stop rules are checked after every converged step, in this order (the first that holds is the
+!> reason): |λ| >= lambda_max; |tracked value| >= its limit; the step number reaches max_steps.
+module uniarc_path_driver
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input, error_internal
+   use uniarc_strings, only: integer_to_string
+   use uniarc_model, only: model_t, tracked_values
+   use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
+                                    nodal_displacements
+   use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
+   implicit none
+   private
+   public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
+   public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure
+
+   !> Why the path ended (`path_driver_t%stop`, `step_outcome_t%stop`).
+   integer, parameter :: stop_none = 0         !< it has not: the next step may be taken
+   integer, parameter :: stop_load_limit = 1   !< |λ| reached lambda_max
+   integer, parameter :: stop_track_limit = 2  !< |tracked value| of the stop track reached its limit
+   integer, parameter :: stop_step_limit = 3   !< the step number reached max_steps
+   integer, parameter :: stop_failure = 4      !< a step failed after every cut-back (error returned)
+
+   !> When the path stops (docs/input.md, *PATH); driver_start copies them from `model%analysis`.
+   type :: stop_rules_t
+      real(dp) :: lambda_max = huge(1.0_dp)  !< stop when |λ| >= lambda_max (λ dimensionless)
+      integer :: track = 0                   !< index into model%tracks of the stop track (0: none)
+      real(dp) :: track_limit = 0.0_dp       !< stop when |value of that track| >= track_limit (its units)
+      integer :: max_steps = 200             !< stop when the step number reaches max_steps
+   end type stop_rules_t
+
+   !> A path being traced: the committed state of the path following, what callers read at it, and
+   !> the stop rules. Components are read by callers; only driver_start and driver_step change them
+   !> (a caller may change `rules` between steps).
+   type :: path_driver_t
+      type(path_state_t) :: state                  !< committed state (uniarc_path_following), point included
+      type(stop_rules_t) :: rules
+      real(dp), allocatable :: displacement(:, :)  !< (dofs_per_node, n_nodes) nodal displacements at the committed state
+      real(dp), allocatable :: tracked(:)          !< (size(model%tracks)) tracked values at the committed state
+      integer :: stop = stop_none                  !< why the path ended; stop_none while it goes on
+      logical :: started = .false.                 !< driver_start succeeded
+   end type path_driver_t
+
+   !> What one call of driver_step did.
+   type :: step_outcome_t
+      integer :: step = 0               !< number of the converged step (that of the committed state on failure)
+      real(dp) :: lambda = 0.0_dp       !< load factor at the converged step
+      integer :: iterations = 0         !< Newton corrections of the converged attempt
+      !> Halvings of the step length before the step converged. path_advance does not report them, so
+      !> they are read off the step lengths (`cuts_of_step`); a length clipped to the smallest or
+      !> largest increment hides them, and they then count as 0.
+      integer :: cuts = 0
+      !> Critical points and contact events between the previous converged point and this one, in the
+      !> order of find_critical_events then find_contact_events.
+      type(critical_event_t), allocatable :: events(:)
+      !> (size(model%tracks), size(events)): the tracked values at each event, linear between the two
+      !> steps at the event's fraction (the event's λ is on the Hermite interpolant; the displacements
+      !> vary slowly there).
+      real(dp), allocatable :: event_tracked(:, :)
+      integer :: stop = stop_none       !< the stop reason if the path ended with this step
+   end type step_outcome_t
+
+contains
+
+   !> Start a path at the model's unloaded state (path_initialize: equations, first tangent, first
+   !> step length) with the stop rules of `model%analysis`.
+   !> Errors: those of path_initialize (error_analysis); a stop track that is not one of the model's
+   !> tracks (error_input).
+   subroutine driver_start(model, driver, error)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(out) :: driver
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n_tracks
+      driver%rules%lambda_max = model%analysis%lambda_max
+      driver%rules%track = model%analysis%stop_track
+      driver%rules%track_limit = model%analysis%stop_value
+      driver%rules%max_steps = model%analysis%max_steps
+      n_tracks = 0
+      if (allocated(model%tracks)) n_tracks = size(model%tracks)
+      if (driver%rules%track < 0 .or. driver%rules%track > n_tracks) then
+         call make_error(error, 'the stop track '//integer_to_string(driver%rules%track)//' is not one of the '// &
+                         integer_to_string(n_tracks)//' tracks of the model', error_input)
+         return
+      end if
+      call path_initialize(model, driver%state, error)
+      if (allocated(error)) return
+      call nodal_displacements(model, driver%state, driver%displacement)
+      driver%tracked = tracked_values(model, driver%displacement)
+      driver%stop = stop_none
+      driver%started = .true.
+   end subroutine driver_start
+
+   !> Take one converged step (path_advance) and check the stop rules at the new point.
+   !> On success the committed state, `displacement` and `tracked` are those of the new step and
+   !> `driver%stop` (= `outcome%stop`) says whether the path has ended. If the step cannot be made
+   !> converge, `error` is path_advance's (error_analysis: which step, from which λ, why), the committed
+   !> state is the last converged one and `driver%stop` = stop_failure.
+   !> Errors (error_internal): a driver not started, or whose path has already ended.
+   subroutine driver_step(model, driver, outcome, error)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(inout) :: driver
+      type(step_outcome_t), intent(out) :: outcome
+      type(error_t), allocatable, intent(out) :: error
+      type(path_point_t) :: previous
+      real(dp), allocatable :: tracked_before(:)
+      real(dp) :: length_before
+      integer :: k
+      if (.not. driver%started) then
+         call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
+         return
+      end if
+      if (driver%stop /= stop_none) then
+         call make_error(error, 'driver_step: the path has ended at step '// &
+                         integer_to_string(driver%state%point%step), error_internal)
+         return
+      end if
+      previous = driver%state%point
+      tracked_before = driver%tracked
+      length_before = driver%state%step_length
+      outcome%step = previous%step
+      outcome%lambda = driver%state%lambda
+      call path_advance(model, driver%state, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
+      call nodal_displacements(model, driver%state, driver%displacement)
+      driver%tracked = tracked_values(model, driver%displacement)
+      outcome%step = driver%state%point%step
+      outcome%lambda = driver%state%lambda
+      outcome%iterations = driver%state%point%iterations
+      outcome%cuts = cuts_of_step(model, driver%state, length_before)
+      call find_critical_events(previous, driver%state%point, outcome%events)
+      call find_contact_events(previous, driver%state%point, outcome%events)
+      allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
+      do k = 1, size(outcome%events)
+         outcome%event_tracked(:, k) = tracked_before + outcome%events(k)%fraction*(driver%tracked - tracked_before)
+      end do
+      driver%stop = stop_reason(driver%rules, outcome%step, outcome%lambda, driver%tracked)
+      outcome%stop = driver%stop
+   end subroutine driver_step
+
+   !> The first stop rule that holds at a converged point (step, λ, tracked values), or stop_none.
+   pure integer function stop_reason(rules, step, lambda, tracked) result(reason)
+      type(stop_rules_t), intent(in) :: rules
+      integer, intent(in) :: step
+      real(dp), intent(in) :: lambda, tracked(:)
+      reason = stop_none
+      if (abs(lambda) >= rules%lambda_max) then
+         reason = stop_load_limit
+      else if (rules%track > 0) then
+         if (abs(tracked(rules%track)) >= rules%track_limit) reason = stop_track_limit
+      end if
+      if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit
+   end function stop_reason
+
+   !> Step halvings inside the last path_advance, read off the step lengths (path_advance does not
+   !> report them): it multiplies the length it converged with by f = sqrt(desired/iterations) within
+   !> 0.25…2 (docs/theory.md §2.1), so without a cut the next length is the previous one times f, with
+   !> c cuts it is 2^-c of that. A length clipped to the min/max increment hides the cuts; they are then
+   !> not counted.
+   pure integer function cuts_of_step(model, state, length_before) result(cuts)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: length_before
+      real(dp) :: factor, lower, upper
+      cuts = 0
+      factor = sqrt(real(model%analysis%desired_iterations, dp)/real(max(state%point%iterations, 1), dp))
+      factor = min(2.0_dp, max(0.25_dp, factor))
+      lower = model%analysis%min_increment*state%first_length
+      upper = model%analysis%max_increment*state%first_length
+      if (state%step_length <= lower*(1.0_dp + 1.0e-12_dp) .or. state%step_length >= upper*(1.0_dp - 1.0e-12_dp)) return
+      cuts = max(0, nint(log(length_before*factor/state%step_length)/log(2.0_dp)))
+   end function cuts_of_step
+
+end module uniarc_path_driver
