@@ -22,6 +22,12 @@
 !>    goes on unchanged) and C shrinks to 1 × 1. Lemke is finite (with non-degenerate ratio tests) and
 !>    is the safeguard of phase 1; its secondary ray proves infeasibility for copositive-plus M.
 !>
+!> Lemke's path moves one index per pivot; where a whole contact edge must move, block exchanges are
+!> cheaper. In the first round Lemke therefore stops after `lemke_budget` pivots: the columns that
+!> entered are exchanged into the frame (a principal pivot transform like any other) and the second
+!> round starts from it with the block phase. Later rounds run Lemke to its end, so the solver keeps
+!> Lemke's finiteness, and a round is left to verify its frame.
+!>
 !> Every phase ends in a frame whose q_F is computed afresh by the operator (an iterative refinement:
 !> for the contact LCP a new banded solve from the nonlinear residual). It is accepted when
 !> q_F(i) ≥ −tolerance · scale(i) for every output i, with scale(i) the operator's unit of that output
@@ -61,6 +67,9 @@ module uniarc_lcp_implicit
       integer :: max_pivots = 0
       !> Verification rounds (a round = block phase, then Lemke if needed, then a fresh q_F).
       integer :: rounds = 4
+      !> Lemke pivots before the first round hands over to the second round's block phase (module
+      !> header; only with rounds > 2); 0: no budget.
+      integer :: lemke_budget = 8
    end type implicit_lcp_options_t
 
    !> What `implicit_lcp_solve` did.
@@ -104,7 +113,7 @@ contains
       logical :: solved, broken
       if (present(options)) opts = options
       if (opts%block_backup < 0 .or. opts%block_steps < 0 .or. opts%block_threshold < 0 .or. opts%complement_limit < 1 .or. &
-          opts%max_pivots < 0 .or. opts%rounds < 1 .or. .not. (opts%tolerance >= 0.0_dp)) then
+          opts%max_pivots < 0 .or. opts%lemke_budget < 0 .or. opts%rounds < 1 .or. .not. (opts%tolerance >= 0.0_dp)) then
          call make_error(error, 'implicit LCP solver: negative count, complement_limit < 1, rounds < 1 '// &
                          'or a negative tolerance in the options', error_input)
          return
@@ -147,7 +156,7 @@ contains
                return
             end if
          end if
-         call lemke_phase(operator, opts, q, scale, report)
+         call lemke_phase(operator, opts, q, scale, report, round == 1 .and. opts%rounds > 2)
          if (report%status /= lemke_solved) return
          ! Lemke ended in the solution's frame: the next round checks it with a fresh q_F.
          report%status = lemke_breakdown
@@ -212,11 +221,14 @@ contains
 
    !> Lemke's method from the current frame, the basis as frame + Schur complement (module header).
    !> Ends with status solved in the frame of the complementary solution, or another status.
-   subroutine lemke_phase(operator, opts, q, scale, report)
+   subroutine lemke_phase(operator, opts, q, scale, report, budgeted)
       class(lcp_operator_t), intent(inout) :: operator
       type(implicit_lcp_options_t), intent(in) :: opts
       real(dp), intent(inout) :: q(:), scale(:)
       type(implicit_lcp_report_t), intent(inout) :: report
+      !> Stop after opts%lemke_budget pivots with Z exchanged into the frame (status solved: the caller
+      !> checks the frame afresh and goes on from it).
+      logical, intent(in) :: budgeted
       real(dp), allocatable :: d(:), z(:), wv(:), column(:), row(:), dz(:), dw(:), unit_vector(:)
       real(dp), allocatable :: entries(:, :), rhs(:), y(:)
       integer, allocatable :: rows(:), cols(:)
@@ -380,6 +392,10 @@ contains
             entering_z = .false.
          end select
          report%largest_complement = max(report%largest_complement, p)
+         if (budgeted .and. opts%lemke_budget > 0 .and. pivots >= opts%lemke_budget .and. p > 0) then
+            call finish(failure)
+            return
+         end if
          if (p >= opts%complement_limit) then
             call absorb(absorbed, failure)
             if (allocated(failure)) then

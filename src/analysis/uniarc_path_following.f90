@@ -844,7 +844,7 @@ contains
       real(dp), allocatable :: x(:, :), y(:)
       real(dp) :: nu, previous
       type(error_t), allocatable :: error
-      integer :: k, i
+      integer :: k, i, first_check
       mu = 0.0_dp
       if (matrix%n == 0) return
       allocate (x(matrix%n, 1))
@@ -852,21 +852,28 @@ contains
       if (allocated(mode)) then
          if (size(mode) /= matrix%n .or. .not. (norm2(mode) > 0.0_dp)) deallocate (mode)
       end if
-      if (.not. allocated(mode)) mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
+      first_check = 1
+      if (.not. allocated(mode)) then
+         mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
+         first_check = 2
+      end if
       x(:, 1) = mode/norm2(mode)
       nu = 0.0_dp
       ! Stop when the Rayleigh quotient has settled to 1e-4 (it only places a bifurcation inside a
-      ! step, by linear interpolation whose own error is of the order of the step): near a critical
+      ! step, by linear interpolation whose own error is of the order of the step). Near a critical
       ! point, where it matters, the least eigenvalue is well separated and a few solves do; where the
-      ! low spectrum is clustered (a long ring) the warm start keeps it to a few; 30 at most.
-      do k = 1, 30
+      ! low spectrum is clustered (a ring of 1e5 elements: ratios of neighbouring eigenvalues near 1)
+      ! inverse iteration cannot separate them in any affordable number of solves, and the quotient
+      ! after 8 — between the clustered eigenvalues, of their common sign — is what the detector
+      ! needs. A warm start from the last mode needs two solves to compare quotients, a cold one three.
+      do k = 1, 8
          y = x(:, 1)
          call band_solve(matrix, x, error)
          if (allocated(error)) return
          previous = nu
          nu = dot_product(y, x(:, 1))
          x = x/norm2(x)
-         if (k > 2 .and. abs(nu - previous) <= 1.0e-4_dp*abs(nu)) exit
+         if (k > first_check .and. abs(nu - previous) <= 1.0e-4_dp*abs(nu)) exit
       end do
       if (all(abs(x(:, 1)) <= huge(1.0_dp))) mode = x(:, 1)
       if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
