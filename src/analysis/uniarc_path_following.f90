@@ -214,6 +214,7 @@ contains
       real(dp) :: residual_norm, previous_residual
       integer :: n, set_changes
       integer, parameter :: max_set_changes = 40
+      integer, parameter :: sign_rule_changes = 4
       n = state%map%n_equations
       allocate (nodal(dofs_per_node, model%n_nodes), internal(n), reference(n), rhs(n, 2), trial(n))
       ! Only the first attempt of a step finds the committed state's factors in place: any attempt
@@ -339,6 +340,19 @@ contains
                ! factorisation and the set converges along with equilibrium instead of after it.
                update_set = has_contacts .and. .not. fresh_set
                if (update_set) update_set = .not. complementary(model, state, trial, nodal, active)
+               if (update_set .and. set_changes < sign_rule_changes) then
+                  if (.not. allocated(new_active)) allocate (new_active(size(active)))
+                  call sign_rule(model, state, trial, nodal, active, new_active)
+                  if (any(new_active .neqv. active)) then
+                     set_changes = set_changes + 1
+                     active = new_active
+                     small_correction = .false.
+                     previous_residual = huge(1.0_dp)
+                     fresh_set = .true.
+                     reuse_factors = .false.
+                     cycle
+                  end if
+               end if
             end if
             solved = .false.
             if (update_set) then
@@ -504,6 +518,33 @@ contains
       call candidate_state(model, state%map, x, nodal, active, reaction, gap)
       ok = violation(model, state, x, reaction, gap, active) <= model%analysis%displacement_tolerance
    end function complementary
+
+   !> The primal–dual active-set rule (Hintermüller, Ito & Kunisch 2002) at unknowns x: a candidate
+   !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
+   !> beyond the tolerance of `violation`; the others stay.
+   subroutine sign_rule(model, state, x, nodal, active, new_active)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      logical, intent(out) :: new_active(:)
+      real(dp), allocatable :: reaction(:), gap(:)
+      type(contact_scales_t) :: units
+      real(dp) :: tolerance
+      integer :: c
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      units = contact_units(state, x, reaction, active)
+      tolerance = model%analysis%displacement_tolerance
+      new_active = active
+      do c = 1, size(active)
+         if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
+         if (active(c)) then
+            if (-reaction(c)/units%force > tolerance) new_active(c) = .false.
+         else
+            if (-gap(c)/units%gap > tolerance) new_active(c) = .true.
+         end if
+      end do
+   end subroutine sign_rule
 
    !> Largest violation of complementarity, relative: −r/r_scale for pulling contacts, −g/g_scale for
    !> penetrating free candidates, |r w|/(r_scale g_scale) for both at once.
