@@ -171,7 +171,7 @@ contains
       write (output_unit, '(a)') ''
    end subroutine bench_scaling
 
-   !> Time the parts of one Newton iteration (as try_step of uniarc_path_following does it) at the
+   !> Time the parts of one Newton iteration (as attempt_step of uniarc_path_newton does it) at the
    !> committed state of `state`, each the fastest of `repeats` calls.
    subroutine time_iteration_parts(model, state, repeats, parts)
       type(model_t), intent(in) :: model
@@ -188,7 +188,7 @@ contains
       n = state%map%n_equations
       allocate (nodal(dofs_per_node, model%n_nodes), internal(n), reference(n), rhs(n, 2), vector(n, 1))
       call gather_nodal(state%map, state%u, nodal)
-      assembled = state%tangent
+      assembled = state%system%tangent
       parts%assembly = huge(1.0_dp)
       parts%factorization = huge(1.0_dp)
       parts%solve = huge(1.0_dp)
@@ -220,7 +220,7 @@ contains
          call band_inertia(assembled, negative, singular)
          parts%inertia = min(parts%inertia, seconds_since(start))
       end do
-      ! The inverse iteration of uniarc_path_following (least_eigenvalue, private): 30 solves with one
+      ! The inverse iteration of uniarc_path_stability (least_eigenvalue): 30 solves with one
       ! right-hand side and a normalisation each, after every converged step.
       do r = 1, max(1, repeats/10)
          vector(:, 1) = 1.0_dp/sqrt(real(n, dp))
@@ -271,13 +271,13 @@ contains
          allocate (nodal(dofs_per_node, model%n_nodes), internal(size(u)), reference(size(u)), rhs(size(u), 1))
          do k = 0, iterations
             call gather_nodal(state%map, u, nodal)
-            call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%tangent, &
+            call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%system%tangent, &
                                       internal, reference, element_scale)
             rhs(:, 1) = lambda*reference - internal
             ratios(k) = norm2(rhs(:, 1))/norm2(lambda*reference)
-            call band_factorize(state%tangent, error)
+            call band_factorize(state%system%tangent, error)
             if (allocated(error)) call fail('pinched ring: '//error%message)
-            call band_solve(state%tangent, rhs, error)
+            call band_solve(state%system%tangent, rhs, error)
             if (allocated(error)) call fail('pinched ring: '//error%message)
             u = u + rhs(:, 1)
          end do

@@ -61,9 +61,8 @@ module uniarc_path_driver
       integer :: step = 0               !< number of the converged step (that of the committed state on failure)
       real(dp) :: lambda = 0.0_dp       !< load factor at the converged step
       integer :: iterations = 0         !< Newton corrections of the converged attempt
-      !> Halvings of the step length before the step converged. path_advance does not report them, so
-      !> they are read off the step lengths (`cuts_of_step`); a length clipped to the smallest or
-      !> largest increment hides them, and they then count as 0.
+      !> Halvings of the step length before the step converged (path_advance's count; on failure the
+      !> halvings it made).
       integer :: cuts = 0
       !> Critical points and contact events between the previous converged point and this one, in the
       !> order of find_critical_events then find_contact_events.
@@ -118,7 +117,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:)
-      real(dp) :: length_before
       integer :: k
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
@@ -131,10 +129,9 @@ contains
       end if
       previous = driver%state%point
       tracked_before = driver%tracked
-      length_before = driver%state%step_length
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
-      call path_advance(model, driver%state, error)
+      call path_advance(model, driver%state, error, outcome%cuts)
       if (allocated(error)) then
          driver%stop = stop_failure
          outcome%stop = stop_failure
@@ -145,7 +142,6 @@ contains
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
       outcome%iterations = driver%state%point%iterations
-      outcome%cuts = cuts_of_step(model, driver%state, length_before)
       call find_critical_events(previous, driver%state%point, outcome%events)
       call find_contact_events(previous, driver%state%point, outcome%events)
       allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
@@ -169,24 +165,5 @@ contains
       end if
       if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit
    end function stop_reason
-
-   !> Step halvings inside the last path_advance, read off the step lengths (path_advance does not
-   !> report them): it multiplies the length it converged with by f = sqrt(desired/iterations) within
-   !> 0.25…2 (docs/theory.md §2.1), so without a cut the next length is the previous one times f, with
-   !> c cuts it is 2^-c of that. A length clipped to the min/max increment hides the cuts; they are then
-   !> not counted.
-   pure integer function cuts_of_step(model, state, length_before) result(cuts)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      real(dp), intent(in) :: length_before
-      real(dp) :: factor, lower, upper
-      cuts = 0
-      factor = sqrt(real(model%analysis%desired_iterations, dp)/real(max(state%point%iterations, 1), dp))
-      factor = min(2.0_dp, max(0.25_dp, factor))
-      lower = model%analysis%min_increment*state%first_length
-      upper = model%analysis%max_increment*state%first_length
-      if (state%step_length <= lower*(1.0_dp + 1.0e-12_dp) .or. state%step_length >= upper*(1.0_dp - 1.0e-12_dp)) return
-      cuts = max(0, nint(log(length_before*factor/state%step_length)/log(2.0_dp)))
-   end function cuts_of_step
 
 end module uniarc_path_driver

@@ -1,0 +1,198 @@
+!> The contact working set of the path following: which candidates are held (docs/theory.md §3).
+!>
+!> At a state x (unknowns, with their nodal displacements) and a working set: the reactions and gaps
+!> of every candidate, the complementarity check (no held candidate pulls, no free one penetrates,
+!> within tolerances relative to the contact units), the primal–dual active-set rule (Hintermüller, Ito
+!> & Kunisch 2002) and the contact LCP (uniarc_contact_lcp, Lemke then block pivoting) that give the
+!> next set. The committed state is read for the equation numbering and the scales, never written.
+module uniarc_path_contact_set
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_model, only: model_t
+   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_contact, only: candidate_gap
+   use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set
+   use uniarc_lcp_implicit, only: implicit_lcp_report_t
+   use uniarc_path_state, only: path_state_t, path_system_t, linearization_t
+   implicit none
+   private
+   public :: set_update_t, complementary, violation, sign_rule, candidate_state, touching_candidates, &
+             solve_contact_lcp
+
+   !> The working set the contact LCP chose.
+   type :: set_update_t
+      logical, allocatable :: active(:)        !< (candidates) the new working set
+      logical :: changed = .false.             !< it differs from the set the LCP was posed in
+      !> `system%tangent` holds the band LU of K_S for `active` (the LCP's last frame) and du_tangent
+      !> = K_S⁻¹R (n) for it: no need to assemble and factorise again.
+      logical :: kept = .false.
+      real(dp), allocatable :: du_tangent(:)
+      integer :: pivots = 0                    !< Lemke pivots spent
+   end type set_update_t
+
+contains
+
+   !> The contact LCP linearised at `lin` (x, nodal, the residual and R with their solutions rhs by
+   !> the factors in `system%tangent`, `system%assembled` unfactorised) with the step's `constraint`,
+   !> posed in the working set `active` (uniarc_contact_lcp, select_contact_set). `system` is
+   !> overwritten (the LCP's frames). Errors: those of select_contact_set (a singular frame, an LCP
+   !> that Lemke cannot solve).
+   subroutine solve_contact_lcp(model, state, system, lin, constraint, active, update, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(linearization_t), intent(in) :: lin
+      type(path_constraint_t), intent(in) :: constraint
+      logical, intent(in) :: active(:)
+      type(set_update_t), intent(out) :: update
+      type(error_t), allocatable, intent(out) :: error
+      type(implicit_lcp_report_t) :: report
+      allocate (update%active(size(active)))
+      call select_contact_set(model, state%map, system%assembled, system%tangent, lin%x, lin%nodal, lin%residual, &
+                              lin%reference, lin%rhs(:, 1), lin%rhs(:, 2), constraint, &
+                              units_at(model, state, lin%x, lin%nodal, active), active, update%active, report, &
+                              error, update%kept, update%du_tangent)
+      update%pivots = report%pivots
+      if (allocated(error)) return
+      update%changed = any(update%active .neqv. active)
+   end subroutine solve_contact_lcp
+
+   !> Complementarity at a state that is in equilibrium for the working set `active`: no candidate in
+   !> the set pulls (r ≥ 0) and none outside it penetrates (g ≥ 0), within tolerances relative to the
+   !> largest reaction and the largest displacement.
+   function complementary(model, state, x, nodal, active) result(ok)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      logical :: ok
+      real(dp), allocatable :: reaction(:), gap(:)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      ok = violation(model, state, x, reaction, gap, active) <= model%analysis%displacement_tolerance
+   end function complementary
+
+   !> The primal–dual active-set rule (Hintermüller, Ito & Kunisch 2002) at unknowns x: a candidate
+   !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
+   !> beyond the tolerance of `violation`; the others stay.
+   subroutine sign_rule(model, state, x, nodal, active, new_active)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      logical, intent(out) :: new_active(:)
+      real(dp), allocatable :: reaction(:), gap(:)
+      type(contact_scales_t) :: units
+      real(dp) :: tolerance
+      integer :: c
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      units = contact_units(state, x, reaction, active)
+      tolerance = model%analysis%displacement_tolerance
+      new_active = active
+      do c = 1, size(active)
+         if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
+         if (active(c)) then
+            if (-reaction(c)/units%force > tolerance) new_active(c) = .false.
+         else
+            if (-gap(c)/units%gap > tolerance) new_active(c) = .true.
+         end if
+      end do
+   end subroutine sign_rule
+
+   !> Largest violation of complementarity, relative: −r/r_scale for pulling contacts, −g/g_scale for
+   !> penetrating free candidates, |r w|/(r_scale g_scale) for both at once.
+   pure real(dp) function violation(model, state, x, reaction, gap, active) result(worst)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), reaction(:), gap(:)
+      logical, intent(in) :: active(:)
+      real(dp) :: r_scale, g_scale, w, r
+      type(contact_scales_t) :: units
+      integer :: c
+      worst = 0.0_dp
+      if (size(reaction) == 0) return
+      ! Scales: the largest reaction in contact, at least the load scale (reactions of free candidates
+      ! are round-off of zero and must not set it); the largest displacement.
+      units = contact_units(state, x, reaction, active)
+      r_scale = units%force
+      g_scale = units%gap
+      do c = 1, size(reaction)
+         if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
+         r = 0.0_dp
+         if (active(c)) r = reaction(c)
+         w = gap(c) + model%contacts(c)%flexibility*r
+         worst = max(worst, -r/r_scale, -w/g_scale, abs(r*w)/(r_scale*g_scale))
+      end do
+   end function violation
+
+   !> Units of contact forces and gaps at unknowns x with working set `active`: the largest reaction in
+   !> contact, at least the load scale (reactions of free candidates are round-off of zero and must not
+   !> set it); the largest displacement, at least 1e-6 of the model size (gaps computed from
+   !> coordinates carry round-off of ε × size).
+   pure function contact_units(state, x, reaction, active) result(units)
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), reaction(:)
+      logical, intent(in) :: active(:)
+      type(contact_scales_t) :: units
+      real(dp) :: largest
+      integer :: c
+      largest = 0.0_dp
+      do c = 1, size(active)
+         if (candidate_live(state%map, c) .and. active(c)) largest = max(largest, abs(reaction(c)))
+      end do
+      units%force = max(largest, state%load_norm, tiny(1.0_dp))
+      units%gap = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
+   end function contact_units
+
+   !> Contact units at unknowns x (nodal: their nodal displacements) with working set `active`.
+   function units_at(model, state, x, nodal, active) result(units)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: reaction(:), gap(:)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      units = contact_units(state, x, reaction, active)
+   end function units_at
+
+   !> Reactions and current gaps of every candidate: a reaction unknown of x, or for a condensed spring
+   !> −g/t in the working set `active` and 0 out of it.
+   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:), nodal(:, :)
+      logical, intent(in) :: active(:)
+      real(dp), allocatable, intent(out) :: reaction(:), gap(:)
+      real(dp) :: gradient(2), hessian(2, 2)
+      integer :: c, node
+      allocate (reaction(size(map%candidate_equation)), gap(size(map%candidate_equation)))
+      do c = 1, size(map%candidate_equation)
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
+                            hessian)
+         reaction(c) = 0.0_dp
+         if (map%candidate_equation(c) > 0) then
+            reaction(c) = x(map%candidate_equation(c))
+         else if (map%condensed(c) .and. active(c)) then
+            reaction(c) = -gap(c)/model%contacts(c)%flexibility
+         end if
+      end do
+   end subroutine candidate_state
+
+   !> Candidates that touch (|g| within round-off of the model size) or are bonded.
+   pure subroutine touching_candidates(model, state, nodal, active)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: nodal(:, :)
+      logical, intent(out) :: active(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      do c = 1, size(state%map%candidate_equation)
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         active(c) = candidate_live(state%map, c) .and. &
+                     (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
+      end do
+   end subroutine touching_candidates
+
+end module uniarc_path_contact_set

@@ -1,0 +1,342 @@
+!> One attempt at a step of the path (OpenSees' SolutionAlgorithm with its ConvergenceTest): the
+!> predictor along the committed tangent, then full Newton–Raphson corrections with the load
+!> correction of the integrator (uniarc_path_integrator), until the convergence test holds
+!> (`newton_test_t`).
+!>
+!> With contact candidates this is the paper's two-level iteration (Silveira et al. 2013, Fig. 3): the
+!> contact LCP at the committed state gives the working set of the predictor; Newton converges with
+!> that set; the complementarity conditions are checked at the converged state and, if violated, the
+!> LCP at that state gives a new set and Newton goes on, until both equilibrium and contact have
+!> converged. Within Newton the set is updated too (docs/theory.md §3.4; uniarc_path_contact_set).
+!>
+!> An attempt reads the committed state only; it writes its `step_trial_t` and the system of equations.
+module uniarc_path_newton
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_model, only: model_t, analysis_options_t
+   use uniarc_dof_map, only: dof_map_t
+   use uniarc_band, only: band_solve, band_copy
+   use uniarc_assembly, only: gather_nodal
+   use uniarc_contact_lcp, only: path_constraint_t
+   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
+                                masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
+                                has_contacts, new_linearization
+   use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda
+   use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp
+   implicit none
+   private
+   public :: attempt_step, newton_test_t, new_newton_test, restart_test, check_equilibrium, check_correction
+
+   !> Changes of the working set within one attempt before it is given up.
+   integer, parameter :: max_set_changes = 40
+   !> The first set changes within Newton follow the sign rule (no LCP, no factorisation); later ones
+   !> are the contact LCP's.
+   integer, parameter :: sign_rule_changes = 4
+
+   !> The convergence test of Newton (docs/theory.md, convergence): a correction small against the
+   !> increment, or the residual at its round-off floor twice in a row; with the residual within the
+   !> force tolerance and the contact rows within the displacement tolerance.
+   type :: newton_test_t
+      real(dp) :: force_tolerance = 0.0_dp         !< relative to the force scale
+      real(dp) :: displacement_tolerance = 0.0_dp  !< relative to the increment, the displacements
+      real(dp) :: length_scale = 1.0_dp            !< size of the model (length)
+      logical :: small_correction = .false.        !< the last correction was small
+      real(dp) :: previous_residual = huge(1.0_dp) !< ||residual|| of the last iteration (force)
+   end type newton_test_t
+
+contains
+
+   !> A convergence test with the tolerances of `options` for a model of size length_scale.
+   pure function new_newton_test(options, length_scale) result(test)
+      type(analysis_options_t), intent(in) :: options
+      real(dp), intent(in) :: length_scale
+      type(newton_test_t) :: test
+      test%force_tolerance = options%force_tolerance
+      test%displacement_tolerance = options%displacement_tolerance
+      test%length_scale = length_scale
+   end function new_newton_test
+
+   !> Forget the history of the test (a new working set starts a new Newton sequence).
+   pure subroutine restart_test(test)
+      type(newton_test_t), intent(inout) :: test
+      test%small_correction = .false.
+      test%previous_residual = huge(1.0_dp)
+   end subroutine restart_test
+
+   !> Equilibrium at the state of `lin` after `iterations` corrections: lin%rhs(:, 1) is its residual,
+   !> lin%x its unknowns, lin%roundoff the round-off of the assembly; force_scale the force units.
+   !>
+   !> At the round-off floor of the residual (below the assembly's own round-off) a correction is noise
+   !> of the solve, cond(K)·ε·|Δu|, which on a fine ill-conditioned mesh stays above the displacement
+   !> tolerance however long Newton goes on: two iterations in a row at that floor, the second without
+   !> halving the residual, are converged to working precision.
+   subroutine check_equilibrium(test, map, iterations, lin, force_scale, in_equilibrium)
+      type(newton_test_t), intent(inout) :: test
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: iterations
+      type(linearization_t), intent(in) :: lin
+      real(dp), intent(in) :: force_scale
+      logical, intent(out) :: in_equilibrium
+      real(dp) :: residual_norm
+      logical :: at_floor
+      residual_norm = masked_norm(map, lin%rhs(:, 1))
+      at_floor = iterations > 1 .and. residual_norm <= lin%roundoff .and. test%previous_residual <= lin%roundoff &
+                 .and. residual_norm >= 0.5_dp*test%previous_residual
+      test%previous_residual = residual_norm
+      in_equilibrium = iterations > 0 .and. (test%small_correction .or. at_floor) .and. &
+                       residual_norm <= max(test%force_tolerance*force_scale, lin%roundoff) .and. &
+                       constraint_residual(map, lin%rhs(:, 1)) <= test%displacement_tolerance* &
+                       max(maxval(abs(map%metric*lin%x)), 1.0e-12_dp*test%length_scale)
+   end subroutine check_equilibrium
+
+   !> Record whether the correction (n) just added to the increment (n) was small: relative to the
+   !> increment; a step cut very short meets the round-off of the solve first, which is some 1e3 ε of
+   !> the total displacement (`total`, n): below that is converged.
+   pure subroutine check_correction(test, map, correction, increment, total)
+      type(newton_test_t), intent(inout) :: test
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: correction(:), increment(:), total(:)
+      test%small_correction = masked_norm(map, correction) <= &
+                              max(test%displacement_tolerance*masked_norm(map, increment), &
+                                  1.0e3_dp*epsilon(1.0_dp)*masked_norm(map, total), tiny(1.0_dp))
+   end subroutine check_correction
+
+   !> One attempt at a step of length trial%length from the committed state: on return trial%converged
+   !> says whether equilibrium and complementarity hold at state%u + trial%increment, state%lambda +
+   !> trial%dlambda with the working set trial%active; if not, trial%reason says why. `system` is
+   !> overwritten (its committed factors used first if it still holds them).
+   subroutine attempt_step(model, state, system, trial)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(step_trial_t), intent(inout) :: trial
+      type(linearization_t) :: lin
+      type(newton_test_t) :: test
+      type(path_constraint_t) :: constraint
+      type(set_update_t) :: update
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: predictor(:)
+      logical, allocatable :: new_active(:)
+      character(len=:), allocatable :: reason
+      real(dp) :: lambda, dl, force_scale
+      logical :: contacts, predicted, reuse_factors, in_equilibrium, update_set, solved, fresh_set
+      trial%converged = .false.
+      trial%reason = 'iteration limit'
+      trial%active = state%active
+      trial%lcp_pivots = 0
+      trial%set_changes = 0
+      trial%iterations = 0
+      trial%dlambda = 0.0_dp
+      contacts = has_contacts(state)
+      lin = new_linearization(model, state%map)
+      allocate (new_active(size(trial%active)))
+      reuse_factors = .false.
+      fresh_set = .false.
+      call predict(model, state, system, lin, trial, predicted)
+      if (.not. predicted) return
+      associate (options => model%analysis)
+         predictor = trial%increment
+         test = new_newton_test(options, state%length_scale)
+         do while (trial%iterations <= options%max_iterations)
+            lambda = state%lambda + trial%dlambda
+            lin%x = state%u + trial%increment
+            call gather_nodal(state%map, lin%x, lin%nodal)
+            call equilibrium_at(model, state, system, lin%x, lambda, trial%active, lin%nodal, lin%internal, &
+                                lin%reference, lin%element_scale, lin%roundoff)
+            lin%rhs(:, 1) = lambda*lin%reference - lin%internal
+            force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
+            if (.not. (norm2(lin%rhs(:, 1)) < huge(1.0_dp))) then   ! NaN or overflow
+               trial%reason = 'the residual is not finite'
+               exit
+            end if
+            call check_equilibrium(test, state%map, trial%iterations, lin, force_scale, in_equilibrium)
+            update_set = .false.
+            if (in_equilibrium) then
+               ! A step must go forward: a correction that lands behind the predictor (possible with
+               ! Chan's constraint-free correction when the contact set changes within the step) would
+               ! make the path turn back on itself. Such an attempt is cut instead.
+               if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp) then
+                  trial%reason = 'the corrected step turned back'
+                  exit
+               end if
+               if (.not. contacts) then
+                  trial%converged = .true.
+                  exit
+               end if
+               if (complementary(model, state, lin%x, lin%nodal, trial%active)) then
+                  trial%converged = .true.
+                  exit
+               end if
+               ! Equilibrium with a wrong contact set: the LCP at this state gives the next set.
+               update_set = .true.
+            else
+               if (trial%iterations == options%max_iterations) exit
+               ! The working set is updated within Newton too (docs/theory.md §3.4): a trial state that
+               ! a correction has reached with a violated contact gets the LCP linearised at it, whose
+               ! solution is the Newton correction of the complementarity problem (Josephy–Newton). It
+               ! uses the factors this iteration needs anyway, so a change of the set costs no extra
+               ! factorisation and the set converges along with equilibrium instead of after it.
+               update_set = contacts .and. .not. fresh_set
+               if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active)
+               if (update_set .and. trial%set_changes < sign_rule_changes) then
+                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active)
+                  if (any(new_active .neqv. trial%active)) then
+                     trial%set_changes = trial%set_changes + 1
+                     trial%active = new_active
+                     call restart_test(test)
+                     fresh_set = .true.
+                     reuse_factors = .false.
+                     cycle
+                  end if
+               end if
+            end if
+            solved = .false.
+            if (update_set) then
+               trial%set_changes = trial%set_changes + 1
+               if (trial%set_changes > max_set_changes) then
+                  trial%reason = 'the contact set does not settle'
+                  exit
+               end if
+               ! system%tangent holds K_S assembled at this state (any factors kept from an earlier
+               ! LCP belong to the same set and are simply not used).
+               reuse_factors = .false.
+               lin%residual = lin%rhs(:, 1)
+               call band_copy(system%tangent, system%assembled)
+               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               if (allocated(error)) then
+                  trial%reason = 'singular tangent'
+                  exit
+               end if
+               call correction_constraint(options, state, trial%increment, constraint)
+               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+               trial%lcp_pivots = trial%lcp_pivots + update%pivots
+               if (allocated(error)) then
+                  trial%reason = error%message
+                  exit
+               end if
+               if (update%changed) then
+                  trial%active = update%active
+                  call restart_test(test)
+                  fresh_set = .true.
+                  ! The LCP's last frame is K_S of the new set at this very state: its factors serve
+                  ! the next correction (the loop assembles into system%tangent, so they wait in
+                  ! `assembled`).
+                  reuse_factors = update%kept
+                  if (reuse_factors) call band_copy(system%tangent, system%assembled)
+                  cycle
+               end if
+               if (in_equilibrium) then
+                  trial%reason = 'the LCP keeps a contact set that violates complementarity'
+                  exit
+               end if
+               ! The linearised problem keeps the set: the correction of this set, already solved
+               ! (rhs holds K_S⁻¹g and K_S⁻¹R), is the Newton correction.
+               solved = .true.
+            end if
+            trial%iterations = trial%iterations + 1
+            if (.not. solved) then
+               if (reuse_factors) then
+                  lin%rhs(:, 2) = lin%reference
+                  call band_solve(system%assembled, lin%rhs, error)
+                  reuse_factors = .false.
+               else
+                  call factorize_and_solve(system%tangent, lin%rhs(:, 1), lin%reference, lin%rhs, error)
+               end if
+               if (allocated(error)) then
+                  trial%reason = 'singular tangent'
+                  exit
+               end if
+            end if
+            fresh_set = .false.
+            ! rhs(:, 1) = δx_g (residual correction), rhs(:, 2) = δx_t (tangent correction)
+            call iteration_dlambda(options, state, trial%increment, lin%rhs(:, 1), lin%rhs(:, 2), trial%length, &
+                                   dl, reason)
+            if (len(reason) > 0) then
+               trial%reason = reason
+               exit
+            end if
+            trial%increment = trial%increment + lin%rhs(:, 1) + dl*lin%rhs(:, 2)
+            trial%dlambda = trial%dlambda + dl
+            call check_correction(test, state%map, lin%rhs(:, 1) + dl*lin%rhs(:, 2), trial%increment, &
+                                  state%u + trial%increment)
+         end do
+      end associate
+   end subroutine attempt_step
+
+   !> The predictor of an attempt: trial%dlambda and trial%increment along the committed tangent K⁻¹R;
+   !> with contact, the contact LCP at the committed state first chooses the working set trial%active
+   !> and the tangent is that of the set. `predicted` is false (and trial%reason says why) if a tangent
+   !> is singular or the LCP fails.
+   subroutine predict(model, state, system, lin, trial, predicted)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(linearization_t), intent(inout) :: lin
+      type(step_trial_t), intent(inout) :: trial
+      logical, intent(out) :: predicted
+      real(dp), allocatable :: ut(:)
+      type(path_constraint_t) :: constraint
+      type(set_update_t) :: update
+      type(error_t), allocatable :: error
+      logical :: ready
+      predicted = .false.
+      ! Only while the system holds the committed state's factors can the predictor use them; from
+      ! here on this attempt assembles into system%tangent (or lends it to the contact LCP).
+      ready = system%holds_committed
+      system%holds_committed = .false.
+      associate (options => model%analysis)
+         ut = state%tangent_displacement
+         trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+         if (has_contacts(state)) then
+            lin%x = state%u
+            call gather_nodal(state%map, state%u, lin%nodal)
+            if (ready) then
+               ! The committed state's tangent, factorised, and its residual (the commit's).
+               lin%residual = state%committed_residual
+               lin%reference = state%reference
+               lin%rhs(:, 1) = lin%residual
+               call band_solve(system%tangent, lin%rhs(:, 1:1), error)
+               lin%rhs(:, 2) = state%tangent_displacement
+            else
+               call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
+                                   lin%internal, lin%reference, lin%element_scale)
+               lin%residual = state%lambda*lin%reference - lin%internal
+               call band_copy(system%tangent, system%assembled)
+               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+            end if
+            if (allocated(error)) then
+               trial%reason = 'singular tangent at the start of the step'
+               return
+            end if
+            call step_constraint(options, state, ut, trial%dlambda, constraint)
+            call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+            trial%lcp_pivots = trial%lcp_pivots + update%pivots
+            if (allocated(error)) then
+               trial%reason = error%message
+               return
+            end if
+            if (update%changed) then
+               trial%active = update%active
+               if (update%kept) then
+                  ! The LCP's last frame is the new set: its factors gave K_S⁻¹R already.
+                  ut = update%du_tangent
+               else
+                  call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
+                                      lin%internal, lin%reference, lin%element_scale)
+                  call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
+                                           lin%reference, lin%rhs, error)
+                  if (allocated(error)) then
+                     trial%reason = 'singular tangent with the predicted contact set'
+                     return
+                  end if
+                  ut = lin%rhs(:, 2)
+               end if
+               trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+            end if
+         end if
+         trial%increment = trial%dlambda*ut
+      end associate
+      predicted = .true.
+   end subroutine predict
+
+end module uniarc_path_newton

@@ -1,0 +1,85 @@
+!> The point record of a converged state (`path_point_t`): what the critical-point detector
+!> (uniarc_critical_points) and the result files read there — the unit tangent of the path, the
+!> complementarity residual, and per candidate whether it is in contact, its reaction or gap and the
+!> rate of that value along the path.
+module uniarc_path_point
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t
+   use uniarc_dof_map, only: candidate_live
+   use uniarc_contact, only: candidate_gap
+   use uniarc_path_state, only: path_state_t, masked_norm, nodal_displacements
+   use uniarc_path_contact_set, only: candidate_state, violation
+   implicit none
+   private
+   public :: describe_point
+
+contains
+
+   !> Fill the point record of the committed state (step number, Newton iterations and Lemke pivots of
+   !> the step that reached it), and the committed reactions. The inertia and the least eigenvalue are
+   !> the commit's (uniarc_path_stability).
+   subroutine describe_point(model, state, step, iterations, lcp_pivots)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      integer, intent(in) :: step, iterations, lcp_pivots
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
+      real(dp) :: norm, g, gradient(2), hessian(2, 2)
+      integer :: m, c, row, node
+      state%point%step = step
+      state%point%lambda = state%lambda
+      state%point%iterations = iterations
+      state%point%lcp_pivots = lcp_pivots
+      ! Unit tangent of the path in (u, λ) with the arc-length metric ds² = ||du||² (cylindrical):
+      ! du/ds = ±K⁻¹R/||K⁻¹R||, dλ/ds = ±1/||K⁻¹R||, signed by the direction of travel.
+      norm = masked_norm(state%map, state%tangent_displacement)
+      state%point%dlambda_ds = real(state%direction, dp)/norm
+      state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
+      state%point%lcp_residual = 0.0_dp
+      m = size(state%map%candidate_equation)
+      state%point%in_contact = [(.false., c=1, m)]
+      state%point%contact_value = [(0.0_dp, c=1, m)]
+      state%point%contact_rate = [(0.0_dp, c=1, m)]
+      if (m > 0) then
+         call nodal_displacements(model, state, nodal)
+         call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
+         state%reactions = reaction
+         state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active)
+         ! Reaction (in contact) or gap (free) of each candidate and its rate along the path, from the
+         ! tangent: where a contact starts or ends between two steps is found from them.
+         do c = 1, m
+            row = state%map%candidate_equation(c)
+            if (.not. candidate_live(state%map, c)) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
+                               hessian)
+            state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
+            if (state%point%in_contact(c)) then
+               state%point%contact_value(c) = reaction(c)
+               if (row > 0) then
+                  state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
+               else
+                  ! condensed: r = −g/t, dr/ds = −(a·du/ds)/t
+                  state%point%contact_rate(c) = -state%direction*along(state%tangent_displacement)/norm/ &
+                                                model%contacts(c)%flexibility
+               end if
+            else
+               state%point%contact_value(c) = g
+               state%point%contact_rate(c) = state%direction*along(state%tangent_displacement)/norm
+            end if
+         end do
+      end if
+
+   contains
+
+      !> a_cᵀ v at the candidate's node for an augmented vector v.
+      pure real(dp) function along(v)
+         real(dp), intent(in) :: v(:)
+         integer :: i
+         along = 0.0_dp
+         do i = 1, 2
+            if (state%map%equation(i, node) > 0) along = along + gradient(i)*v(state%map%equation(i, node))
+         end do
+      end function along
+   end subroutine describe_point
+
+end module uniarc_path_point

@@ -1,0 +1,216 @@
+!> The objects of the path following and the operations all its parts share.
+!>
+!> The committed state of the path (`path_state_t`) and the trial of one attempt at a step
+!> (`step_trial_t`) are separate objects, as OpenSees separates a domain's committed and trial state
+!> (McKenna 1997, ch. 4): an attempt (uniarc_path_newton) reads the committed state only (intent(in))
+!> and writes its trial and the system of equations it works in (`path_system_t`); path_advance
+!> (uniarc_path_following) commits a converged trial, and a failed one is dropped.
+!>
+!> The system holds the band matrices every attempt assembles and factorises. Between steps they are
+!> the committed state's K_T (a cache, flagged by `holds_committed`): the first attempt of a step
+!> solves its predictor with those factors, and once an attempt overwrites them the flag is cleared and
+!> a later attempt assembles K_T at the committed state again.
+module uniarc_path_state
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_dof_map, only: dof_map_t
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve
+   use uniarc_assembly, only: gather_nodal
+   use uniarc_equilibrium, only: assemble_equilibrium
+   use uniarc_contact, only: assemble_contact
+   implicit none
+   private
+   public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t
+   public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
+             factorize_and_solve, constraint_residual, has_contacts, new_linearization
+
+   !> What a converged point of the path tells the critical-point detector.
+   type :: path_point_t
+      integer :: step = 0
+      real(dp) :: s = 0.0_dp            !< path length Σ ||Δu|| up to this point
+      real(dp) :: lambda = 0.0_dp
+      real(dp) :: dlambda_ds = 0.0_dp   !< slope of the path in the direction of travel
+      real(dp), allocatable :: rate(:)  !< du/ds (equations) in the direction of travel
+      integer :: neg_pivots = 0         !< negative pivots of K_T (Sylvester: negative eigenvalues)
+      real(dp) :: min_eigenvalue = 0.0_dp   !< eigenvalue of K_T of least magnitude (inverse iteration)
+      integer :: iterations = 0
+      integer :: lcp_pivots = 0             !< Lemke pivots spent on the step
+      real(dp) :: lcp_residual = 0.0_dp     !< complementarity residual at the converged state
+      integer :: n_active = 0               !< candidates in the working set
+      logical, allocatable :: in_contact(:)       !< per candidate: in the working set with r > 0
+      real(dp), allocatable :: contact_value(:)   !< per candidate: reaction if in contact, else gap
+      real(dp), allocatable :: contact_rate(:)    !< d(contact_value)/ds in the direction of travel
+   end type path_point_t
+
+   !> The system of equations the steps work in: the augmented tangent K_T in band storage (n × n,
+   !> n = map%n_equations), twice.
+   type :: path_system_t
+      type(band_matrix_t) :: tangent    !< K_T assembled, then factorised in place
+      type(band_matrix_t) :: assembled  !< K_T unfactorised (the contact LCP's operator), or factors kept
+      !> tangent and assembled are the committed state's K_T, factorised and unfactorised, with
+      !> path_state_t%committed_residual: set by the commit, cleared by the first attempt that uses them.
+      logical :: holds_committed = .false.
+   end type path_system_t
+
+   !> The committed state of the path and what the next step needs. Only path_initialize and
+   !> path_advance change it.
+   type :: path_state_t
+      type(dof_map_t) :: map
+      !> The band matrices of the steps (moved out for the duration of an attempt, so that an attempt
+      !> cannot write the committed state it reads).
+      type(path_system_t), allocatable :: system
+      real(dp), allocatable :: committed_residual(:)  !< λR − F_aug at the committed state
+      real(dp), allocatable :: eigenvector(:)   !< last mode of least eigenvalue (warm start)
+      real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
+      logical, allocatable :: active(:)         !< committed working set of contact candidates
+      real(dp), allocatable :: reactions(:)     !< committed reaction of every candidate (0 out of the set)
+      real(dp) :: lambda = 0.0_dp
+      real(dp), allocatable :: fixed_load(:)    !< u-independent part of the reference load R_r
+      real(dp), allocatable :: reference(:)     !< R(u) at the committed state
+      real(dp), allocatable :: tangent_displacement(:)  !< K_T⁻¹ R at the committed state
+      real(dp), allocatable :: last_increment(:)
+      real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
+      real(dp) :: first_length = 0.0_dp
+      real(dp) :: load_norm = 0.0_dp            !< ||R_r|| · first Δλ: the force scale of the problem
+      integer :: direction = 1                  !< +1/−1: predictor along ±K⁻¹R
+      integer :: control_equation = 0
+      real(dp) :: length_scale = 1.0_dp         !< size of the model (gap tolerances)
+      type(path_point_t) :: point
+   end type path_state_t
+
+   !> One attempt at a step from the committed state: what it tried and where it got.
+   type :: step_trial_t
+      real(dp) :: length = 0.0_dp               !< step length of the attempt (units of state%step_length)
+      real(dp), allocatable :: increment(:)     !< (n) Δx: unknowns minus the committed ones
+      real(dp) :: dlambda = 0.0_dp              !< Δλ: load factor minus the committed one
+      logical, allocatable :: active(:)         !< (candidates) working set of the attempt
+      integer :: iterations = 0                 !< Newton corrections
+      integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs
+      integer :: set_changes = 0                !< changes of the working set within Newton
+      logical :: converged = .false.            !< equilibrium and complementarity hold
+      character(len=:), allocatable :: reason   !< why it did not converge (message text)
+   end type step_trial_t
+
+   !> The equations linearised at a state x: the work arrays of the predictor and of each Newton
+   !> correction, and what the contact LCP is posed with.
+   type :: linearization_t
+      real(dp), allocatable :: x(:)            !< (n) unknowns at the state
+      real(dp), allocatable :: nodal(:, :)     !< (dofs_per_node, n_nodes) nodal displacements of x
+      real(dp), allocatable :: internal(:)     !< (n) F_aug(x)
+      real(dp), allocatable :: reference(:)    !< (n) R(x)
+      real(dp), allocatable :: residual(:)     !< (n) λR − F_aug whose solution rhs(:, 1) is (for the LCP)
+      real(dp), allocatable :: rhs(:, :)       !< (n, 2) the residual and R, then K⁻¹ of both
+      real(dp) :: element_scale = 0.0_dp       !< largest element force (assemble_equilibrium)
+      real(dp) :: roundoff = 0.0_dp            !< round-off of the assembled residual (force units)
+   end type linearization_t
+
+contains
+
+   !> Work arrays for a model and its equation numbering (x, residual unallocated until set).
+   function new_linearization(model, map) result(lin)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(linearization_t) :: lin
+      integer :: n
+      n = map%n_equations
+      allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2))
+   end function new_linearization
+
+   !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
+   pure logical function has_contacts(state)
+      type(path_state_t), intent(in) :: state
+      has_contacts = any(state%map%candidate_equation > 0 .or. state%map%condensed)
+   end function has_contacts
+
+   !> Augmented internal forces, reference load and tangent (into `system%tangent`) at unknowns x
+   !> (n), load λ, working set `active`; nodal (dofs_per_node, n_nodes) are the displacements of x.
+   subroutine equilibrium_at(model, state, system, x, lambda, active, nodal, internal, reference, &
+                             element_scale, roundoff)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: x(:), lambda
+      logical, intent(in) :: active(:)
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp), intent(out) :: internal(:), reference(:), element_scale
+      real(dp), intent(out), optional :: roundoff
+      call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
+                                internal, reference, element_scale, roundoff)
+      if (size(state%map%candidate_equation) > 0) then
+         call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+                               system%tangent, internal)
+      end if
+   end subroutine equilibrium_at
+
+   !> The reaction unknowns of x, one per candidate (0 for inert ones).
+   pure function candidate_values(map, x) result(values)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:)
+      real(dp) :: values(size(map%candidate_equation))
+      integer :: c
+      values = 0.0_dp
+      do c = 1, size(values)
+         if (map%candidate_equation(c) > 0) values(c) = x(map%candidate_equation(c))
+      end do
+   end function candidate_values
+
+   !> Largest residual of the contact rows (gap units for the working set, reactions for the rest).
+   pure real(dp) function constraint_residual(map, residual) result(largest)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: residual(:)
+      largest = 0.0_dp
+      if (size(map%candidate_equation) > 0) largest = maxval(abs((1.0_dp - map%metric)*residual))
+   end function constraint_residual
+
+   !> Factorise the tangent and solve it for the residual and the reference load: rhs(:, 1:2).
+   !> Errors: band_factorize's and band_solve's (a singular tangent).
+   subroutine factorize_and_solve(tangent, residual, reference, rhs, error)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(in) :: residual(:), reference(:)
+      real(dp), intent(inout) :: rhs(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      call band_factorize(tangent, error)
+      if (allocated(error)) return
+      rhs(:, 1) = residual
+      rhs(:, 2) = reference
+      call band_solve(tangent, rhs, error)
+   end subroutine factorize_and_solve
+
+   !> Dot product over the displacement unknowns only (the metric masks the reactions out).
+   pure real(dp) function masked_dot(map, a, b)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: a(:), b(:)
+      masked_dot = sum(map%metric*a*b)
+   end function masked_dot
+
+   !> Norm over the displacement unknowns only.
+   pure real(dp) function masked_norm(map, a)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: a(:)
+      masked_norm = sqrt(sum(map%metric*a**2))
+   end function masked_norm
+
+   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
+   subroutine nodal_displacements(model, state, nodal)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), allocatable, intent(out) :: nodal(:, :)
+      allocate (nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(state%map, state%u, nodal)
+   end subroutine nodal_displacements
+
+   !> Reactions of every candidate at the committed state (exactly 0 for those out of contact).
+   pure function candidate_reactions(state) result(reaction)
+      type(path_state_t), intent(in) :: state
+      real(dp), allocatable :: reaction(:)
+      integer :: c
+      allocate (reaction(size(state%map%candidate_equation)), source=0.0_dp)
+      if (.not. allocated(state%reactions)) return
+      ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
+      do c = 1, size(reaction)
+         if (state%active(c)) reaction(c) = state%reactions(c)
+      end do
+   end function candidate_reactions
+
+end module uniarc_path_state
