@@ -241,7 +241,7 @@ contains
    !> Newton at fixed load λ = 0.3 (pinch about 2 % of R) from u = 0 on the pinched ring, 30
    !> iterations. Newton converges in about 5; after that ||g||/||λR|| wanders on a plateau, the
    !> round-off floor, reported as the median over iterations 11…30. The convergence test of
-   !> uniarc_path_following needs ||g|| <= tolerance × ||λR||, so where the floor exceeds the
+   !> uniarc_path_newton needs ||g|| <= tolerance × ||λR||, so where the floor exceeds the
    !> tolerance (default 1e-8) no step can converge, however small.
    subroutine bench_round_off(deck, largest_n)
       character(len=*), intent(in) :: deck

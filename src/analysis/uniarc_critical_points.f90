@@ -7,7 +7,7 @@
 !> least magnitude, interpolated linearly between the points, vanishes.
 module uniarc_critical_points
    use uniarc_kinds, only: dp
-   use uniarc_path_following, only: path_point_t
+   use uniarc_path_state, only: path_point_t
    implicit none
    private
    public :: critical_event_t, find_critical_events, find_contact_events
