@@ -108,10 +108,11 @@ stems = [os.path.splitext(os.path.basename(f))[0] for f in files]
 first_names = header(files[0])
 if not xcolumn:
     xcolumn = first_names[2] if len(first_names) > 2 and first_names[2] != 'n_contact' else 'step'
-kinds = {'limit_max': 'limit point', 'limit_min': 'limit point', 'bifurcation': 'bifurcation'}
+kinds = {'limit_max': 'limit point', 'limit_min': 'limit point', 'bifurcation': 'bifurcation',
+         'unilateral_bifurcation': 'lift-off bifurcation'}
 if contact == 'yes':
     kinds.update({'contact_start': 'contact starts', 'contact_lost': 'contact lost'})
-styles = {'limit point': 'pt 7 ps 1.6', 'bifurcation': 'pt 13 ps 1.9',
+styles = {'limit point': 'pt 7 ps 1.6', 'bifurcation': 'pt 13 ps 1.9', 'lift-off bifurcation': 'pt 12 ps 1.9',
           'contact starts': 'pt 8 ps 1.5', 'contact lost': 'pt 10 ps 1.5'}
 plots, blocks, used = [], [], []
 for number, path in enumerate(files):

@@ -14,7 +14,7 @@ module uniarc_critical_points
 
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
-      character(len=:), allocatable :: kind   !< limit_max, limit_min or bifurcation
+      character(len=:), allocatable :: kind   !< limit_max, limit_min, bifurcation or unilateral_bifurcation
       real(dp) :: position = 0.0_dp           !< step number, fractional (e.g. 12.4)
       real(dp) :: lambda = 0.0_dp
       real(dp) :: fraction = 0.0_dp           !< 0..1 between the two points
@@ -55,7 +55,13 @@ contains
          unexplained = max(0, unexplained - 1)
       end if
       if (unexplained > 0) then
-         event%kind = 'bifurcation'
+         ! A change of the count on the tangent with touching contacts released is a lift-off
+         ! (unilateral) bifurcation: the structure buckles away from contacts that carry no force.
+         if (before%liftoff .or. after%liftoff) then
+            event%kind = 'unilateral_bifurcation'
+         else
+            event%kind = 'bifurcation'
+         end if
          event%fraction = 0.5_dp
          if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then
             event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)

@@ -30,7 +30,7 @@ module uniarc_path_following
                                 nodal_displacements, candidate_reactions, equilibrium_at
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
-   use uniarc_path_stability, only: structural_inertia, least_eigenvalue
+   use uniarc_path_stability, only: structural_inertia, least_eigenvalue, liftoff_stability
    use uniarc_path_point, only: describe_point
    implicit none
    private
@@ -199,6 +199,7 @@ contains
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
       state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
+      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance)
    end subroutine commit_tangent
 
    !> Prefix a step's error message with where it happened and from which λ.

@@ -17,7 +17,7 @@ module uniarc_path_contact_set
    implicit none
    private
    public :: set_update_t, complementary, violation, sign_rule, candidate_state, touching_candidates, &
-             solve_contact_lcp
+             solve_contact_lcp, contact_units
 
    !> The working set the contact LCP chose.
    type :: set_update_t

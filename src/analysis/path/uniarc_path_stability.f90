@@ -1,13 +1,21 @@
 !> Stability of a converged state of the path from its factorised tangent: the inertia (Sylvester's
 !> law: negative pivots are negative eigenvalues) and the eigenvalue of least magnitude by inverse
-!> iteration, which the critical-point detector (uniarc_critical_points) interpolates between steps.
+!> iteration, which the critical-point detector (uniarc_critical_points) interpolates between steps;
+!> and the lift-off test of contacts that touch without force (`liftoff_stability`).
 module uniarc_path_stability
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors
+   use uniarc_model, only: model_t
+   use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
+                          band_add, band_set, band_factorize
+   use uniarc_dof_map, only: candidate_live
+   use uniarc_contact, only: candidate_gap
+   use uniarc_path_state, only: path_state_t, nodal_displacements
+   use uniarc_path_contact_set, only: candidate_state, contact_units
+   use uniarc_contact_lcp, only: contact_scales_t
    implicit none
    private
-   public :: structural_inertia, least_eigenvalue
+   public :: structural_inertia, least_eigenvalue, liftoff_stability
 
 contains
 
@@ -75,5 +83,106 @@ contains
       if (all(abs(x(:, 1)) <= huge(1.0_dp))) mode = x(:, 1)
       if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
    end function least_eigenvalue
+
+   !> Stability with contacts that touch without force (Klarbring 1988; Cottle, Pang & Stone 1992,
+   !> §3.8 on copositivity): such a contact is in the working set, so K_S holds it as if bonded, but a
+   !> perturbation may open it at no cost. The second variation of the energy is then
+   !> δuᵀK_open δu + Σ_weak k_c min(0, a_cᵀδu)² (a rigid contact: a_cᵀδu ≥ 0 on the cone), where
+   !> K_open is K_S with the weak contacts released. The state is stable if K_open is positive definite
+   !> and unstable if K_S is not; between the two, the least mode v of K_open decides when it lifts
+   !> every weak contact off or leaves it (a_cᵀ(±v) ≥ 0 for all of them: the min terms vanish, and
+   !> vᵀK_open v is the energy along it). Then the point's inertia and least eigenvalue are K_open's
+   !> (`point%liftoff`) — a pinned strut resting on a tensionless bed buckles at Euler's load, not at
+   !> the bonded bed's. A mode that would press into some weak contact is not on the cone, and the
+   !> bonded count of K_S stands.
+   !>
+   !> `assembled` is K_S unfactorised (left unchanged: it is copied). Weak: in the working set with a
+   !> reaction at most `tolerance` × the force unit. Costs one more factorisation at the states that
+   !> have weak contacts, nothing at the others.
+   subroutine liftoff_stability(model, state, assembled, tolerance)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(band_matrix_t), intent(in) :: assembled
+      real(dp), intent(in) :: tolerance
+      type(band_matrix_t) :: open_tangent
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:)
+      logical, allocatable :: weak(:)
+      real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu, largest, lowest, highest, a_v
+      integer :: c, i, j, node, row, negative, n_rows
+      integer, allocatable :: eq(:)
+      logical :: singular, found
+      type(error_t), allocatable :: error
+      state%point%liftoff = .false.
+      if (size(state%map%candidate_equation) == 0) return
+      call nodal_displacements(model, state, nodal)
+      call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
+      units = contact_units(state, state%u, reaction, state%active)
+      force_unit = units%force
+      allocate (weak(size(reaction)))
+      do c = 1, size(reaction)
+         weak(c) = state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral &
+                   .and. reaction(c) <= tolerance*force_unit
+      end do
+      if (.not. any(weak)) return
+      call band_copy(assembled, open_tangent)
+      n_rows = count(state%active .and. state%map%candidate_equation > 0)
+      do c = 1, size(weak)
+         if (.not. weak(c)) cycle
+         node = model%contacts(c)%node
+         eq = state%map%equation(1:2, node)
+         row = state%map%candidate_equation(c)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         if (row > 0) then
+            ! released row: r = 0 (the identity row of a free candidate)
+            do i = 1, 2
+               if (eq(i) > 0) call band_set(open_tangent, row, eq(i), 0.0_dp)
+            end do
+            call band_set(open_tangent, row, row, 1.0_dp)
+            n_rows = n_rows - 1
+         else
+            ! condensed spring: its stiffness a aᵀ/t − r ∂a/∂u out (r = −g/t at the state)
+            do i = 1, 2
+               if (eq(i) == 0) cycle
+               do j = 1, 2
+                  if (eq(j) > 0) call band_add(open_tangent, eq(i), eq(j), &
+                                               -(gradient(i)*gradient(j) + g*hessian(i, j))/model%contacts(c)%flexibility)
+               end do
+            end do
+         end if
+      end do
+      call band_inertia(open_tangent, negative, singular)
+      negative = max(0, negative - n_rows)
+      call band_factorize(open_tangent, error)
+      if (allocated(error)) return
+      if (allocated(state%liftoff_mode)) mode = state%liftoff_mode
+      mu = least_eigenvalue(open_tangent, mode)
+      if (.not. allocated(mode)) return
+      state%liftoff_mode = mode
+      ! On the cone: every weak contact lifts off or stays along +v (or along −v).
+      largest = 0.0_dp
+      lowest = huge(1.0_dp)
+      highest = -huge(1.0_dp)
+      do c = 1, size(weak)
+         if (.not. weak(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         a_v = 0.0_dp
+         do i = 1, 2
+            if (state%map%equation(i, node) > 0) a_v = a_v + gradient(i)*mode(state%map%equation(i, node))
+         end do
+         largest = max(largest, abs(a_v))
+         lowest = min(lowest, a_v)
+         highest = max(highest, a_v)
+      end do
+      ! Admissible within the round-off of the mode (unit vector): 1e-6 of its largest opening.
+      if (lowest >= -1.0e-6_dp*largest .or. highest <= 1.0e-6_dp*largest) then
+         if (negative >= state%point%neg_pivots) then
+            state%point%neg_pivots = negative
+            state%point%min_eigenvalue = mu
+            state%point%liftoff = .true.
+         end if
+      end if
+   end subroutine liftoff_stability
 
 end module uniarc_path_stability

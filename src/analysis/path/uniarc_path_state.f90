@@ -34,6 +34,9 @@ module uniarc_path_state
       real(dp), allocatable :: rate(:)  !< du/ds (equations) in the direction of travel
       integer :: neg_pivots = 0         !< negative pivots of K_T (Sylvester: negative eigenvalues)
       real(dp) :: min_eigenvalue = 0.0_dp   !< eigenvalue of K_T of least magnitude (inverse iteration)
+      !> neg_pivots and min_eigenvalue are those of the tangent with the contacts that touch without
+      !> force released (uniarc_path_stability, lift-off): its least mode may lift them off.
+      logical :: liftoff = .false.
       integer :: iterations = 0
       integer :: lcp_pivots = 0             !< Lemke pivots spent on the step
       real(dp) :: lcp_residual = 0.0_dp     !< complementarity residual at the converged state
@@ -62,6 +65,7 @@ module uniarc_path_state
       type(path_system_t), allocatable :: system
       real(dp), allocatable :: committed_residual(:)  !< λR − F_aug at the committed state
       real(dp), allocatable :: eigenvector(:)   !< last mode of least eigenvalue (warm start)
+      real(dp), allocatable :: liftoff_mode(:)  !< the same with the touching contacts released
       real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
       logical, allocatable :: active(:)         !< committed working set of contact candidates
       real(dp), allocatable :: reactions(:)     !< committed reaction of every candidate (0 out of the set)
