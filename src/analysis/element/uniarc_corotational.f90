@@ -17,7 +17,7 @@ module uniarc_corotational
    use uniarc_kinds, only: dp
    use uniarc_frame_linear, only: pressure_load_vector
    use uniarc_transformation, only: chord_t, transformation_corotational, transform_deformations, &
-                                    transform_to_global, corotational_kinematics
+                                    transform_to_global, corotational_kinematics, outer
    use uniarc_basic_beam, only: beam_basic_response
    implicit none
    private
@@ -97,15 +97,5 @@ contains
                - (pressure/6.0_dp)*(outer(e_t, v) + outer(v, e_t)) &
                - (pressure*relative_turn/6.0_dp)*(outer(e_x, e_x) + outer(e_y, e_y))
    end subroutine follower_pressure
-
-   !> Outer product a bᵀ of two 6-vectors.
-   pure function outer(a, b) result(m)
-      real(dp), intent(in) :: a(6), b(6)
-      real(dp) :: m(6, 6)
-      integer :: j
-      do j = 1, 6
-         m(:, j) = a*b(j)
-      end do
-   end function outer
 
 end module uniarc_corotational

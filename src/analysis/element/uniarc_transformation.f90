@@ -19,7 +19,7 @@ module uniarc_transformation
    private
    public :: chord_t, transformation_linear, transformation_corotational
    public :: transform_deformations, transform_to_global, transform_end_forces
-   public :: compatibility_matrix, corotational_kinematics
+   public :: compatibility_matrix, corotational_kinematics, outer
 
    !> The coordinate transformations.
    integer, parameter :: transformation_linear = 1       !< small displacements, initial chord
