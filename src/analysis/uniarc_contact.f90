@@ -21,12 +21,12 @@ module uniarc_contact
    use uniarc_model, only: model_t, contact_candidate_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_matrix_t, band_add
+   use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
-   public :: candidate_gap, assemble_contact, contact_summary_t, summarize_contact
+   public :: candidate_gap, assemble_contact, toggle_contacts, contact_summary_t, summarize_contact
 
    !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
    type :: contact_summary_t
@@ -89,6 +89,59 @@ contains
          end associate
       end do
    end subroutine assemble_contact
+
+   !> Move the candidates `flip` in or out of the working set in an assembled augmented tangent and
+   !> its residual λR − F_aug (n) at nodal displacements (3, n_nodes) and reactions (one per
+   !> candidate); `active` is the new set. The same result as assembling again with the new set
+   !> (assemble_contact; round-off apart), at the cost of the flipped candidates only.
+   subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: displacement(:, :), reactions(:)
+      logical, intent(in) :: flip(:), active(:)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: residual(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), sign, reaction
+      integer :: c, i, j, row, node, eq(2)
+      do c = 1, size(flip)
+         if (.not. flip(c)) cycle
+         row = map%candidate_equation(c)
+         if (row == 0 .and. .not. map%condensed(c)) cycle
+         associate (candidate => model%contacts(c))
+            node = candidate%node
+            eq = map%equation(1:2, node)
+            call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
+                               gradient, hessian)
+            if (row == 0) then
+               ! condensed spring: a aᵀ/t − r ∂a/∂u and the force a r, r = −g/t, come in or go out
+               sign = -1.0_dp
+               if (active(c)) sign = 1.0_dp
+               reaction = -gap/candidate%flexibility
+               do i = 1, 2
+                  if (eq(i) == 0) cycle
+                  residual(eq(i)) = residual(eq(i)) + sign*gradient(i)*reaction
+                  do j = 1, 2
+                     if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
+                                                  sign*(gradient(i)*gradient(j)/candidate%flexibility - &
+                                                        reaction*hessian(i, j)))
+                  end do
+               end do
+            else if (active(c)) then
+               do i = 1, 2
+                  if (eq(i) > 0) call band_set(tangent, row, eq(i), -gradient(i))
+               end do
+               call band_set(tangent, row, row, -candidate%flexibility)
+               residual(row) = gap + candidate%flexibility*reactions(c)
+            else
+               do i = 1, 2
+                  if (eq(i) > 0) call band_set(tangent, row, eq(i), 0.0_dp)
+               end do
+               call band_set(tangent, row, row, 1.0_dp)
+               residual(row) = -reactions(c)
+            end if
+         end associate
+      end do
+   end subroutine toggle_contacts
 
    !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).

@@ -181,9 +181,16 @@ contains
       system%holds_committed = .false.
       n = state%map%n_equations
       allocate (internal(n), reference(n), rhs(n, 1))
-      call nodal_displacements(model, state, nodal)
-      call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, reference, &
-                          element_scale)
+      if (system%holds_converged) then
+         ! The attempt's last assembly is this very state (the same u, λ and working set).
+         internal = system%converged_internal
+         reference = system%converged_reference
+         system%holds_converged = .false.
+      else
+         call nodal_displacements(model, state, nodal)
+         call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
+                             reference, element_scale)
+      end if
       state%reference = reference
       ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
       ! LCP needs both): the step's first attempt does not assemble and factorise them again.

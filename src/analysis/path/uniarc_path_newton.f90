@@ -20,7 +20,8 @@ module uniarc_path_newton
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
-                                has_contacts, new_linearization
+                                has_contacts, new_linearization, candidate_values
+   use uniarc_contact, only: toggle_contacts
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda
    use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp
    implicit none
@@ -101,6 +102,15 @@ contains
                                   1.0e3_dp*epsilon(1.0_dp)*masked_norm(map, total), tiny(1.0_dp))
    end subroutine check_correction
 
+   !> The converged state's assembly stays for the commit (system%tangent still holds it, unfactorised).
+   subroutine keep_converged(system, lin)
+      type(path_system_t), intent(inout) :: system
+      type(linearization_t), intent(in) :: lin
+      system%holds_converged = .true.
+      system%converged_internal = lin%internal
+      system%converged_reference = lin%reference
+   end subroutine keep_converged
+
    !> One attempt at a step of length trial%length from the committed state: on return trial%converged
    !> says whether equilibrium and complementarity hold at state%u + trial%increment, state%lambda +
    !> trial%dlambda with the working set trial%active; if not, trial%reason says why. `system` is
@@ -121,6 +131,7 @@ contains
       real(dp) :: lambda, dl, force_scale
       logical :: contacts, predicted, reuse_factors, in_equilibrium, update_set, solved, fresh_set
       trial%converged = .false.
+      system%holds_converged = .false.
       trial%reason = 'iteration limit'
       trial%active = state%active
       trial%lcp_pivots = 0
@@ -161,10 +172,12 @@ contains
                end if
                if (.not. contacts) then
                   trial%converged = .true.
+                  call keep_converged(system, lin)
                   exit
                end if
                if (complementary(model, state, lin%x, lin%nodal, trial%active)) then
                   trial%converged = .true.
+                  call keep_converged(system, lin)
                   exit
                end if
                ! Equilibrium with a wrong contact set: the LCP at this state gives the next set.
@@ -182,11 +195,15 @@ contains
                   call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active)
                   if (any(new_active .neqv. trial%active)) then
                      trial%set_changes = trial%set_changes + 1
+                     ! The tangent and residual of the new set at this same state: the flipped
+                     ! candidates' rows and springs edited in place, no assembly.
+                     call toggle_contacts(model, state%map, lin%nodal, candidate_values(state%map, lin%x), &
+                                          new_active .neqv. trial%active, new_active, system%tangent, &
+                                          lin%rhs(:, 1))
                      trial%active = new_active
                      call restart_test(test)
-                     fresh_set = .true.
                      reuse_factors = .false.
-                     cycle
+                     update_set = .false.
                   end if
                end if
             end if

@@ -23,7 +23,7 @@ module uniarc_path_state
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
-             factorize_and_solve, constraint_residual, has_contacts, new_linearization
+             factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -54,6 +54,10 @@ module uniarc_path_state
       !> tangent and assembled are the committed state's K_T, factorised and unfactorised, with
       !> path_state_t%committed_residual: set by the commit, cleared by the first attempt that uses them.
       logical :: holds_committed = .false.
+      !> tangent holds K_T assembled, unfactorised, at the converged state of the last attempt, and
+      !> converged_internal, converged_reference its F_aug and R: the commit needs no assembly.
+      logical :: holds_converged = .false.
+      real(dp), allocatable :: converged_internal(:), converged_reference(:)
    end type path_system_t
 
    !> The committed state of the path and what the next step needs. Only path_initialize and
