@@ -1,7 +1,7 @@
 !> Linear static analysis: K u = λ R_r with λ = 1 on the initial geometry.
 module uniarc_linear_static
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, add_context
+   use uniarc_error, only: error_t, add_context, make_error, error_input
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia
@@ -23,6 +23,17 @@ contains
       type(band_matrix_t) :: stiffness
       real(dp), allocatable :: rhs(:, :)
       logical :: singular
+      ! K here is the structure's alone: with a contact medium it would answer for the structure
+      ! without it. Until the static contact LCP exists, the deck is refused (input: exit 2).
+      if (allocated(model%contacts)) then
+         if (size(model%contacts) > 0) then
+            call make_error(error, 'linear static analysis: the model has a contact medium (*FOUNDATION, '// &
+                            '*SPRING or *OBSTACLE), which *STATIC (the default analysis) does not include yet; '// &
+                            'trace it with *PATH (CONTROL=LOAD up to lambda_max = 1 gives the geometrically nonlinear answer)', &
+                            error_input)
+            return
+         end if
+      end if
       call build_dof_map(model, map)
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
       call assemble_linear_stiffness(model, map, stiffness)

@@ -74,7 +74,7 @@ contains
                return
             end if
          end if
-         call commit_tangent(model, state, system, error)
+         call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
             call add_where(error, 'unloaded state', state)
@@ -144,7 +144,7 @@ contains
          state%active = trial%active
          state%last_increment = trial%increment
          state%point%s = state%point%s + masked_norm(state%map, trial%increment)
-         call commit_tangent(model, state, system, error)
+         call commit_tangent(model, state, system, .false., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
             call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
@@ -170,10 +170,11 @@ contains
    !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
    !> residual, K⁻¹R, inertia and least eigenvalue into the state.
    !> Errors: a singular tangent (band_factorize, band_solve).
-   subroutine commit_tangent(model, state, system, error)
+   subroutine commit_tangent(model, state, system, unloaded, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(path_system_t), intent(inout) :: system
+      logical, intent(in) :: unloaded   !< the unloaded state of path_initialize
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale
@@ -206,7 +207,7 @@ contains
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
       state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
-      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance)
+      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
    end subroutine commit_tangent
 
    !> Prefix a step's error message with where it happened and from which λ.

@@ -88,33 +88,34 @@ contains
    !> §3.8 on copositivity): such a contact is in the working set, so K_S holds it as if bonded, but a
    !> perturbation may open it at no cost. The second variation of the energy is then
    !> δuᵀK_open δu + Σ_weak k_c min(0, a_cᵀδu)² (a rigid contact: a_cᵀδu ≥ 0 on the cone), where
-   !> K_open is K_S with the weak contacts released. The state is stable if K_open is positive definite
-   !> and unstable if K_S is not; between the two, the least mode v of K_open decides when it lifts
-   !> every weak contact off or leaves it (a_cᵀ(±v) ≥ 0 for all of them: the min terms vanish, and
-   !> vᵀK_open v is the energy along it). Then the point's inertia and least eigenvalue are K_open's
-   !> (`point%liftoff`) — a pinned strut resting on a tensionless bed buckles at Euler's load, not at
-   !> the bonded bed's. A mode that would press into some weak contact is not on the cone, and the
-   !> bonded count of K_S stands.
+   !> K_open is K_S with the weak contacts released. It is positive for all δu ≠ 0 if K_open is positive
+   !> definite. uniarc counts the negative pivots of K_open at such states (`point%liftoff`), with its
+   !> least eigenvalue for the locator: conservative, since a negative mode of K_open that would press
+   !> into a weak contact is counted too, and never later than the first lift-off — a pinned strut
+   !> resting on a tensionless bed buckles at Euler's load, not at the bonded bed's.
    !>
    !> `assembled` is K_S unfactorised (left unchanged: it is copied). Weak: in the working set with a
-   !> reaction at most `tolerance` × the force unit. Costs one more factorisation at the states that
-   !> have weak contacts, nothing at the others.
-   subroutine liftoff_stability(model, state, assembled, tolerance)
+   !> reaction at most `tolerance` × the force unit (reactions below it are round-off of zero). Not
+   !> at the unloaded state (`unloaded`), where every resting contact touches without force and a
+   !> structure lying on its medium is neutral, not unstable. Costs one more band LU and inertia count
+   !> at the states that have weak contacts, nothing at the others.
+   subroutine liftoff_stability(model, state, assembled, tolerance, unloaded)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(band_matrix_t), intent(in) :: assembled
       real(dp), intent(in) :: tolerance
+      logical, intent(in) :: unloaded
       type(band_matrix_t) :: open_tangent
       type(contact_scales_t) :: units
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:)
       logical, allocatable :: weak(:)
-      real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu, largest, lowest, highest, a_v
+      real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu
       integer :: c, i, j, node, row, negative, n_rows
       integer, allocatable :: eq(:)
-      logical :: singular, found
+      logical :: singular
       type(error_t), allocatable :: error
       state%point%liftoff = .false.
-      if (size(state%map%candidate_equation) == 0) return
+      if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal)
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
       units = contact_units(state, state%u, reaction, state%active)
@@ -157,32 +158,10 @@ contains
       if (allocated(error)) return
       if (allocated(state%liftoff_mode)) mode = state%liftoff_mode
       mu = least_eigenvalue(open_tangent, mode)
-      if (.not. allocated(mode)) return
-      state%liftoff_mode = mode
-      ! On the cone: every weak contact lifts off or stays along +v (or along −v).
-      largest = 0.0_dp
-      lowest = huge(1.0_dp)
-      highest = -huge(1.0_dp)
-      do c = 1, size(weak)
-         if (.not. weak(c)) cycle
-         node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
-         a_v = 0.0_dp
-         do i = 1, 2
-            if (state%map%equation(i, node) > 0) a_v = a_v + gradient(i)*mode(state%map%equation(i, node))
-         end do
-         largest = max(largest, abs(a_v))
-         lowest = min(lowest, a_v)
-         highest = max(highest, a_v)
-      end do
-      ! Admissible within the round-off of the mode (unit vector): 1e-6 of its largest opening.
-      if (lowest >= -1.0e-6_dp*largest .or. highest <= 1.0e-6_dp*largest) then
-         if (negative >= state%point%neg_pivots) then
-            state%point%neg_pivots = negative
-            state%point%min_eigenvalue = mu
-            state%point%liftoff = .true.
-         end if
-      end if
+      if (allocated(mode)) state%liftoff_mode = mode
+      state%point%neg_pivots = max(state%point%neg_pivots, negative)
+      state%point%min_eigenvalue = mu
+      state%point%liftoff = .true.
    end subroutine liftoff_stability
 
 end module uniarc_path_stability
