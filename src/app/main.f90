@@ -3,7 +3,7 @@
 program main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_error, only: error_t, error_input, error_analysis
-   use uniarc_foreign, only: exit_program
+   use uniarc_foreign, only: exit_program, ignore_file_size_signal
    use uniarc_model, only: model_t
    use uniarc_deck, only: read_deck
    use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
@@ -14,6 +14,8 @@ program main
    type(run_options_t) :: run_options
    type(error_t), allocatable :: error
 
+   ! A file size limit (ulimit -f) makes writes fail with EFBIG, reported like a full file system.
+   call ignore_file_size_signal()
    call parse_command_line(cli, error)
    if (allocated(error)) call fail(error)
    if (cli%help) then

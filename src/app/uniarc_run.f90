@@ -10,9 +10,11 @@ module uniarc_run
                                  stop_load_limit, stop_track_limit, stop_step_limit
    use uniarc_contact, only: contact_summary_t, summarize_contact
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
-                            write_crit_row, commit_outputs, format_number
+                            write_crit_row, close_outputs, discard_outputs, format_number
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
+   use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
+                                      abandon_results
    implicit none
    private
    public :: run_options_t, run_model
@@ -27,58 +29,69 @@ module uniarc_run
 
 contains
 
-   !> Run the model's analysis; the result files are complete (renamed) whether it succeeds or fails.
+   !> Run the model's analysis and write its result files into OUTDIR (uniarc_result_directory):
+   !> claimed first (an unusable or locked OUTDIR is bad input, and nothing is computed), then written
+   !> in the run's work directory and moved to their final names together when every file is complete
+   !> — when the analysis succeeds and when it fails part-way (docs/contracts.md: exit code 1, every
+   !> converged step). An I/O error stops the run and removes its unfinished files.
    subroutine run_model(model, options, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
+      type(result_directory_t) :: results
+      call claim_result_directory(options%output_directory, options%stem, results, error)
+      if (allocated(error)) return
       select case (model%analysis%kind)
       case (analysis_linear)
-         call run_linear(model, options, error)
+         call run_linear(model, options, results, error)
       case (analysis_nonlinear)
-         call run_path(model, options, error)
+         call run_path(model, options, results, error)
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select
+      ! The lock and the work directory go on every way out (nothing left once the files are committed).
+      call abandon_results(results)
    end subroutine run_model
 
-   subroutine run_linear(model, options, error)
+   subroutine run_linear(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
+      type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(step_record_t) :: record
-      type(error_t), allocatable :: commit_error
+      type(error_t), allocatable :: io_error
       call solve_linear_static(model, record%displacement, record%neg_pivots, error)
       if (allocated(error)) return
       record%step = 1
       record%lambda = 1.0_dp
       record%iterations = 1
-      call open_outputs(model, options%output_directory, options%stem, files, error)
+      call open_outputs(model, results, files, io_error)
+      call open_vtk_series(model, options%stem, vtk)
+      if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
+      if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
-      call open_vtk_series(model, options%output_directory, options%stem, vtk)
-      call write_path_row(files, model, record)
-      call write_shape(files, model, record)
-      call finish_vtk_series(vtk, model, record, error)
-      call commit_outputs(files, commit_error)
-      if (allocated(commit_error) .and. .not. allocated(error)) call move_alloc(commit_error, error)
       if (.not. options%quiet) call print_tracks(model, record)
    end subroutine run_linear
 
    !> Follow the equilibrium path with the path driver (uniarc_path_driver: the steps, the stop rules,
    !> the critical points between steps), writing each converged step, its critical points and the
-   !> progress messages.
-   subroutine run_path(model, options, error)
+   !> progress messages. An error of the analysis ends the path with the files of the steps so far; an
+   !> error of the result files ends it at once.
+   subroutine run_path(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
+      type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
       type(step_record_t) :: record
-      type(error_t), allocatable :: commit_error
+      type(error_t), allocatable :: io_error
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
       integer :: k, n_events
       logical :: done
@@ -86,33 +99,37 @@ contains
       clock_last = clock_start
       call driver_start(model, driver, error)
       if (allocated(error)) return
-      call open_outputs(model, options%output_directory, options%stem, files, error)
-      if (allocated(error)) return
-      call open_vtk_series(model, options%output_directory, options%stem, vtk)
+      call open_outputs(model, results, files, io_error)
+      call open_vtk_series(model, options%stem, vtk)
       call record_state(model, driver, record)
-      call write_path_row(files, model, record)
-      call write_shape(files, model, record)
+      if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
+      if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
+      if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
       n_events = 0
-      call write_vtk_snapshot(vtk, model, record, error)
-      done = allocated(error)
+      done = allocated(io_error)
       do while (.not. done)
          call driver_step(model, driver, outcome, error)
          if (allocated(error)) exit
          call record_state(model, driver, record)
-         call write_path_row(files, model, record)
+         call write_path_row(files, model, record, io_error)
+         if (allocated(io_error)) exit
          do k = 1, size(outcome%events)
             call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
-                                outcome%events(k)%lambda, outcome%event_tracked(:, k))
+                                outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
+            if (allocated(io_error)) exit
             n_events = n_events + 1
             if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a)') '  ', outcome%events(k)%kind, &
                ' at step ', trim(format_number(outcome%events(k)%position)), ': lambda = ', &
                trim(format_number(outcome%events(k)%lambda))
          end do
-         if (mod(record%step, model%analysis%shape_every) == 0) &
-            call write_shape(files, model, record)
+         if (allocated(io_error)) exit
+         if (mod(record%step, model%analysis%shape_every) == 0) then
+            call write_shape(files, model, record, io_error)
+            if (allocated(io_error)) exit
+         end if
          if (vtk_snapshot_due(vtk, record%step)) then
-            call write_vtk_snapshot(vtk, model, record, error)
-            if (allocated(error)) exit
+            call write_vtk_snapshot(vtk, results, model, record, io_error)
+            if (allocated(io_error)) exit
          end if
          done = driver%stop /= stop_none
          call system_clock(clock_now)
@@ -127,24 +144,42 @@ contains
             clock_last = clock_now
          end if
       end do
-      if (mod(record%step, model%analysis%shape_every) /= 0) &
-         call write_shape(files, model, record)
-      ! The last converged step closes the VTK series, also when the path failed after it; an error
-      ! of the analysis comes first in the report.
-      call finish_vtk_series(vtk, model, record, commit_error)
-      if (allocated(commit_error) .and. .not. allocated(error)) call move_alloc(commit_error, error)
-      call commit_outputs(files, commit_error)
+      if (.not. allocated(io_error) .and. mod(record%step, model%analysis%shape_every) /= 0) &
+         call write_shape(files, model, record, io_error)
+      ! The last converged step closes the VTK series, also when the path failed after it.
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
-      if (allocated(commit_error)) then
-         call move_alloc(commit_error, error)
-         return
-      end if
       if (.not. options%quiet) then
          write (output_unit, '(a,i0,a,a,a,a)') 'path traced: ', record%step, ' steps, lambda = ', &
             trim(format_number(record%lambda)), '; stopped by ', stop_message(model, driver)
          write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
       end if
    end subroutine run_path
+
+   !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
+   !> their final names together, and `error` (the analysis' error, if any) is left as it is. After an
+   !> I/O error — of a write, a flush, a close or the commit — the files not moved are removed, and
+   !> `error` becomes the I/O error (analysis category, exit code 1), which says so and names any
+   !> analysis error before it.
+   subroutine conclude_outputs(files, results, io_error, error)
+      type(output_files_t), intent(inout) :: files
+      type(result_directory_t), intent(inout) :: results
+      type(error_t), allocatable, intent(inout) :: io_error
+      type(error_t), allocatable, intent(inout) :: error
+      if (.not. allocated(io_error)) call close_outputs(files, io_error)
+      if (.not. allocated(io_error)) then
+         call commit_results(results, io_error)
+      else
+         call discard_outputs(files)
+         call abandon_results(results)
+         io_error%message = io_error%message//'; the run stopped and removed its unfinished result files '// &
+                            '(no file of this run is in '//results%directory//')'
+      end if
+      if (.not. allocated(io_error)) return
+      if (allocated(error)) io_error%message = io_error%message//'; before that: '//error%message
+      call move_alloc(io_error, error)
+   end subroutine conclude_outputs
 
    !> The committed state of the path as a row of the result files.
    subroutine record_state(model, driver, record)

@@ -2,8 +2,14 @@
 !>
 !> Keeping them here means every call is checked against an explicit interface
 !> (-Werror=implicit-interface) and LAPACK's `info` is translated into an error in one place.
+!>
+!> The result files are written through C's stdio (stream_t) rather than Fortran units: libgfortran
+!> (12.2) drops the errors of write(2) — a full file system or a file size limit gives iostat = 0
+!> and a file cut short — whereas fwrite/fflush/fclose report them, with errno's words (strerror).
+!> errno is read through `__errno_location`, the accessor of glibc and musl (Linux).
 module uniarc_foreign
-   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_null_ptr, c_size_t, &
+                                          c_funptr, c_null_funptr, c_intptr_t, c_associated, c_f_pointer
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis, error_internal
@@ -12,6 +18,17 @@ module uniarc_foreign
    private
    public :: dgbtrf, dgbtrs, dgetrf, dgetrs
    public :: lapack_check, rename_file, make_directory, exit_program
+   public :: stream_t, stream_open, stream_write, stream_flush, stream_close
+   public :: remove_file, remove_directory, process_id, ignore_file_size_signal
+
+   !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
+   type :: stream_t
+      private
+      type(c_ptr) :: handle = c_null_ptr
+   end type stream_t
+
+   !> SIGXFSZ, sent to a process that writes past its file size limit (Linux; BSD and macOS too).
+   integer(c_int), parameter :: signal_file_size = 25_c_int
 
    interface
       !> LU factorisation of a general band matrix with partial pivoting (LAPACK).
@@ -71,6 +88,73 @@ module uniarc_foreign
          integer(c_int), value, intent(in) :: mode
          integer(c_int) :: status
       end function c_mkdir
+
+      function c_rmdir(path) bind(c, name='rmdir') result(status)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int) :: status
+      end function c_rmdir
+
+      function c_unlink(path) bind(c, name='unlink') result(status)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         integer(c_int) :: status
+      end function c_unlink
+
+      function c_getpid() bind(c, name='getpid') result(pid)
+         import :: c_int
+         integer(c_int) :: pid
+      end function c_getpid
+
+      function c_signal(signal_number, handler) bind(c, name='signal') result(previous)
+         import :: c_int, c_funptr
+         integer(c_int), value, intent(in) :: signal_number
+         type(c_funptr), value, intent(in) :: handler
+         type(c_funptr) :: previous
+      end function c_signal
+
+      function c_fopen(path, mode) bind(c, name='fopen') result(stream)
+         import :: c_char, c_ptr
+         character(kind=c_char), intent(in) :: path(*), mode(*)
+         type(c_ptr) :: stream
+      end function c_fopen
+
+      function c_fwrite(buffer, size, count, stream) bind(c, name='fwrite') result(written)
+         import :: c_char, c_size_t, c_ptr
+         character(kind=c_char), intent(in) :: buffer(*)
+         integer(c_size_t), value, intent(in) :: size, count
+         type(c_ptr), value, intent(in) :: stream
+         integer(c_size_t) :: written
+      end function c_fwrite
+
+      function c_fflush(stream) bind(c, name='fflush') result(status)
+         import :: c_int, c_ptr
+         type(c_ptr), value, intent(in) :: stream
+         integer(c_int) :: status
+      end function c_fflush
+
+      function c_fclose(stream) bind(c, name='fclose') result(status)
+         import :: c_int, c_ptr
+         type(c_ptr), value, intent(in) :: stream
+         integer(c_int) :: status
+      end function c_fclose
+
+      function c_errno_location() bind(c, name='__errno_location') result(location)
+         import :: c_ptr
+         type(c_ptr) :: location
+      end function c_errno_location
+
+      function c_strerror(number) bind(c, name='strerror') result(text)
+         import :: c_int, c_ptr
+         integer(c_int), value, intent(in) :: number
+         type(c_ptr) :: text
+      end function c_strerror
+
+      function c_strlen(text) bind(c, name='strlen') result(length)
+         import :: c_ptr, c_size_t
+         type(c_ptr), value, intent(in) :: text
+         integer(c_size_t) :: length
+      end function c_strlen
    end interface
 
 contains
@@ -97,7 +181,8 @@ contains
       character(len=*), intent(in) :: old_path, new_path
       type(error_t), allocatable, intent(out) :: error
       if (c_rename(old_path//c_null_char, new_path//c_null_char) /= 0) then
-         call make_error(error, 'cannot rename '//old_path//' to '//new_path, error_analysis)
+         call make_error(error, 'cannot rename '//old_path//' to '//new_path//': '//system_error_text(), &
+                         error_analysis)
       end if
    end subroutine rename_file
 
@@ -117,8 +202,98 @@ contains
       inquire (file=path//'/.', exist=exists)
       if (exists) return
       status = c_mkdir(path//c_null_char, int(o'755', c_int))
-      if (status /= 0) call make_error(error, 'cannot create output directory '//path, error_analysis)
+      if (status /= 0) call make_error(error, 'cannot create output directory '//path//': '// &
+                                       system_error_text(), error_analysis)
    end subroutine make_directory
+
+   !> Open `path` for writing as a new empty file (C's fopen mode "w"), or, when `exclusive`, only if
+   !> no file of that name exists (mode "wx", O_CREAT|O_EXCL: the one creation among racing processes
+   !> that succeeds). On failure `failure` holds the system's words (strerror of errno).
+   subroutine stream_open(path, exclusive, stream, failure)
+      character(len=*), intent(in) :: path
+      logical, intent(in) :: exclusive
+      type(stream_t), intent(out) :: stream
+      character(len=:), allocatable, intent(out) :: failure
+      if (exclusive) then
+         stream%handle = c_fopen(path//c_null_char, 'wx'//c_null_char)
+      else
+         stream%handle = c_fopen(path//c_null_char, 'w'//c_null_char)
+      end if
+      if (.not. c_associated(stream%handle)) failure = system_error_text()
+   end subroutine stream_open
+
+   !> Append `text` to the stream (buffered by stdio); `failure` is allocated when it was refused.
+   subroutine stream_write(stream, text, failure)
+      type(stream_t), intent(in) :: stream
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable, intent(out) :: failure
+      if (len(text) == 0) return
+      if (c_fwrite(text, 1_c_size_t, int(len(text), c_size_t), stream%handle) /= int(len(text), c_size_t)) &
+         failure = system_error_text()
+   end subroutine stream_write
+
+   !> Hand the stream's buffer to the system (fflush); `failure` is allocated when that failed.
+   subroutine stream_flush(stream, failure)
+      type(stream_t), intent(in) :: stream
+      character(len=:), allocatable, intent(out) :: failure
+      if (c_fflush(stream%handle) /= 0) failure = system_error_text()
+   end subroutine stream_flush
+
+   !> Flush and close the stream (fclose); the stream is closed even when `failure` is allocated.
+   subroutine stream_close(stream, failure)
+      type(stream_t), intent(inout) :: stream
+      character(len=:), allocatable, intent(out) :: failure
+      if (.not. c_associated(stream%handle)) return
+      if (c_fclose(stream%handle) /= 0) failure = system_error_text()
+      stream%handle = c_null_ptr
+   end subroutine stream_close
+
+   !> Remove a file (unlink); `removed` says whether it worked (a missing file is not removed).
+   subroutine remove_file(path, removed)
+      character(len=*), intent(in) :: path
+      logical, intent(out), optional :: removed
+      integer(c_int) :: status
+      status = c_unlink(path//c_null_char)
+      if (present(removed)) removed = status == 0
+   end subroutine remove_file
+
+   !> Remove an empty directory (rmdir); `removed` says whether it worked.
+   subroutine remove_directory(path, removed)
+      character(len=*), intent(in) :: path
+      logical, intent(out), optional :: removed
+      integer(c_int) :: status
+      status = c_rmdir(path//c_null_char)
+      if (present(removed)) removed = status == 0
+   end subroutine remove_directory
+
+   !> The process id (getpid), which makes the names of a run's temporary files its own.
+   integer function process_id()
+      process_id = int(c_getpid())
+   end function process_id
+
+   !> Ignore SIGXFSZ, so that a write past the file size limit (`ulimit -f`) fails with EFBIG and is
+   !> reported like a full file system, instead of killing the process (libgfortran installs a handler
+   !> that prints a backtrace and aborts, over an inherited SIG_IGN too).
+   subroutine ignore_file_size_signal()
+      type(c_funptr) :: previous
+      ! SIG_IGN is the handler address 1 in every C library uniarc is built with (glibc, musl).
+      previous = c_signal(signal_file_size, transfer(1_c_intptr_t, c_null_funptr))
+   end subroutine ignore_file_size_signal
+
+   !> The system's words for the current errno (strerror), right after a failed C call.
+   function system_error_text() result(text)
+      character(len=:), allocatable :: text
+      integer(c_int), pointer :: errno
+      type(c_ptr) :: words
+      character(kind=c_char), pointer :: characters(:)
+      integer :: length
+      call c_f_pointer(c_errno_location(), errno)
+      words = c_strerror(errno)
+      length = int(c_strlen(words))
+      call c_f_pointer(words, characters, [length])
+      allocate (character(len=length) :: text)
+      text = transfer(characters, text)
+   end function system_error_text
 
    !> End the program with an exit status and no further words: Fortran's `stop n` would add
    !> "STOP n" to stderr under the error message. libgfortran closes its units at exit.

@@ -1,18 +1,22 @@
 !> Result files of docs/contracts.md: the path file `STEM.path`, critical points `STEM.crit`, shapes `STEM.shape`.
 !>
-!> Each file is written under a temporary name (`NAME.part`) and renamed when the run ends, so a crash
-!> never leaves a half file under the final name. Rows are written whole and flushed, so an analysis
-!> that fails part-way keeps every converged step (docs/contracts.md: exit code 1, complete rows only).
+!> The files are written in the run's work directory and moved to their final names by the run's
+!> commit (uniarc_result_directory), so a crash never leaves a half file under a final name. Rows are
+!> written whole and flushed, so an analysis that fails part-way keeps every converged step
+!> (docs/contracts.md: exit code 1, complete rows only). Every write, flush and close is checked
+!> (uniarc_text_file): a failure is returned as an error naming the file and the system's words.
 module uniarc_output
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_error, only: error_t
    use uniarc_strings, only: integer_to_string, real_to_string
-   use uniarc_foreign, only: rename_file, make_directory
    use uniarc_model, only: model_t, tracked_values
+   use uniarc_text_file, only: text_file_t, create_text_file, put_line, flush_text_file, close_text_file, &
+                               discard_text_file
+   use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    implicit none
    private
    public :: step_record_t, output_files_t
-   public :: open_outputs, write_path_row, write_crit_row, write_shape, commit_outputs
+   public :: open_outputs, write_path_row, write_crit_row, write_shape, close_outputs, discard_outputs
    public :: path_header, format_number, nodal_reactions
 
    !> What a converged step reports (one row of the path file).
@@ -32,17 +36,9 @@ module uniarc_output
       integer :: neg_pivots = 0
    end type step_record_t
 
-   !> One table file being written.
-   type :: table_file_t
-      character(len=:), allocatable :: final_path
-      character(len=:), allocatable :: part_path
-      integer :: unit = 0
-      logical :: is_open = .false.
-   end type table_file_t
-
    !> The result files of one run.
    type :: output_files_t
-      type(table_file_t) :: path, crit, shape
+      type(text_file_t) :: path, crit, shape
    end type output_files_t
 
    !> Number format of every real: ES with 13 significant digits (docs/contracts.md).
@@ -50,21 +46,18 @@ module uniarc_output
 
 contains
 
-   !> Open `DIRECTORY/STEM.path|crit|shape` (as .part files) and write their header lines.
-   subroutine open_outputs(model, directory, stem, files, error)
+   !> Start `STEM.path|crit|shape` in the run's work directory and write their header lines.
+   subroutine open_outputs(model, results, files, error)
       type(model_t), intent(in) :: model
-      character(len=*), intent(in) :: directory, stem
+      type(result_directory_t), intent(inout) :: results
       type(output_files_t), intent(out) :: files
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: base
-      call make_directory(directory, error)
+      call open_table(results, files%path, results%stem//'.path', path_header(model), error)
       if (allocated(error)) return
-      base = directory//'/'//stem
-      call open_table(files%path, base//'.path', path_header(model), error)
+      call open_table(results, files%crit, results%stem//'.crit', '# kind step lambda'//track_names(model), &
+                      error)
       if (allocated(error)) return
-      call open_table(files%crit, base//'.crit', '# kind step lambda'//track_names(model), error)
-      if (allocated(error)) return
-      call open_table(files%shape, base//'.shape', &
+      call open_table(results, files%shape, results%stem//'.shape', &
                       '# step lambda node x0 y0 ux uy rz x y reaction', error)
    end subroutine open_outputs
 
@@ -88,49 +81,60 @@ contains
       end do
    end function track_names
 
-   !> One row of the path file.
-   subroutine write_path_row(files, model, record)
+   !> One row of the path file, flushed.
+   subroutine write_path_row(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: values(:)
       values = [real(record%step, dp), record%lambda, tracked_values(model, record%displacement), &
                 real(record%n_contact, dp), real(record%contact_regions, dp), record%s_contact, &
                 record%reaction_max, record%reaction_sum, record%lcp_residual, &
                 real(record%lcp_pivots, dp), real(record%iterations, dp), real(record%neg_pivots, dp)]
-      call write_numbers(files%path%unit, '', values)
+      call write_numbers(files%path, '', values, error)
    end subroutine write_path_row
 
    !> One event of the critical-point file: kind, where it lies (a step number, fractional when the
-   !> event was located between two steps), λ and the tracked values at the event.
-   subroutine write_crit_row(files, kind, position, lambda, tracked)
+   !> event was located between two steps), λ and the tracked values at the event. Flushed.
+   subroutine write_crit_row(files, kind, position, lambda, tracked, error)
       type(output_files_t), intent(inout) :: files
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position
       real(dp), intent(in) :: lambda
       real(dp), intent(in) :: tracked(:)
-      call write_numbers(files%crit%unit, kind, [position, lambda, tracked])
+      type(error_t), allocatable, intent(out) :: error
+      call write_numbers(files%crit, kind, [position, lambda, tracked], error)
    end subroutine write_crit_row
 
    !> A snapshot of the deformed shape: one line per node (the last column the sum of the contact
-   !> reactions at the node), snapshots separated by two blank lines (gnuplot's `index`).
-   subroutine write_shape(files, model, record)
+   !> reactions at the node), snapshots separated by two blank lines (gnuplot's `index`). Flushed.
+   subroutine write_shape(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal_reaction(:)
+      character(len=:), allocatable :: line
       integer :: i, k
       nodal_reaction = nodal_reactions(model, record%reactions)
       do i = 1, model%n_nodes
-         write (files%shape%unit, '(i0,*(1x,a))') record%step, trim(format_number(record%lambda)), &
-            integer_to_string(model%node_label(i)), &
-            (trim(format_number(model%coordinates(k, i))), k=1, 2), &
-            (trim(format_number(record%displacement(k, i))), k=1, 3), &
-            (trim(format_number(model%coordinates(k, i) + record%displacement(k, i))), k=1, 2), &
-            trim(format_number(nodal_reaction(i)))
+         line = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '// &
+                integer_to_string(model%node_label(i))
+         do k = 1, 2
+            line = line//' '//trim(format_number(model%coordinates(k, i)))
+         end do
+         do k = 1, 3
+            line = line//' '//trim(format_number(record%displacement(k, i)))
+         end do
+         do k = 1, 2
+            line = line//' '//trim(format_number(model%coordinates(k, i) + record%displacement(k, i)))
+         end do
+         call put_line(files%shape, line//' '//trim(format_number(nodal_reaction(i))))
       end do
-      write (files%shape%unit, '(/)')
-      flush (files%shape%unit)
+      call put_line(files%shape, '')
+      call put_line(files%shape, '')
+      call flush_text_file(files%shape, error)
    end subroutine write_shape
 
    !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
@@ -146,16 +150,26 @@ contains
       end do
    end function nodal_reactions
 
-   !> Close every file and rename it to its final name.
-   subroutine commit_outputs(files, error)
+   !> Close every file; the first failure (of a close, or of a write not yet reported) as an error.
+   !> Every file is closed either way.
+   subroutine close_outputs(files, error)
       type(output_files_t), intent(inout) :: files
       type(error_t), allocatable, intent(out) :: error
-      call commit_table(files%path, error)
-      if (allocated(error)) return
-      call commit_table(files%crit, error)
-      if (allocated(error)) return
-      call commit_table(files%shape, error)
-   end subroutine commit_outputs
+      type(error_t), allocatable :: crit_error, shape_error
+      call close_text_file(files%path, error)
+      call close_text_file(files%crit, crit_error)
+      call close_text_file(files%shape, shape_error)
+      if (.not. allocated(error) .and. allocated(crit_error)) call move_alloc(crit_error, error)
+      if (.not. allocated(error) .and. allocated(shape_error)) call move_alloc(shape_error, error)
+   end subroutine close_outputs
+
+   !> Close and remove every file (after a failure that is reported already).
+   subroutine discard_outputs(files)
+      type(output_files_t), intent(inout) :: files
+      call discard_text_file(files%path)
+      call discard_text_file(files%crit)
+      call discard_text_file(files%shape)
+   end subroutine discard_outputs
 
    !> A real as text in the files' number format, without surrounding blanks.
    pure function format_number(x) result(text)
@@ -164,45 +178,34 @@ contains
       text = real_to_string(x, number_format)
    end function format_number
 
-   subroutine open_table(table, path, header, error)
-      type(table_file_t), intent(out) :: table
-      character(len=*), intent(in) :: path, header
+   !> Start the table `name` in the work directory with its header line.
+   subroutine open_table(results, table, name, header, error)
+      type(result_directory_t), intent(inout) :: results
+      type(text_file_t), intent(out) :: table
+      character(len=*), intent(in) :: name, header
       type(error_t), allocatable, intent(out) :: error
-      integer :: status
-      character(len=256) :: message
-      table%final_path = path
-      table%part_path = path//'.part'
-      open (newunit=table%unit, file=table%part_path, status='replace', action='write', &
-            iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot write '//table%part_path//': '//trim(message), error_analysis)
-         return
-      end if
-      table%is_open = .true.
-      write (table%unit, '(a)') header
+      call add_result_file(results, name)
+      call create_text_file(table, work_path(results, name), final_path(results, name), error)
+      if (allocated(error)) return
+      call put_line(table, header)
    end subroutine open_table
 
-   subroutine write_numbers(unit, label, values)
-      integer, intent(in) :: unit
+   !> One row: `label` (if any) and the numbers, separated by single blanks; flushed.
+   subroutine write_numbers(table, label, values, error)
+      type(text_file_t), intent(inout) :: table
       character(len=*), intent(in) :: label
       real(dp), intent(in) :: values(:)
-      integer :: i
-      if (len(label) > 0) write (unit, '(a)', advance='no') label//' '
-      do i = 1, size(values)
-         write (unit, '(a)', advance='no') trim(format_number(values(i)))
-         if (i < size(values)) write (unit, '(a)', advance='no') ' '
-      end do
-      write (unit, '(a)') ''
-      flush (unit)
-   end subroutine write_numbers
-
-   subroutine commit_table(table, error)
-      type(table_file_t), intent(inout) :: table
       type(error_t), allocatable, intent(out) :: error
-      if (.not. table%is_open) return
-      close (table%unit)
-      table%is_open = .false.
-      call rename_file(table%part_path, table%final_path, error)
-   end subroutine commit_table
+      character(len=:), allocatable :: line
+      integer :: i
+      line = ''
+      if (len(label) > 0) line = label//' '
+      do i = 1, size(values)
+         line = line//trim(format_number(values(i)))
+         if (i < size(values)) line = line//' '
+      end do
+      call put_line(table, line)
+      call flush_text_file(table, error)
+   end subroutine write_numbers
 
 end module uniarc_output

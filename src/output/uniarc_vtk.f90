@@ -24,13 +24,14 @@
 !> by timestep); otherwise (snap-through under arc length, unloading, a negative increment) it is the
 !> step number, and the file says so in a comment. λ is in every snapshot's field data either way.
 !>
-!> Every file is written under `NAME.part` and renamed once closed, like the other result files: a
-!> crash never leaves a half file under its final name. The snapshots are renamed as they are written,
-!> the pvd when the series is finished.
+!> Every file is written in the run's work directory and moved to its final name with the other result
+!> files when the run ends (uniarc_result_directory): a crash never leaves a half file under its final
+!> name. Every write and close is checked (uniarc_text_file).
 module uniarc_vtk
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_analysis
-   use uniarc_foreign, only: rename_file
+   use uniarc_error, only: error_t
+   use uniarc_text_file, only: text_file_t, create_text_file, put_line, close_text_file, discard_text_file
+   use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_strings, only: integer_text => integer_to_string
    use uniarc_model, only: model_t
    use uniarc_element, only: element_response_t, element_response, element_displacements, analysis_transformation
@@ -46,7 +47,6 @@ module uniarc_vtk
    !> The snapshots of one run: where they go and what has been written.
    type :: vtk_series_t
       logical :: active = .false.                  !< the deck asked for VTK output
-      character(len=:), allocatable :: directory
       character(len=:), allocatable :: stem
       integer :: every = 1                         !< snapshot interval in steps
       integer :: count = 0                         !< snapshots written
@@ -58,12 +58,11 @@ contains
 
    !> Start the series of a run. Nothing is written yet: the series is inactive when the deck has no
    !> `*OUTPUT, VTK`, and its interval is the deck's EVERY= or else the shape file's.
-   subroutine open_vtk_series(model, directory, stem, series)
+   subroutine open_vtk_series(model, stem, series)
       type(model_t), intent(in) :: model
-      character(len=*), intent(in) :: directory, stem
+      character(len=*), intent(in) :: stem
       type(vtk_series_t), intent(out) :: series
       series%active = model%output%vtk
-      series%directory = directory
       series%stem = stem
       series%every = model%output%vtk_every
       if (series%every <= 0) series%every = max(model%analysis%shape_every, 1)
@@ -79,8 +78,9 @@ contains
 
    !> Write the snapshot of `record` as `STEM_NNNN.vtk` and `STEM_NNNN.vtu` (NNNN the step). Does
    !> nothing when the series is inactive or the step is already its last snapshot.
-   subroutine write_vtk_snapshot(series, model, record, error)
+   subroutine write_vtk_snapshot(series, results, model, record, error)
       type(vtk_series_t), intent(inout) :: series
+      type(result_directory_t), intent(inout) :: results
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
@@ -90,10 +90,9 @@ contains
          if (series%steps(series%count) == record%step) return
       end if
       name = vtk_file_name(series%stem, record%step)
-      call write_snapshot_file(series%directory//'/'//name, legacy_format, model, record, series%stem, error)
+      call write_snapshot_file(results, name, legacy_format, model, record, series%stem, error)
       if (allocated(error)) return
-      call write_snapshot_file(series%directory//'/'//xml_twin(name), xml_format, model, record, &
-                               series%stem, error)
+      call write_snapshot_file(results, xml_twin(name), xml_format, model, record, series%stem, error)
       if (allocated(error)) return
       series%count = series%count + 1
       series%steps = [series%steps, record%step]
@@ -102,44 +101,40 @@ contains
 
    !> End the series with the last step `record` (written unless it already is the last snapshot) and
    !> write the collection `STEM.pvd`.
-   subroutine finish_vtk_series(series, model, record, error)
+   subroutine finish_vtk_series(series, results, model, record, error)
       type(vtk_series_t), intent(inout) :: series
+      type(result_directory_t), intent(inout) :: results
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
       if (.not. series%active) return
-      call write_vtk_snapshot(series, model, record, error)
+      call write_vtk_snapshot(series, results, model, record, error)
       if (allocated(error)) return
-      call write_collection(series, error)
+      call write_collection(series, results, error)
    end subroutine finish_vtk_series
 
-   !> One file of a snapshot, written under `path.part` and renamed to `path` once closed.
-   subroutine write_snapshot_file(path, file_format, model, record, stem, error)
-      character(len=*), intent(in) :: path
+   !> One file of a snapshot, `name` in the run's work directory, written and closed; on an error it
+   !> is closed and removed.
+   subroutine write_snapshot_file(results, name, file_format, model, record, stem, error)
+      type(result_directory_t), intent(inout) :: results
+      character(len=*), intent(in) :: name
       integer, intent(in) :: file_format
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       character(len=*), intent(in) :: stem
       type(error_t), allocatable, intent(out) :: error
-      integer :: unit, status
-      character(len=256) :: message
-      open (newunit=unit, file=path//'.part', status='replace', action='write', iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot write '//path//'.part: '//trim(message), error_analysis)
-         return
-      end if
+      type(text_file_t) :: file
+      call add_result_file(results, name)
+      call create_text_file(file, work_path(results, name), final_path(results, name), error)
+      if (allocated(error)) return
       select case (file_format)
       case (legacy_format)
-         call write_legacy_vtk(unit, model, record, stem)
+         call write_legacy_vtk(file, model, record, stem)
       case default
-         call write_xml_vtu(unit, model, record)
+         call write_xml_vtu(file, model, record)
       end select
-      close (unit, iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot close '//path//'.part: '//trim(message), error_analysis)
-         return
-      end if
-      call rename_file(path//'.part', path, error)
+      call close_text_file(file, error)
+      if (allocated(error)) call discard_text_file(file)
    end subroutine write_snapshot_file
 
    !> The `.vtu` name of a `.vtk` snapshot.
@@ -183,8 +178,8 @@ contains
    end function element_moments
 
    !> The legacy VTK file of one snapshot (ASCII, UNSTRUCTURED_GRID, VTK_LINE cells).
-   subroutine write_legacy_vtk(unit, model, record, stem)
-      integer, intent(in) :: unit
+   subroutine write_legacy_vtk(file, model, record, stem)
+      type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       character(len=*), intent(in) :: stem
@@ -198,199 +193,198 @@ contains
       if (allocated(model%title)) then
          if (len_trim(model%title) > 0) title = title//': '//trim(model%title)
       end if
-      write (unit, '(a)') '# vtk DataFile Version 3.0'
-      write (unit, '(a)') title(1:min(len(title), 255))
-      write (unit, '(a)') 'ASCII'
-      write (unit, '(a)') 'DATASET UNSTRUCTURED_GRID'
-      write (unit, '(a)') 'FIELD FieldData 2'
-      write (unit, '(a)') 'lambda 1 1 double'
-      write (unit, '(a)') trim(format_number(record%lambda))
-      write (unit, '(a)') 'step 1 1 int'
-      write (unit, '(a)') integer_text(record%step)
+      call put_line(file, '# vtk DataFile Version 3.0')
+      call put_line(file, title(1:min(len(title), 255)))
+      call put_line(file, 'ASCII')
+      call put_line(file, 'DATASET UNSTRUCTURED_GRID')
+      call put_line(file, 'FIELD FieldData 2')
+      call put_line(file, 'lambda 1 1 double')
+      call put_line(file, trim(format_number(record%lambda)))
+      call put_line(file, 'step 1 1 int')
+      call put_line(file, integer_text(record%step))
 
-      write (unit, '(a)') 'POINTS '//integer_text(model%n_nodes)//' double'
+      call put_line(file, 'POINTS '//integer_text(model%n_nodes)//' double')
       do i = 1, model%n_nodes
-         write (unit, '(a)') trim(format_number(model%coordinates(1, i) + record%displacement(1, i)))//' '// &
-            trim(format_number(model%coordinates(2, i) + record%displacement(2, i)))//' 0'
+         call put_line(file, trim(format_number(model%coordinates(1, i) + record%displacement(1, i)))//' '// &
+            trim(format_number(model%coordinates(2, i) + record%displacement(2, i)))//' 0')
       end do
       ! A VTK_LINE cell lists its two points, numbered from 0.
-      write (unit, '(a)') 'CELLS '//integer_text(model%n_elements)//' '//integer_text(3*model%n_elements)
+      call put_line(file, 'CELLS '//integer_text(model%n_elements)//' '//integer_text(3*model%n_elements))
       do e = 1, model%n_elements
-         write (unit, '(a)') '2 '//integer_text(model%connectivity(1, e) - 1)//' '// &
-            integer_text(model%connectivity(2, e) - 1)
+         call put_line(file, '2 '//integer_text(model%connectivity(1, e) - 1)//' '// &
+            integer_text(model%connectivity(2, e) - 1))
       end do
-      write (unit, '(a)') 'CELL_TYPES '//integer_text(model%n_elements)
+      call put_line(file, 'CELL_TYPES '//integer_text(model%n_elements))
       do e = 1, model%n_elements
-         write (unit, '(a)') '3'
+         call put_line(file, '3')
       end do
 
       reaction = nodal_reactions(model, record%reactions)
-      write (unit, '(a)') 'POINT_DATA '//integer_text(model%n_nodes)
-      write (unit, '(a)') 'VECTORS displacement double'
+      call put_line(file, 'POINT_DATA '//integer_text(model%n_nodes))
+      call put_line(file, 'VECTORS displacement double')
       do i = 1, model%n_nodes
-         write (unit, '(a)') trim(format_number(record%displacement(1, i)))//' '// &
-            trim(format_number(record%displacement(2, i)))//' 0'
+         call put_line(file, trim(format_number(record%displacement(1, i)))//' '// &
+            trim(format_number(record%displacement(2, i)))//' 0')
       end do
-      call write_scalars(unit, 'rotation', record%displacement(3, :))
-      call write_scalars(unit, 'contact_reaction', reaction)
-      write (unit, '(a)') 'SCALARS node_label int 1'
-      write (unit, '(a)') 'LOOKUP_TABLE default'
+      call write_scalars(file, 'rotation', record%displacement(3, :))
+      call write_scalars(file, 'contact_reaction', reaction)
+      call put_line(file, 'SCALARS node_label int 1')
+      call put_line(file, 'LOOKUP_TABLE default')
       do i = 1, model%n_nodes
-         write (unit, '(a)') integer_text(model%node_label(i))
+         call put_line(file, integer_text(model%node_label(i)))
       end do
 
       forces = element_moments(model, record%displacement)
-      write (unit, '(a)') 'CELL_DATA '//integer_text(model%n_elements)
-      call write_scalars(unit, 'axial_force', forces(1, :))
-      call write_scalars(unit, 'bending_moment', 0.5_dp*(forces(2, :) + forces(3, :)))
-      call write_scalars(unit, 'bending_moment_start', forces(2, :))
-      call write_scalars(unit, 'bending_moment_end', forces(3, :))
-      write (unit, '(a)') 'SCALARS element_label int 1'
-      write (unit, '(a)') 'LOOKUP_TABLE default'
+      call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
+      call write_scalars(file, 'axial_force', forces(1, :))
+      call write_scalars(file, 'bending_moment', 0.5_dp*(forces(2, :) + forces(3, :)))
+      call write_scalars(file, 'bending_moment_start', forces(2, :))
+      call write_scalars(file, 'bending_moment_end', forces(3, :))
+      call put_line(file, 'SCALARS element_label int 1')
+      call put_line(file, 'LOOKUP_TABLE default')
       do e = 1, model%n_elements
-         write (unit, '(a)') integer_text(model%element_label(e))
+         call put_line(file, integer_text(model%element_label(e)))
       end do
    end subroutine write_legacy_vtk
 
    !> The XML file of one snapshot (VTKFile type UnstructuredGrid, ASCII data arrays): the same
    !> grid and arrays as the legacy file, in VTK's order Piece → PointData, CellData, Points, Cells.
-   subroutine write_xml_vtu(unit, model, record)
-      integer, intent(in) :: unit
+   subroutine write_xml_vtu(file, model, record)
+      type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       real(dp), allocatable :: forces(:, :), deformed(:, :), vectors(:, :)
       integer :: e
 
-      write (unit, '(a)') '<?xml version="1.0"?>'
-      write (unit, '(a)') '<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">'
-      write (unit, '(a)') '<UnstructuredGrid>'
-      write (unit, '(a)') '<FieldData>'
-      call write_xml_reals(unit, 'lambda', 1, [record%lambda])
-      call write_xml_integers(unit, 'step', 'Int32', [record%step])
-      write (unit, '(a)') '</FieldData>'
-      write (unit, '(a)') '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfCells="'// &
-         integer_text(model%n_elements)//'">'
+      call put_line(file, '<?xml version="1.0"?>')
+      call put_line(file, '<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">')
+      call put_line(file, '<UnstructuredGrid>')
+      call put_line(file, '<FieldData>')
+      call write_xml_reals(file, 'lambda', 1, [record%lambda])
+      call write_xml_integers(file, 'step', 'Int32', [record%step])
+      call put_line(file, '</FieldData>')
+      call put_line(file, '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfCells="'// &
+         integer_text(model%n_elements)//'">')
 
-      write (unit, '(a)') '<PointData Vectors="displacement" Scalars="contact_reaction">'
+      call put_line(file, '<PointData Vectors="displacement" Scalars="contact_reaction">')
       allocate (vectors(3, model%n_nodes), source=0.0_dp)
       vectors(1:2, :) = record%displacement(1:2, :)
-      call write_xml_reals(unit, 'displacement', 3, reshape(vectors, [3*model%n_nodes]))
-      call write_xml_reals(unit, 'rotation', 1, record%displacement(3, :))
-      call write_xml_reals(unit, 'contact_reaction', 1, nodal_reactions(model, record%reactions))
-      call write_xml_integers(unit, 'node_label', 'Int32', model%node_label)
-      write (unit, '(a)') '</PointData>'
+      call write_xml_reals(file, 'displacement', 3, reshape(vectors, [3*model%n_nodes]))
+      call write_xml_reals(file, 'rotation', 1, record%displacement(3, :))
+      call write_xml_reals(file, 'contact_reaction', 1, nodal_reactions(model, record%reactions))
+      call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
+      call put_line(file, '</PointData>')
 
       forces = element_moments(model, record%displacement)
-      write (unit, '(a)') '<CellData Scalars="bending_moment">'
-      call write_xml_reals(unit, 'axial_force', 1, forces(1, :))
-      call write_xml_reals(unit, 'bending_moment', 1, 0.5_dp*(forces(2, :) + forces(3, :)))
-      call write_xml_reals(unit, 'bending_moment_start', 1, forces(2, :))
-      call write_xml_reals(unit, 'bending_moment_end', 1, forces(3, :))
-      call write_xml_integers(unit, 'element_label', 'Int32', model%element_label)
-      write (unit, '(a)') '</CellData>'
+      call put_line(file, '<CellData Scalars="bending_moment">')
+      call write_xml_reals(file, 'axial_force', 1, forces(1, :))
+      call write_xml_reals(file, 'bending_moment', 1, 0.5_dp*(forces(2, :) + forces(3, :)))
+      call write_xml_reals(file, 'bending_moment_start', 1, forces(2, :))
+      call write_xml_reals(file, 'bending_moment_end', 1, forces(3, :))
+      call write_xml_integers(file, 'element_label', 'Int32', model%element_label)
+      call put_line(file, '</CellData>')
 
-      write (unit, '(a)') '<Points>'
+      call put_line(file, '<Points>')
       allocate (deformed(3, model%n_nodes), source=0.0_dp)
       deformed(1:2, :) = model%coordinates + record%displacement(1:2, :)
-      call write_xml_reals(unit, 'points', 3, reshape(deformed, [3*model%n_nodes]))
-      write (unit, '(a)') '</Points>'
+      call write_xml_reals(file, 'points', 3, reshape(deformed, [3*model%n_nodes]))
+      call put_line(file, '</Points>')
 
       ! Cells as VTK stores them: the point indices (from 0) of all cells one after the other, the
       ! offset just past each cell's last index, and the cell types (3, VTK_LINE).
-      write (unit, '(a)') '<Cells>'
-      call write_xml_integers(unit, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
-      call write_xml_integers(unit, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
-      call write_xml_integers(unit, 'types', 'UInt8', [(3, e=1, model%n_elements)])
-      write (unit, '(a)') '</Cells>'
-      write (unit, '(a)') '</Piece>'
-      write (unit, '(a)') '</UnstructuredGrid>'
-      write (unit, '(a)') '</VTKFile>'
+      call put_line(file, '<Cells>')
+      call write_xml_integers(file, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
+      call write_xml_integers(file, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      call write_xml_integers(file, 'types', 'UInt8', [(3, e=1, model%n_elements)])
+      call put_line(file, '</Cells>')
+      call put_line(file, '</Piece>')
+      call put_line(file, '</UnstructuredGrid>')
+      call put_line(file, '</VTKFile>')
    end subroutine write_xml_vtu
 
    !> An XML DataArray of doubles, `components` to a tuple, one tuple a line.
-   subroutine write_xml_reals(unit, name, components, values)
-      integer, intent(in) :: unit
+   subroutine write_xml_reals(file, name, components, values)
+      type(text_file_t), intent(inout) :: file
       character(len=*), intent(in) :: name
       integer, intent(in) :: components
       real(dp), intent(in) :: values(:)
+      character(len=:), allocatable :: line
       integer :: i, k
-      write (unit, '(a)') '<DataArray type="Float64" Name="'//name//'" NumberOfComponents="'// &
-         integer_text(components)//'" format="ascii">'
+      call put_line(file, '<DataArray type="Float64" Name="'//name//'" NumberOfComponents="'// &
+         integer_text(components)//'" format="ascii">')
       do i = 1, size(values), components
-         write (unit, '(*(a,:,1x))') (trim(format_number(values(k))), k=i, min(i + components - 1, size(values)))
+         line = trim(format_number(values(i)))
+         do k = i + 1, min(i + components - 1, size(values))
+            line = line//' '//trim(format_number(values(k)))
+         end do
+         call put_line(file, line)
       end do
-      write (unit, '(a)') '</DataArray>'
+      call put_line(file, '</DataArray>')
    end subroutine write_xml_reals
 
    !> An XML DataArray of integers of VTK type `type_name`, one value a line.
-   subroutine write_xml_integers(unit, name, type_name, values)
-      integer, intent(in) :: unit
+   subroutine write_xml_integers(file, name, type_name, values)
+      type(text_file_t), intent(inout) :: file
       character(len=*), intent(in) :: name, type_name
       integer, intent(in) :: values(:)
       integer :: i
-      write (unit, '(a)') '<DataArray type="'//type_name//'" Name="'//name//'" format="ascii">'
+      call put_line(file, '<DataArray type="'//type_name//'" Name="'//name//'" format="ascii">')
       do i = 1, size(values)
-         write (unit, '(a)') integer_text(values(i))
+         call put_line(file, integer_text(values(i)))
       end do
-      write (unit, '(a)') '</DataArray>'
+      call put_line(file, '</DataArray>')
    end subroutine write_xml_integers
 
    !> One SCALARS array of doubles.
-   subroutine write_scalars(unit, name, values)
-      integer, intent(in) :: unit
+   subroutine write_scalars(file, name, values)
+      type(text_file_t), intent(inout) :: file
       character(len=*), intent(in) :: name
       real(dp), intent(in) :: values(:)
       integer :: i
-      write (unit, '(a)') 'SCALARS '//name//' double 1'
-      write (unit, '(a)') 'LOOKUP_TABLE default'
+      call put_line(file, 'SCALARS '//name//' double 1')
+      call put_line(file, 'LOOKUP_TABLE default')
       do i = 1, size(values)
-         write (unit, '(a)') trim(format_number(values(i)))
+         call put_line(file, trim(format_number(values(i))))
       end do
    end subroutine write_scalars
 
    !> The ParaView collection `STEM.pvd` of the snapshots written (VTKFile type "Collection").
-   subroutine write_collection(series, error)
+   subroutine write_collection(series, results, error)
       type(vtk_series_t), intent(in) :: series
+      type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: final_path, part_path
-      integer :: unit, status, k
-      character(len=256) :: message
+      type(text_file_t) :: file
+      character(len=:), allocatable :: name
+      integer :: k
       logical :: by_lambda
       real(dp) :: time
-      final_path = series%directory//'/'//series%stem//'.pvd'
-      part_path = final_path//'.part'
+      name = series%stem//'.pvd'
       by_lambda = strictly_increasing(series%lambdas)
-      open (newunit=unit, file=part_path, status='replace', action='write', iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot write '//part_path//': '//trim(message), error_analysis)
-         return
-      end if
-      write (unit, '(a)') '<?xml version="1.0"?>'
-      write (unit, '(a)') '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">'
+      call add_result_file(results, name)
+      call create_text_file(file, work_path(results, name), final_path(results, name), error)
+      if (allocated(error)) return
+      call put_line(file, '<?xml version="1.0"?>')
+      call put_line(file, '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">')
       if (by_lambda) then
-         write (unit, '(a)') '  <!-- uniarc: timestep is the load factor lambda -->'
+         call put_line(file, '  <!-- uniarc: timestep is the load factor lambda -->')
       else
-         write (unit, '(a)') '  <!-- uniarc: timestep is the step number, as lambda does not increase '// &
-            'along this path; lambda is in each file''s field data -->'
+         call put_line(file, '  <!-- uniarc: timestep is the step number, as lambda does not increase '// &
+            'along this path; lambda is in each file''s field data -->')
       end if
-      write (unit, '(a)') '  <Collection>'
+      call put_line(file, '  <Collection>')
       do k = 1, series%count
          if (by_lambda) then
             time = series%lambdas(k)
          else
             time = real(series%steps(k), dp)
          end if
-         write (unit, '(a)') '    <DataSet timestep="'//trim(format_number(time))//'" group="" part="0" file="'// &
-            xml_escaped(xml_twin(vtk_file_name(series%stem, series%steps(k))))//'"/>'
+         call put_line(file, '    <DataSet timestep="'//trim(format_number(time))//'" group="" part="0" file="'// &
+            xml_escaped(xml_twin(vtk_file_name(series%stem, series%steps(k))))//'"/>')
       end do
-      write (unit, '(a)') '  </Collection>'
-      write (unit, '(a)') '</VTKFile>'
-      close (unit, iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, 'cannot close '//part_path//': '//trim(message), error_analysis)
-         return
-      end if
-      call rename_file(part_path, final_path, error)
+      call put_line(file, '  </Collection>')
+      call put_line(file, '</VTKFile>')
+      call close_text_file(file, error)
+      if (allocated(error)) call discard_text_file(file)
    end subroutine write_collection
 
    pure logical function strictly_increasing(values)

@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""What a run leaves in OUTDIR when the result files cannot be written, or OUTDIR is in use
+(docs/contracts.md, "Result files on failure").
+
+  io_check.py --uniarc EXE --deck DECK --out DIR --file-size-limit KIB [--expect-file NAME]
+      A run whose files outgrow a file size limit (RLIMIT_FSIZE, `ulimit -f`; no root needed): writes
+      past it fail with EFBIG, as on a full file system. Expects exit code 1, a message naming the
+      result file and the system's words ("File too large"), and OUTDIR left without any file of the
+      run: no final name, no lock, no work directory. The same run without the limit must succeed and
+      write a file larger than the limit (else the check would prove nothing). With --expect-file
+      the message must name OUTDIR/NAME, the file that meets the limit first.
+
+  io_check.py --uniarc EXE --deck DECK --out DIR --lock
+      OUTDIR/STEM.lock made by hand, as another run would hold it: the run must refuse with exit code 2
+      and the documented message, write nothing and leave the lock alone. Once the lock is removed the
+      same run succeeds and leaves neither a lock nor a work directory.
+"""
+import argparse
+import os
+import resource
+import shutil
+import subprocess
+import sys
+
+
+def run(uniarc, deck, out, limit_bytes=None):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
+    return subprocess.run([uniarc, deck, '-o', out, '-q'], capture_output=True, text=True, timeout=600,
+                          preexec_fn=limit if limit_bytes is not None else None)
+
+
+def fresh(directory):
+    shutil.rmtree(directory, ignore_errors=True)
+    os.makedirs(directory)
+
+
+def check_file_size_limit(args, stem, failures):
+    reference = os.path.join(args.out, 'unlimited')
+    fresh(reference)
+    result = run(args.uniarc, args.deck, reference)
+    if result.returncode != 0:
+        failures.append(f'the run without a limit exited with {result.returncode}: {result.stderr}')
+        return
+    largest = max(os.path.getsize(os.path.join(reference, name)) for name in os.listdir(reference))
+    limit_bytes = args.file_size_limit * 1024
+    if largest <= limit_bytes:
+        failures.append(f'no result file outgrows {limit_bytes} bytes (largest {largest}): choose a smaller limit')
+        return
+
+    limited = os.path.join(args.out, 'limited')
+    fresh(limited)
+    result = run(args.uniarc, args.deck, limited, limit_bytes)
+    print(result.stderr, end='')
+    if result.returncode != 1:
+        failures.append(f'exit code {result.returncode}, expected 1')
+    expected = f'error: cannot write {limited}/{args.expect_file or stem + "."}'
+    if expected not in result.stderr:
+        failures.append(f'stderr lacks "{expected}" (a message naming the result file)')
+    if 'File too large' not in result.stderr:
+        failures.append('stderr lacks the system\'s words "File too large"')
+    left = sorted(os.listdir(limited))
+    if left:
+        failures.append(f'OUTDIR keeps files of the failed run: {left}')
+
+
+def check_lock(args, stem, failures):
+    out = os.path.join(args.out, 'locked')
+    fresh(out)
+    lock = os.path.join(out, stem + '.lock')
+    with open(lock, 'w') as file:
+        file.write('pid 4242\n')
+    result = run(args.uniarc, args.deck, out)
+    print(result.stderr, end='')
+    if result.returncode != 2:
+        failures.append(f'exit code {result.returncode} with the lock held, expected 2')
+    expected = (f'error: {lock} exists: another uniarc run (pid 4242) is writing the results of {stem} '
+                f'into {out}, or one was killed before it ended; remove {lock} once no run is using it')
+    if expected not in result.stderr:
+        failures.append(f'stderr lacks "{expected}"')
+    left = sorted(os.listdir(out))
+    if left != [stem + '.lock']:
+        failures.append(f'OUTDIR should hold the lock only, holds {left}')
+    elif open(lock).read() != 'pid 4242\n':
+        failures.append('the refused run changed the lock of the other run')
+
+    os.remove(lock)
+    result = run(args.uniarc, args.deck, out)
+    if result.returncode != 0:
+        failures.append(f'without the lock the run exited with {result.returncode}: {result.stderr}')
+    left = sorted(os.listdir(out))
+    stray = [name for name in left if name.endswith('.lock') or name.startswith('.')]
+    if stray:
+        failures.append(f'a successful run left {stray}')
+    for suffix in ('.path', '.crit', '.shape'):
+        if stem + suffix not in left:
+            failures.append(f'a successful run did not write {stem + suffix}')
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--uniarc', required=True)
+    parser.add_argument('--deck', required=True)
+    parser.add_argument('--out', required=True)
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument('--file-size-limit', type=int, metavar='KIB')
+    mode.add_argument('--lock', action='store_true')
+    parser.add_argument('--expect-file', metavar='NAME')
+    args = parser.parse_args()
+    args.out = os.path.abspath(args.out)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    failures = []
+    if args.lock:
+        check_lock(args, stem, failures)
+    else:
+        check_file_size_limit(args, stem, failures)
+    for failure in failures:
+        print('FAIL:', failure)
+    if failures:
+        return 1
+    print('OK')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
