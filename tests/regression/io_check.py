@@ -14,6 +14,11 @@
       OUTDIR/STEM.lock made by hand, as another run would hold it: the run must refuse with exit code 2
       and the documented message, write nothing and leave the lock alone. Once the lock is removed the
       same run succeeds and leaves neither a lock nor a work directory.
+
+  io_check.py --uniarc EXE --deck DECK --out DIR --unusable-outdir
+      OUTDIR below a regular file (DIR/file/results), which no one can create: exit code 2 (bad input,
+      issue 14: it was 1), "cannot create output directory DIR/file/results: Not a directory", and the
+      analysis never starts (no output on stdout).
 """
 import argparse
 import os
@@ -97,6 +102,25 @@ def check_lock(args, stem, failures):
             failures.append(f'a successful run did not write {stem + suffix}')
 
 
+def check_unusable_outdir(args, stem, failures):
+    fresh(args.out)
+    blocker = os.path.join(args.out, 'file')
+    with open(blocker, 'w') as file:
+        file.write('not a directory\n')
+    out = os.path.join(blocker, 'results')
+    result = subprocess.run([args.uniarc, args.deck, '-o', out], capture_output=True, text=True, timeout=600)
+    print(result.stderr, end='')
+    if result.returncode != 2:
+        failures.append(f'exit code {result.returncode}, expected 2')
+    expected = f'error: cannot create output directory {out}: Not a directory'
+    if expected not in result.stderr:
+        failures.append(f'stderr lacks "{expected}"')
+    if result.stdout:
+        failures.append(f'the analysis ran before OUTDIR was checked: stdout {result.stdout!r}')
+    if sorted(os.listdir(args.out)) != ['file']:
+        failures.append(f'files written: {sorted(os.listdir(args.out))}')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--uniarc', required=True)
@@ -105,6 +129,7 @@ def main():
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument('--file-size-limit', type=int, metavar='KIB')
     mode.add_argument('--lock', action='store_true')
+    mode.add_argument('--unusable-outdir', action='store_true')
     parser.add_argument('--expect-file', metavar='NAME')
     args = parser.parse_args()
     args.out = os.path.abspath(args.out)
@@ -112,6 +137,8 @@ def main():
     failures = []
     if args.lock:
         check_lock(args, stem, failures)
+    elif args.unusable_outdir:
+        check_unusable_outdir(args, stem, failures)
     else:
         check_file_size_limit(args, stem, failures)
     for failure in failures:
