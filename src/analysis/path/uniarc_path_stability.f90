@@ -69,9 +69,9 @@ contains
       ! point, where it matters, the least eigenvalue is well separated and a few solves do; where the
       ! low spectrum is clustered (a ring of 1e5 elements: ratios of neighbouring eigenvalues near 1)
       ! inverse iteration cannot separate them in any affordable number of solves, and the quotient
-      ! after 8 — between the clustered eigenvalues, of their common sign — is what the detector
+      ! after 5 — between the clustered eigenvalues, of their common sign — is what the detector
       ! needs. A warm start from the last mode needs two solves to compare quotients, a cold one three.
-      do k = 1, 8
+      do k = 1, 5
          y = x(:, 1)
          call band_solve(matrix, x, error)
          if (allocated(error)) return
