@@ -27,7 +27,7 @@ module uniarc_contact_lcp
    use uniarc_lemke, only: lemke_solved
    implicit none
    private
-   public :: path_constraint_t, contact_scales_t, select_contact_set
+   public :: path_constraint_t, contact_scales_t, contact_linearization_t, contact_selection_t, select_contact_set
    public :: constraint_arclength, constraint_load, constraint_displacement
 
    integer, parameter :: constraint_arclength = 1     !< tᵀδu = target (δu the displacement part)
@@ -48,6 +48,28 @@ module uniarc_contact_lcp
       real(dp) :: gap = 1.0_dp
       real(dp) :: force = 1.0_dp
    end type contact_scales_t
+
+   !> The state the contact LCP is linearised at, for the working set it is posed in (n equations).
+   type :: contact_linearization_t
+      real(dp), allocatable :: x(:)            !< (n) unknowns: displacements and reactions
+      real(dp), allocatable :: nodal(:, :)     !< (3, n_nodes) nodal displacements of x
+      real(dp), allocatable :: residual(:)     !< (n) g = λR − F_aug for the set
+      real(dp), allocatable :: reference(:)    !< (n) R
+      real(dp), allocatable :: du_residual(:)  !< (n) K_S⁻¹ g
+      real(dp), allocatable :: du_tangent(:)   !< (n) K_S⁻¹ R
+      type(path_constraint_t) :: constraint    !< the linearised path constraint that fixes δλ
+      type(contact_scales_t) :: units          !< units of gaps and forces (lower bounds)
+   end type contact_linearization_t
+
+   !> What the contact LCP selects.
+   type :: contact_selection_t
+      logical, allocatable :: active(:)          !< (candidates) the new working set
+      type(implicit_lcp_report_t) :: report      !< pivots, exchanges, solves, status
+      !> true if the caller's `tangent` holds on return the band LU of K_S for the new set (the frame
+      !> the LCP ended in), with du_tangent = K_S⁻¹R for it: no assembly or factorisation is needed.
+      logical :: kept = .false.
+      real(dp), allocatable :: du_tangent(:)     !< (n) when kept
+   end type contact_selection_t
 
    !> The contact LCP at a state, in the frame of a working set (module header).
    type, extends(lcp_operator_t) :: contact_lcp_operator_t
@@ -87,33 +109,25 @@ contains
 
    !> Solve the contact LCP linearised at the current state and return the new working set.
    !>
-   !> In: `assembled`, the augmented tangent K_S for the set `active` (unfactorised), and `tangent`,
-   !> its band LU — both are workspace: their storage is lent to the LCP and given back with other
-   !> contents (the caller assembles and factorises again for the new set); x the current unknowns (displacements and reactions, n); nodal the current nodal
-   !> displacements (3, n_nodes); residual g = λR − F_aug (n) and reference R (n) for that set;
-   !> du_residual = K_S⁻¹ g and du_tangent = K_S⁻¹ R (n); the path constraint; units of gaps and forces.
-   !> Out: `new_active`, the report (pivots, exchanges, solves). An LCP that is not solved to the
+   !> In: the `linearization` (unknowns x and nodal displacements, residual g = λR − F_aug and
+   !> reference R for the set `active`, K_S⁻¹g and K_S⁻¹R, the path constraint, the units of gaps
+   !> and forces); `assembled`, the augmented tangent K_S for `active` (unfactorised), and `tangent`,
+   !> its band LU — both workspace: their storage is lent to the LCP and given back with other
+   !> contents (unless `selection%kept`, the caller assembles and factorises again for the new set).
+   !> Out: `selection` (the new set, the report: pivots, exchanges, solves; whether `tangent` holds
+   !> the new set's factors). An LCP that is not solved to the
    !> stated accuracy is an error (category analysis): the caller cuts the step rather than accept a
    !> contact set that is not a solution. When the working set is already right (q ≥ 0, the usual case
    !> along a path) nothing is factorised and no matrix is copied: the step costs what it would
    !> without contact.
-   subroutine select_contact_set(model, map, assembled, tangent, x, nodal, residual, reference, du_residual, &
-                                 du_tangent, constraint, units, active, new_active, report, error, kept, du_tangent_new)
+   subroutine select_contact_set(model, map, linearization, active, assembled, tangent, selection, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(band_matrix_t), intent(inout) :: assembled, tangent
-      real(dp), intent(in) :: x(:), nodal(:, :), residual(:), reference(:), du_residual(:), du_tangent(:)
-      type(path_constraint_t), intent(in) :: constraint
-      type(contact_scales_t), intent(in) :: units
+      type(contact_linearization_t), intent(in) :: linearization
       logical, intent(in) :: active(:)
-      logical, intent(out) :: new_active(:)
-      type(implicit_lcp_report_t), intent(out) :: report
+      type(band_matrix_t), intent(inout) :: assembled, tangent
+      type(contact_selection_t), intent(out) :: selection
       type(error_t), allocatable, intent(out) :: error
-      !> When present: `kept` is true if `tangent` holds on return the band LU of K_S for `new_active`
-      !> (the frame the LCP ended in) and du_tangent_new = K_S⁻¹R for it (the caller need not assemble
-      !> and factorise again).
-      logical, intent(out), optional :: kept
-      real(dp), allocatable, intent(out), optional :: du_tangent_new(:)
       type(contact_lcp_operator_t) :: lcp
       integer, allocatable :: unilateral(:)
       real(dp), allocatable :: q(:), w(:), scale(:), reaction(:), gap(:)
@@ -121,19 +135,19 @@ contains
       real(dp) :: r_scale, w_scale
       integer :: c, j
 
-      new_active = active
-      if (present(kept)) kept = .false.
+      selection%active = active
+      selection%kept = .false.
       unilateral = pack([(c, c=1, size(map%candidate_equation))], &
                         [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
-      call candidate_data(model, map, x, nodal, unilateral, active, lcp)
-      report%status = lemke_solved
-      report%message = 'solved'
+      call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, lcp)
+      selection%report%status = lemke_solved
+      selection%report%message = 'solved'
       if (lcp%m == 0) return
-      lcp%du_residual = du_residual
-      lcp%du_tangent = du_tangent
-      lcp%constraint = constraint
-      lcp%units = units
+      lcp%du_residual = linearization%du_residual
+      lcp%du_tangent = linearization%du_tangent
+      lcp%constraint = linearization%constraint
+      lcp%units = linearization%units
       lcp%tolerance = options%tolerance
       call border_vector(lcp)
 
@@ -144,23 +158,23 @@ contains
       if (allocated(error)) return
       call lcp%scales(scale)
       if (all(q >= -options%tolerance*scale)) then
-         report%solves = 1
+         selection%report%solves = 1
          return
       end if
 
       call band_move(assembled, lcp%matrix)
       call band_move(tangent, lcp%factors)
-      lcp%residual = residual
-      lcp%reference = reference
-      allocate (lcp%work(size(x), 1))
-      call implicit_lcp_solve(lcp, w, report, error, options)
+      lcp%residual = linearization%residual
+      lcp%reference = linearization%reference
+      allocate (lcp%work(size(linearization%x), 1))
+      call implicit_lcp_solve(lcp, w, selection%report, error, options)
       call band_move(lcp%matrix, assembled)
       call band_move(lcp%factors, tangent)
       tangent%factorized = .false.
       if (allocated(error)) return
-      if (report%status /= lemke_solved) then
+      if (selection%report%status /= lemke_solved) then
          ! The report's message names the outcome (a ray, the pivot cap, a breakdown) and its cause.
-         call make_error(error, 'contact LCP not solved: '//report%message, error_analysis)
+         call make_error(error, 'contact LCP not solved: '//selection%report%message, error_analysis)
          return
       end if
 
@@ -179,15 +193,13 @@ contains
       r_scale = max(maxval(abs(reaction)), tiny(1.0_dp))
       w_scale = max(maxval(abs(gap)), tiny(1.0_dp))
       do j = 1, lcp%m
-         new_active(unilateral(j)) = reaction(j)/r_scale > gap(j)/w_scale
+         selection%active(unilateral(j)) = reaction(j)/r_scale > gap(j)/w_scale
       end do
       ! The factors of the final frame serve the caller when the new set is that frame.
-      if (present(kept) .and. present(du_tangent_new)) then
-         if (all(new_active(unilateral) .eqv. lcp%active)) then
-            tangent%factorized = .true.
-            du_tangent_new = lcp%du_tangent
-            kept = .true.
-         end if
+      if (all(selection%active(unilateral) .eqv. lcp%active)) then
+         tangent%factorized = .true.
+         selection%du_tangent = lcp%du_tangent
+         selection%kept = .true.
       end if
    end subroutine select_contact_set
 

@@ -11,7 +11,8 @@ module uniarc_path_contact_set
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact, only: candidate_gap
-   use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set
+   use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
+                                 contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
    use uniarc_path_state, only: path_state_t, path_system_t, linearization_t
    implicit none
@@ -46,13 +47,22 @@ contains
       logical, intent(in) :: active(:)
       type(set_update_t), intent(out) :: update
       type(error_t), allocatable, intent(out) :: error
-      type(implicit_lcp_report_t) :: report
-      allocate (update%active(size(active)))
-      call select_contact_set(model, state%map, system%assembled, system%tangent, lin%x, lin%nodal, lin%residual, &
-                              lin%reference, lin%rhs(:, 1), lin%rhs(:, 2), constraint, &
-                              units_at(model, state, lin%x, lin%nodal, active), active, update%active, report, &
-                              error, update%kept, update%du_tangent)
-      update%pivots = report%pivots
+      type(contact_linearization_t) :: linearization
+      type(contact_selection_t) :: selection
+      linearization%x = lin%x
+      linearization%nodal = lin%nodal
+      linearization%residual = lin%residual
+      linearization%reference = lin%reference
+      linearization%du_residual = lin%rhs(:, 1)
+      linearization%du_tangent = lin%rhs(:, 2)
+      linearization%constraint = constraint
+      linearization%units = units_at(model, state, lin%x, lin%nodal, active)
+      call select_contact_set(model, state%map, linearization, active, system%assembled, system%tangent, &
+                              selection, error)
+      update%active = selection%active
+      update%kept = selection%kept
+      if (selection%kept) update%du_tangent = selection%du_tangent
+      update%pivots = selection%report%pivots
       if (allocated(error)) return
       update%changed = any(update%active .neqv. active)
    end subroutine solve_contact_lcp
