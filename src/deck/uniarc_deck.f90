@@ -16,7 +16,7 @@ module uniarc_deck
    use uniarc_expression, only: evaluate_expression, set_parameter, find_parameter, is_reserved_name
    use uniarc_deck_source, only: source_t, card_t, read_source, next_card, raise, raise_plain, clip, &
                                  check_options, field_real
-   use uniarc_model, only: model_t, distributed_load_t
+   use uniarc_model, only: model_t
    use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kinds
    use uniarc_deck_element, only: restrain_truss_nodes
    use uniarc_deck_state, only: parameter_override_t, deck_t
@@ -215,7 +215,6 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, bad
-      type(distributed_load_t), allocatable :: loads(:)
 
       do i = 1, size(deck%overrides)
          if (.not. deck%override_used(i)) then
@@ -251,16 +250,10 @@ contains
                           integer_to_string(deck%model%element_label(bad))//' without one', error)
          return
       end if
-      if (deck%model%n_loads > 0) then
-         loads = deck%model%loads(1:deck%model%n_loads)
-      else
-         allocate (loads(0))
-      end if
       associate (model => deck%model)
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
                                    element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
                                    deck%node_line(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
-                                   model%element_label(1:model%n_elements), loads, &
                                    model%fixed(:, 1:model%n_nodes), model%nodal_load(:, 1:model%n_nodes), error)
       end associate
    end subroutine check_whole_deck

@@ -7,8 +7,8 @@ module uniarc_deck_element
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_strings, only: to_upper, integer_to_string
-   use uniarc_deck_source, only: source_t, card_t, raise, raise_plain, clip, option_index
-   use uniarc_model, only: distributed_load_t, element_beam_column, element_truss, dof_rz
+   use uniarc_deck_source, only: source_t, card_t, raise, clip, option_index
+   use uniarc_model, only: element_beam_column, element_truss, dof_rz
    implicit none
    private
    public :: read_element_type, restrain_truss_nodes
@@ -39,38 +39,26 @@ contains
       end select
    end subroutine read_element_type
 
-   !> Hold the rotation of every node that only truss elements use, and check the loads a truss cannot
-   !> carry.
+   !> Hold the rotation of every node that only truss elements use.
    !>
    !> A truss has no rotational stiffness, so the rotation of a node connected to trusses only would be
    !> a zero pivot of the stiffness: it is held (`fixed(dof_rz, node)` set; docs/input.md). A moment
    !> (`*CLOAD ..., MZ`) on such a node would then do no work and is an error at the node's definition
-   !> (`node_line`, `node_column`); so is a distributed load on a truss element (`loads`, the `*DLOAD`
-   !> records): a bar pinned at both ends has no transverse stiffness over its
-   !> span to take it — its nodes take point loads. Arrays: connectivity (2, n_elements), kinds
-   !> (n_elements), node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes).
+   !> (`node_line`, `node_column`). (A distributed load on a truss is refused where `*DLOAD` is read,
+   !> uniarc_deck_loads.) Arrays: connectivity (2, n_elements), kinds (n_elements),
+   !> node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes).
    subroutine restrain_truss_nodes(source, connectivity, kinds, node_label, node_line, node_column, &
-                                   element_label, loads, fixed, nodal_load, error)
+                                   fixed, nodal_load, error)
       type(source_t), intent(in) :: source
       integer, intent(in) :: connectivity(:, :)
       integer, intent(in) :: kinds(:)
       integer, intent(in) :: node_label(:), node_line(:), node_column(:)
-      integer, intent(in) :: element_label(:)
-      type(distributed_load_t), intent(in) :: loads(:)
       logical, intent(inout) :: fixed(:, :)
       real(dp), intent(in) :: nodal_load(:, :)
       type(error_t), allocatable, intent(out) :: error
       logical :: has_beam(size(node_label)), has_truss(size(node_label))
       integer :: e, i
       if (all(kinds /= element_truss)) return
-      do i = 1, size(loads)
-         if (kinds(loads(i)%element) == element_truss) then
-            call raise_plain(source, 'expected distributed loads (*DLOAD) on beam elements only, found one on '// &
-                             'truss element '//integer_to_string(element_label(loads(i)%element))// &
-                             ' (a truss takes loads at its nodes: *CLOAD)', error)
-            return
-         end if
-      end do
       has_beam = .false.
       has_truss = .false.
       do e = 1, size(kinds)

@@ -7,8 +7,8 @@ module uniarc_deck_loads
    use uniarc_expression, only: find_parameter
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
-   use uniarc_model, only: dof_ux, dof_uy, dof_rz
-   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure
+   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
+   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof
    implicit none
    private
@@ -147,7 +147,7 @@ contains
       logical :: follower
       real(dp) :: value
       type(field_t), allocatable :: fields(:)
-      integer, allocatable :: elements(:)
+      integer, allocatable :: elements(:), kinds(:)
       character(len=:), allocatable :: load_type
 
       call check_options(source, card, [character(len=8) :: 'FOLLOWER'], error)
@@ -160,6 +160,17 @@ contains
          if (allocated(error)) return
          call resolve_elements(source, deck, line, fields(1), elements, error)
          if (allocated(error)) return
+         ! A truss, pinned at both ends, has no transverse stiffness over its span: it takes loads at
+         ! its nodes only.
+         kinds = element_kinds(deck%model, deck%model%n_elements)
+         do j = 1, size(elements)
+            if (kinds(elements(j)) == element_truss) then
+               call raise(source, line, fields(1)%column, 'expected beam elements for a distributed load, '// &
+                          'found truss element '//integer_to_string(deck%model%element_label(elements(j)))// &
+                          ' (a truss takes loads at its nodes: *CLOAD)', error)
+               return
+            end if
+         end do
          load_type = to_upper(fields(2)%text)
          select case (load_type)
          case ('PX', 'PY')
