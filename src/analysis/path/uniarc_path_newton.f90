@@ -184,11 +184,12 @@ contains
                update_set = .true.
             else
                if (trial%iterations == options%max_iterations) exit
-               ! The working set is updated within Newton too (docs/theory.md §3.4): a trial state that
-               ! a correction has reached with a violated contact gets the LCP linearised at it, whose
-               ! solution is the Newton correction of the complementarity problem (Josephy–Newton). It
-               ! uses the factors this iteration needs anyway, so a change of the set costs no extra
-               ! factorisation and the set converges along with equilibrium instead of after it.
+               ! The working set is updated within Newton too (docs/theory.md §3.4), at a trial state
+               ! that a correction has reached with a violated contact. The first `sign_rule_changes`
+               ! changes follow the primal–dual active-set rule, edited into this iteration's tangent
+               ! (no assembly, no LCP); later ones take the LCP linearised at the state, whose solution
+               ! is the Newton correction of the complementarity problem (Josephy–Newton), with the
+               ! factors this iteration needs anyway. The set converges along with equilibrium.
                update_set = contacts .and. .not. fresh_set
                if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active)
                if (update_set .and. trial%set_changes < sign_rule_changes) then
