@@ -175,7 +175,9 @@ contains
    pure function format_number(x) result(text)
       real(dp), intent(in) :: x
       character(len=:), allocatable :: text
-      text = real_to_string(x, number_format)
+      ! x + 0 turns a negative zero (a product of zero and a negative number) into +0 (IEEE 754
+      ! round-to-nearest), so that no column shows -0.000000000000E+000.
+      text = real_to_string(x + 0.0_dp, number_format)
    end function format_number
 
    !> Start the table `name` in the work directory with its header line.

@@ -355,6 +355,12 @@ def main():
     crit_file = os.path.join(args.out, stem + '.crit')
     if args.expect_exit == 0 and os.path.exists(crit_file) and os.path.exists(path_file):
         failures += check_limits_bracketed(path_file, crit_file)
+    # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0').
+    for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
+        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape'):
+            with open(os.path.join(args.out, name)) as f:
+                if '-0.000000000000E+000' in f.read():
+                    failures.append('%s has a negative zero' % name)
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
