@@ -22,7 +22,7 @@ module uniarc_path_following
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
-   use uniarc_model, only: model_t, control_displacement, control_arclength
+   use uniarc_model, only: model_t, control_displacement, control_arclength, control_load
    use uniarc_dof_map, only: build_dof_map
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load
@@ -114,13 +114,25 @@ contains
       integer, intent(out), optional :: cuts
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
-      real(dp) :: length, factor
+      real(dp) :: length, factor, remaining
       integer :: attempt, halvings
+      logical :: to_limit
       associate (options => model%analysis)
          ! The system of equations is the attempts' while they run: the committed state they read
          ! (intent(in)) cannot be written through it.
          call move_alloc(state%system, system)
          length = state%step_length
+         ! Under load control a step that would pass lambda_max, or stop within 1e-6 of a step short
+         ! of it, goes to lambda_max exactly: the path ends on the load the deck asks for (not
+         ! 1.084 for 1), and no sliver of a step is left from the round-off of the sum of increments.
+         to_limit = .false.
+         if (options%control == control_load .and. options%lambda_max < huge(1.0_dp)) then
+            remaining = options%lambda_max - real(state%direction, dp)*state%lambda
+            if (remaining > 0.0_dp .and. remaining <= (1.0_dp + 1.0e-6_dp)*length) then
+               length = remaining
+               to_limit = .true.
+            end if
+         end if
          halvings = 0
          do attempt = 0, options%max_cuts
             trial%length = length
@@ -141,6 +153,8 @@ contains
          ! Commit the converged trial.
          state%u = state%u + trial%increment
          state%lambda = state%lambda + trial%dlambda
+         ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
+         if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
          state%active = trial%active
          state%last_increment = trial%increment
          state%point%s = state%point%s + masked_norm(state%map, trial%increment)
