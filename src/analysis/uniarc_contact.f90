@@ -26,7 +26,7 @@ module uniarc_contact
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
-   public :: candidate_gap, assemble_contact, toggle_contacts, contact_summary_t, summarize_contact
+   public :: candidate_gap, assemble_contact, toggle_contacts, set_membership, contact_summary_t, summarize_contact
 
    !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
    type :: contact_summary_t
@@ -101,47 +101,63 @@ contains
       logical, intent(in) :: flip(:), active(:)
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), sign, reaction
-      integer :: c, i, j, row, node, eq(2)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, row, node
       do c = 1, size(flip)
          if (.not. flip(c)) cycle
          row = map%candidate_equation(c)
          if (row == 0 .and. .not. map%condensed(c)) cycle
-         associate (candidate => model%contacts(c))
-            node = candidate%node
-            eq = map%equation(1:2, node)
-            call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
-                               gradient, hessian)
-            if (row == 0) then
-               ! condensed spring: a aᵀ/t − r ∂a/∂u and the force a r, r = −g/t, come in or go out
-               sign = -1.0_dp
-               if (active(c)) sign = 1.0_dp
-               reaction = -gap/candidate%flexibility
-               do i = 1, 2
-                  if (eq(i) == 0) cycle
-                  residual(eq(i)) = residual(eq(i)) + sign*gradient(i)*reaction
-                  do j = 1, 2
-                     if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
-                                                  sign*(gradient(i)*gradient(j)/candidate%flexibility - &
-                                                        reaction*hessian(i, j)))
-                  end do
-               end do
-            else if (active(c)) then
-               do i = 1, 2
-                  if (eq(i) > 0) call band_set(tangent, row, eq(i), -gradient(i))
-               end do
-               call band_set(tangent, row, row, -candidate%flexibility)
-               residual(row) = gap + candidate%flexibility*reactions(c)
-            else
-               do i = 1, 2
-                  if (eq(i) > 0) call band_set(tangent, row, eq(i), 0.0_dp)
-               end do
-               call band_set(tangent, row, row, 1.0_dp)
-               residual(row) = -reactions(c)
-            end if
-         end associate
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
+                            gradient, hessian)
+         call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
+                             reactions(c), active(c), tangent, residual)
       end do
    end subroutine toggle_contacts
+
+   !> One candidate entering (`entering`) or leaving the working set, in an assembled augmented tangent
+   !> and its residual λR − F_aug: the one place that knows what membership means (module header).
+   !> row: its reaction equation (0: a condensed spring); eq (2): its node's translations (0: held);
+   !> gap, gradient (2), hessian (2, 2): g, a = ∂g/∂u, ∂a/∂u at the state; flexibility t; reaction: its
+   !> unknown's value at the state (augmented rows only).
+   !> - condensed spring: a aᵀ/t − r ∂a/∂u with r = −g/t is added (entering) or removed, and its force
+   !>   a r moves into or out of the residual of the equilibrium rows;
+   !> - augmented row: entering, the row −aᵀ, −t with residual g + t r (w = 0 enforced); leaving, the
+   !>   identity row with residual −r (r = 0 enforced).
+   subroutine set_membership(row, eq, gap, gradient, hessian, flexibility, reaction, entering, tangent, residual)
+      integer, intent(in) :: row, eq(2)
+      real(dp), intent(in) :: gap, gradient(2), hessian(2, 2), flexibility, reaction
+      logical, intent(in) :: entering
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: residual(:)
+      real(dp) :: sign, spring_reaction
+      integer :: i, j
+      if (row == 0) then
+         sign = -1.0_dp
+         if (entering) sign = 1.0_dp
+         spring_reaction = -gap/flexibility
+         do i = 1, 2
+            if (eq(i) == 0) cycle
+            residual(eq(i)) = residual(eq(i)) + sign*gradient(i)*spring_reaction
+            do j = 1, 2
+               if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
+                                            sign*(gradient(i)*gradient(j)/flexibility - spring_reaction*hessian(i, j)))
+            end do
+         end do
+      else if (entering) then
+         do i = 1, 2
+            if (eq(i) > 0) call band_set(tangent, row, eq(i), -gradient(i))
+         end do
+         call band_set(tangent, row, row, -flexibility)
+         residual(row) = gap + flexibility*reaction
+      else
+         do i = 1, 2
+            if (eq(i) > 0) call band_set(tangent, row, eq(i), 0.0_dp)
+         end do
+         call band_set(tangent, row, row, 1.0_dp)
+         residual(row) = -reaction
+      end if
+   end subroutine set_membership
 
    !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).

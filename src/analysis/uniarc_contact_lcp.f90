@@ -19,9 +19,9 @@ module uniarc_contact_lcp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
-   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_set, &
-                          band_add, band_copy, band_move, band_multiply
-   use uniarc_contact, only: candidate_gap
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
+                          band_move, band_multiply
+   use uniarc_contact, only: candidate_gap, set_membership
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
    use uniarc_lemke, only: lemke_solved
@@ -435,40 +435,12 @@ contains
    subroutine toggle(self, flip)
       type(contact_lcp_operator_t), intent(inout) :: self
       logical, intent(in) :: flip(:)
-      integer :: j, i, k, row
-      real(dp) :: sign
+      integer :: j
       do j = 1, self%m
          if (.not. flip(j)) cycle
          self%active(j) = .not. self%active(j)
-         row = self%row(j)
-         if (row == 0) then
-            ! condensed spring: its stiffness a aᵀ/t − r ∂a/∂u and its force −a r, r = −g/t at the
-            ! state, come in or go out
-            sign = -1.0_dp
-            if (self%active(j)) sign = 1.0_dp
-            do i = 1, 2
-               if (self%eq(i, j) == 0) cycle
-               do k = 1, 2
-                  if (self%eq(k, j) > 0) call band_add(self%matrix, self%eq(i, j), self%eq(k, j), &
-                                                       sign*(self%gradient(i, j)*self%gradient(k, j) + &
-                                                             self%gap(j)*self%hessian(i, k, j))/self%flexibility(j))
-               end do
-               self%residual(self%eq(i, j)) = self%residual(self%eq(i, j)) - &
-                                              sign*self%gradient(i, j)*self%gap(j)/self%flexibility(j)
-            end do
-         else if (self%active(j)) then
-            do i = 1, 2
-               if (self%eq(i, j) > 0) call band_set(self%matrix, row, self%eq(i, j), -self%gradient(i, j))
-            end do
-            call band_set(self%matrix, row, row, -self%flexibility(j))
-            self%residual(row) = self%gap(j) + self%flexibility(j)*self%reaction(j)
-         else
-            do i = 1, 2
-               if (self%eq(i, j) > 0) call band_set(self%matrix, row, self%eq(i, j), 0.0_dp)
-            end do
-            call band_set(self%matrix, row, row, 1.0_dp)
-            self%residual(row) = -self%reaction(j)
-         end if
+         call set_membership(self%row(j), self%eq(:, j), self%gap(j), self%gradient(:, j), self%hessian(:, :, j), &
+                             self%flexibility(j), self%reaction(j), self%active(j), self%matrix, self%residual)
       end do
    end subroutine toggle
 

@@ -7,9 +7,9 @@ module uniarc_path_stability
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
-                          band_add, band_set, band_factorize
+                          band_factorize
    use uniarc_dof_map, only: candidate_live
-   use uniarc_contact, only: candidate_gap
+   use uniarc_contact, only: candidate_gap, set_membership
    use uniarc_path_state, only: path_state_t, nodal_displacements
    use uniarc_path_contact_set, only: candidate_state, contact_units
    use uniarc_contact_lcp, only: contact_scales_t
@@ -107,11 +107,10 @@ contains
       logical, intent(in) :: unloaded
       type(band_matrix_t) :: open_tangent
       type(contact_scales_t) :: units
-      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:)
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), released(:)
       logical, allocatable :: weak(:)
       real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu
-      integer :: c, i, j, node, row, negative, n_rows
-      integer, allocatable :: eq(:)
+      integer :: c, node, row, negative, n_rows
       logical :: singular
       type(error_t), allocatable :: error
       state%point%liftoff = .false.
@@ -127,30 +126,17 @@ contains
       end do
       if (.not. any(weak)) return
       call band_copy(assembled, open_tangent)
+      allocate (released(size(assembled%ab, 2)))
       n_rows = count(state%active .and. state%map%candidate_equation > 0)
       do c = 1, size(weak)
          if (.not. weak(c)) cycle
          node = model%contacts(c)%node
-         eq = state%map%equation(1:2, node)
          row = state%map%candidate_equation(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
-         if (row > 0) then
-            ! released row: r = 0 (the identity row of a free candidate)
-            do i = 1, 2
-               if (eq(i) > 0) call band_set(open_tangent, row, eq(i), 0.0_dp)
-            end do
-            call band_set(open_tangent, row, row, 1.0_dp)
-            n_rows = n_rows - 1
-         else
-            ! condensed spring: its stiffness a aᵀ/t − r ∂a/∂u out (r = −g/t at the state)
-            do i = 1, 2
-               if (eq(i) == 0) cycle
-               do j = 1, 2
-                  if (eq(j) > 0) call band_add(open_tangent, eq(i), eq(j), &
-                                               -(gradient(i)*gradient(j) + g*hessian(i, j))/model%contacts(c)%flexibility)
-               end do
-            end do
-         end if
+         ! Released as if leaving the set (its residual is not needed here).
+         call set_membership(row, state%map%equation(1:2, node), g, gradient, hessian, &
+                             model%contacts(c)%flexibility, reaction(c), .false., open_tangent, released)
+         if (row > 0) n_rows = n_rows - 1
       end do
       call band_inertia(open_tangent, negative, singular)
       negative = max(0, negative - n_rows)
