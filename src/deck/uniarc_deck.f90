@@ -113,7 +113,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH, *OUTPUT), found ''*'//card%keyword//'''', error)
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH, *OUTPUT), found ''*'//clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch
 

@@ -17,10 +17,14 @@ module uniarc_deck_source
    public :: read_source, next_card, raise, raise_plain, clip
    public :: check_options, option_index, require_option
    public :: data_fields, require_field_count, field_real, field_integer
-   public :: max_line_length, max_deck_bytes
+   public :: max_line_length, max_deck_bytes, max_fields
 
    !> Longest line a deck may have, in characters (64 MiB).
    integer, parameter :: max_line_length = 67108864
+
+   !> Most comma-separated fields a keyword or data line may have (2**20): each field costs about 64
+   !> bytes apart from its text, so that a long line of commas cannot take 30 times its size.
+   integer, parameter :: max_fields = 1048576
 
    !> Largest deck, in bytes (1 GiB): it is held in memory twice while it is split into lines.
    integer(int64), parameter :: max_deck_bytes = 1073741824_int64
@@ -70,7 +74,8 @@ contains
    !> are refused by name) of at most `max_deck_bytes`; it is read in chunks of `chunk_bytes` and split
    !> at line feeds, in time linear in its size. A trailing carriage return (files written on Windows)
    !> is dropped and tabs become single blanks. A line longer than `line_limit` characters (default
-   !> `max_line_length`) is refused at `PATH:LINE:COL`, COL the first character past the limit.
+   !> `max_line_length`) is refused at `PATH:LINE:COL`, COL the first character past the limit, and a
+   !> card or data line of more than `max_fields` fields at the start of the field too many.
    subroutine read_source(path, source, error, line_limit)
       character(len=*), intent(in) :: path
       type(source_t), intent(out) :: source
@@ -166,10 +171,46 @@ contains
             do k = 1, len(line%text)
                if (line%text(k:k) == tab) line%text(k:k) = ' '
             end do
+            k = field_past_limit(line%text)
+            if (k > 0) then
+               source%n_lines = i
+               call raise(source, i, k, 'expected at most '//integer_to_string(max_fields)// &
+                          ' fields in a line, found more', error)
+               return
+            end if
          end associate
       end do
       source%n_lines = n
    end subroutine split_lines
+
+   !> Column of the first character of field max_fields + 1 of a card or data line (fields split as
+   !> `split_fields` does: at commas outside parentheses), 0 when it has no more fields or is a comment.
+   pure integer function field_past_limit(text) result(column)
+      character(len=*), intent(in) :: text
+      integer :: i, depth, commas, first
+      column = 0
+      first = first_nonblank(text)
+      if (first == 0) return
+      if (is_comment(text, first)) return
+      depth = 0
+      commas = 0
+      do i = first, len(text)
+         select case (text(i:i))
+         case ('(')
+            depth = depth + 1
+         case (')')
+            depth = max(depth - 1, 0)
+         case (',')
+            if (depth > 0) cycle
+            commas = commas + 1
+            if (commas == max_fields) then
+               ! a trailing comma opens no field
+               if (last_nonblank(text) > i) column = i + 1
+               return
+            end if
+         end select
+      end do
+   end function field_past_limit
 
    !> A byte count as text (64-bit: a deck may be larger than the default integer).
    pure function bytes_text(bytes) result(text)
@@ -288,7 +329,7 @@ contains
                end if
                if (len_trim(option%value) == 0) then
                   call raise(source, line, field%column + equals, 'expected a value after '''// &
-                             option%name//'='', found nothing', error)
+                             clip(option%name)//'='', found nothing', error)
                   return
                end if
             else
@@ -327,7 +368,7 @@ contains
                   end do
                end if
                call raise(source, card%line, option%column, 'expected '//list//' on *'//card%keyword// &
-                          ', found '''//option%name//'''', error)
+                          ', found '''//clip(option%name)//'''', error)
                return
             end if
             takes_value = index(allowed(k), '=') > 0
