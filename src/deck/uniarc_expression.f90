@@ -34,7 +34,9 @@ module uniarc_expression
    public :: max_nesting_depth
 
    !> Most levels an expression may nest: parentheses, function calls, signs and powers' exponents
-   !> (`-(2*(x + 1))**-2` opens 4). Each level costs a few stack frames of under 1 KiB.
+   !> (`-(2*(x + 1))**-2` opens 4). A level of function call, the dearest, takes 1–1.5 KiB of stack
+   !> (256 nested calls need between 256 and 384 KiB, Release and Debug builds alike): the limit uses
+   !> under 0.4 MiB of the usual 8 MiB stack.
    integer, parameter :: max_nesting_depth = 256
 
    !> π to double precision.
