@@ -10,6 +10,9 @@ Usage (one CTest per call):
                [--linear]                          # a linear analysis (forces on the initial chord)
                [--expect-cell NAME=VALUE:ATOL]...  # every cell of array NAME equals lambda*VALUE
                [--expect-contact]                  # some snapshot has a positive contact reaction
+               [--load LABEL:FX,FY,MZ]...          # the deck's reference load on node LABEL (all of
+                                                   # it: with --load the nodal equilibrium is checked)
+               [--force-tolerance TOL]             # the deck's force_tolerance (default 1e-8)
                [--no-vtk]                          # the deck has no *OUTPUT: no VTK file at all
 
 The `vtk` Python module (Debian: python3-vtk9, installed by scripts/install_deps.sh) is required: without
@@ -32,6 +35,8 @@ it the check fails. What is checked:
 - cell data: `bending_moment` is the mean of the end moments, `shear_force` V = dM/ds times the chord
   length (the current one; the initial one, x - u, for --linear) is bending_moment_end - bending_moment_start,
   `element_label` positive and distinct; --expect-cell closed forms;
+- with --load: nodal equilibrium of N, V and M with lambda times the --load values, at every node
+  without a contact reaction, in every free direction (see check_equilibrium);
 - vtkTubeFilter (ParaView's Tube) applied to every snapshot, .vtp and .vtk, gives one triangle strip per
   side and line, carrying the cell arrays (colouring the tubes by N or M works).
 """
@@ -212,14 +217,69 @@ def check_cells(where, snapshot, linear, problems):
         start, end = cell['bending_moment_start'][c], cell['bending_moment_end'][c]
         problems.check(close(cell['bending_moment'][c], 0.5 * (start + end), max(abs(start), abs(end))),
                        f'{where}: cell {c}: bending_moment is not the mean of the end moments')
-        a, b = snapshot['points'][i], snapshot['points'][j]
-        if linear:
-            ua, ub = snapshot['point']['displacement'][i], snapshot['point']['displacement'][j]
-            a, b = [x - u for x, u in zip(a, ua)], [x - u for x, u in zip(b, ub)]
-        length = math.dist(a, b)
+        length, _ = chord(snapshot, i, j, linear)
         shear = cell['shear_force'][c]
         problems.check(close(shear * length, end - start, max(abs(start), abs(end), abs(shear * length))),
                        f'{where}: cell {c}: shear_force * L = {shear * length!r}, M_end - M_start = {end - start!r}')
+
+
+def chord(snapshot, i, j, linear):
+    """Length and unit vector of the chord from point i to point j: the deformed one, or for a linear
+    analysis the initial one (x - u), on which its forces act."""
+    a, b = snapshot['points'][i], snapshot['points'][j]
+    if linear:
+        ua, ub = snapshot['point']['displacement'][i], snapshot['point']['displacement'][j]
+        a, b = [x - u for x, u in zip(a, ua)], [x - u for x, u in zip(b, ub)]
+    length = math.dist(a, b)
+    return length, ((b[0] - a[0]) / length, (b[1] - a[1]) / length)
+
+
+def check_equilibrium(where, snapshot, loads, linear, force_tolerance, problems):
+    """The written N, V and M are in equilibrium with the load lambda * P at every node without a contact
+    reaction, in every direction that is free.
+
+    The end forces of a line element (corotational or linear beam-column, Crisfield 1991, vol. 1,
+    ch. 7: f = B^T q) are, with e the unit chord from node 1 to node 2 and n = e turned by +90 degrees:
+    node 1 (-N e + V n, -M_start), node 2 (N e - V n, M_end) (uniarc_transformation, V = dM/ds). A
+    constrained direction has a displacement of exactly 0 and is left out, as are nodes in contact
+    (their reaction's direction is not in the files). The run converged with a residual of at most
+    force_tolerance times its force scale, max(|P|, |lambda P|, sqrt(sum_e |f_e|^2)) (uniarc_path_newton);
+    the written numbers add ROUND_OFF of that scale.
+    """
+    lambda_ = snapshot['field']['lambda'][0]
+    labels = snapshot['point']['node_label']
+    residual = [[0.0, 0.0, 0.0] for _ in labels]
+    cell = snapshot['cell']
+    element_size = 0.0
+    for c, (i, j) in enumerate(snapshot['lines']):
+        _, (ex, ey) = chord(snapshot, i, j, linear)
+        nx, ny = -ey, ex
+        axial, shear = cell['axial_force'][c], cell['shear_force'][c]
+        fx, fy = axial * ex - shear * nx, axial * ey - shear * ny
+        forces = ((i, (-fx, -fy, -cell['bending_moment_start'][c])), (j, (fx, fy, cell['bending_moment_end'][c])))
+        for node, force in forces:
+            for k in range(3):
+                residual[node][k] += force[k]
+            element_size += sum(f * f for f in force)
+    load_size = 0.0
+    for i, label in enumerate(labels):
+        for k, value in enumerate(loads.get(label, (0.0, 0.0, 0.0))):
+            residual[i][k] -= lambda_ * value
+            load_size += value * value
+    scale = max(math.sqrt(load_size), abs(lambda_) * math.sqrt(load_size), math.sqrt(element_size))
+    free = []
+    for i, label in enumerate(labels):
+        if snapshot['point']['contact_reaction'][i] != 0.0:
+            continue
+        motion = (*snapshot['point']['displacement'][i][:2], snapshot['point']['rotation'][i])
+        free += [residual[i][k] for k in range(3) if motion[k] != 0.0]
+    if not free:
+        return 0
+    norm = math.sqrt(sum(r * r for r in free))
+    problems.check(norm <= (force_tolerance + ROUND_OFF) * scale,
+                   f'{where}: the element forces leave a nodal residual of {norm:.3e} against lambda*P, more than '
+                   f'{force_tolerance + ROUND_OFF:.1e} of the force scale {scale:.3e}')
+    return len(free)
 
 
 def check_same(where, legacy, xml, problems):
@@ -288,6 +348,8 @@ def main():
     parser.add_argument('--linear', action='store_true')
     parser.add_argument('--expect-cell', action='append', default=[])
     parser.add_argument('--expect-contact', action='store_true')
+    parser.add_argument('--load', action='append', default=[])
+    parser.add_argument('--force-tolerance', type=float, default=1e-8)
     parser.add_argument('--no-vtk', action='store_true')
     args = parser.parse_args()
 
@@ -334,8 +396,13 @@ def main():
         return report(problems)
     print(f'VTK {vtk.version}: vtkXMLPolyDataReader, vtkPolyDataReader and vtkTubeFilter')
 
+    loads = {}
+    for text in args.load:
+        label, values = text.split(':')
+        loads[int(label)] = tuple(float(x) for x in values.split(','))
     any_contact = False
     compared = 0
+    equations = 0
     for step in wanted:
         where = f'{stem}_{step:04d}'
         read = {}
@@ -350,6 +417,9 @@ def main():
         check_against_tables(where + '.vtp', snapshot, step, path_by_step[step], shape_by_step.get(step), problems)
         compared += step in shape_by_step
         check_cells(where + '.vtp', snapshot, args.linear, problems)
+        if loads:
+            equations += check_equilibrium(where + '.vtp', snapshot, loads, args.linear, args.force_tolerance,
+                                           problems)
         for extension, (data, _) in read.items():
             check_tube(vtk, f'{where}.{extension}', data, problems)
         any_contact = any_contact or max(snapshot['point']['contact_reaction']) > 0.0
@@ -363,7 +433,7 @@ def main():
     if args.expect_contact:
         problems.check(any_contact, 'no snapshot has a positive contact reaction')
     print(f'{len(wanted)} snapshots (.vtp and .vtk) read, {compared} of them compared with the shape file; '
-          f'pvd timesteps = steps {wanted}')
+          f'{equations} nodal equilibrium equations checked; pvd timesteps = steps {wanted}')
     return report(problems)
 
 
