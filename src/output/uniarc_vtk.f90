@@ -5,8 +5,9 @@
 !> files, while the legacy files are what many other tools read.
 !>
 !> PolyData, not an unstructured grid: the elements are lines, and VTK's line filters (vtkTubeFilter,
-!> ParaView's Tube; vtkRibbonFilter, vtkStripper, ...) take PolyData only. Every filter that takes a
-!> data set takes PolyData too, so nothing is lost against an UnstructuredGrid of VTK_LINE cells.
+!> ParaView's Tube; vtkRibbonFilter, vtkStripper, ...) take PolyData only, while the filters that take
+!> any data set take PolyData too (ParaView's Append Datasets makes an unstructured grid of it for the
+!> few that want one).
 !>
 !> A snapshot holds the deformed geometry x0 + u, with z = 0, one line cell per element (node 1 →
 !> node 2). Point data: `displacement` (u_x, u_y, 0), `rotation` θ_z, `contact_reaction` (the sum of
