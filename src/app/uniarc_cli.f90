@@ -105,7 +105,7 @@ contains
              '  STEM.path   one row per converged step: step, lambda, tracked values, contact, solver'//nl// &
              '  STEM.crit   critical points and contact events along the path'//nl// &
              '  STEM.shape  node coordinates and displacements per snapshot'//nl// &
-             '  STEM_NNNN.vtk, STEM_NNNN.vtu, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
+             '  STEM_NNNN.vtp, STEM_NNNN.vtk, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
              'options:'//nl// &
              '  -o OUTDIR        write the result files to OUTDIR (created; default: .)'//nl// &
              '  -D NAME=VALUE    override the deck''s *PARAMETER NAME (repeatable; VALUE may be'//nl// &
