@@ -14,9 +14,10 @@ module uniarc_linear_static
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, add_context, make_error, error_analysis
    use uniarc_model, only: model_t, dofs_per_node
-   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
-   use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal
+   use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
+   use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
@@ -68,6 +69,7 @@ contains
       allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
       allocate (reference(n), residual(n), rhs(n, 2))
       call assemble_reference_load(model, map, .true., reference)
+      if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
       ! The first working set: candidates that touch at u = 0, and the bonded ones (as the path
       ! following starts): it holds what the contacts hold, so K_S is regular for a structure that
       ! rests on its medium without supports.
@@ -124,11 +126,31 @@ contains
       negative_pivots = max(0, negative_pivots - count(set .and. map%candidate_equation > 0))
       allocate (displacement(dofs_per_node, model%n_nodes))
       call gather_nodal(map, x, displacement)
+      if (allocated(model%prescribed)) displacement = displacement + model%prescribed
       if (present(reactions)) reactions = r
       if (present(active)) active = set
       if (present(lcp_pivots)) lcp_pivots = pivots
       if (present(lcp_residual)) lcp_residual = worst
    end subroutine solve_linear_static
+
+   !> Prescribed displacements ū of held DOFs (support settlements) as loads on the free DOFs:
+   !> K_ff u_f = R_f − K_fp ū, element by element (−k_e ū_e scattered to the free equations; the held
+   !> ones have none). Equations of the direct stiffness method (Przemieniecki 1968, §6.7).
+   subroutine add_settlement_load(model, map, reference)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(inout) :: reference(:)
+      type(element_response_t) :: response
+      real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
+      real(dp) :: settled(2*dofs_per_node)
+      integer :: e
+      do e = 1, model%n_elements
+         settled = element_displacements(model, e, model%prescribed)
+         if (all(settled == 0.0_dp)) cycle
+         call element_response(model, e, at_rest, transformation_linear, response)
+         call scatter_add(element_equations(model, map, e), -matmul(response%tangent, settled), reference)
+      end do
+   end subroutine add_settlement_load
 
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
