@@ -10,6 +10,8 @@
 !> is solved by the project's contact LCP (uniarc_contact_lcp: the implicit operator of the augmented
 !> matrix K_S of a working set S, block pivoting then Lemke) as one load step from the unloaded state
 !> with the load constraint δλ = 1; the equations of the set it selects are then solved once.
+!> Prescribed displacements of held DOFs (support settlements) load the free DOFs by −K_fp ū
+!> (add_settlement_load) and are reported as the displacements of those DOFs (docs/theory.md §3.6).
 module uniarc_linear_static
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, add_context, make_error, error_analysis
