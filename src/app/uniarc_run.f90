@@ -62,8 +62,17 @@ contains
       type(vtk_series_t) :: vtk
       type(step_record_t) :: record
       type(error_t), allocatable :: io_error
-      call solve_linear_static(model, record%displacement, record%neg_pivots, error)
+      type(contact_summary_t) :: summary
+      logical, allocatable :: active(:)
+      call solve_linear_static(model, record%displacement, record%neg_pivots, error, record%reactions, active, &
+                               record%lcp_pivots, record%lcp_residual)
       if (allocated(error)) return
+      summary = summarize_contact(model, record%reactions, active)
+      record%n_contact = summary%n_contact
+      record%contact_regions = summary%regions
+      record%s_contact = summary%s_contact
+      record%reaction_max = summary%reaction_max
+      record%reaction_sum = summary%reaction_sum
       record%step = 1
       record%lambda = 1.0_dp
       record%iterations = 1
