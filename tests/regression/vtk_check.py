@@ -61,11 +61,11 @@ class Problems(list):
 
 
 def read_table(path):
-    """Column names and rows (lists of floats) of a uniarc table file; blank lines are skipped."""
+    """Column names and rows (lists of floats) of a uniarc table file; blank and comment lines are skipped."""
     with open(path) as handle:
         lines = handle.read().splitlines()
-    names = lines[0][1:].split()
-    rows = [[float(x) for x in line.split()] for line in lines[1:] if line.strip()]
+    names = lines[0].split()
+    rows = [[float(x) for x in line.split()] for line in lines[1:] if line.strip() and not line.startswith('#')]
     return names, rows
 
 

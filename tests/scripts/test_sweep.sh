@@ -32,11 +32,13 @@ grep -q "k=bad" "$dir/bad/uniarc.log" || fail "bad/uniarc.log does not hold unia
 python3 - "$dir/0" "$load" "$crown" "$s1" "$s2" <<'PYTHON'
 import sys
 run, load, crown, s1, s2 = sys.argv[1], *map(float, sys.argv[2:])
-crit = [l.split() for l in open(f'{run}/ring_rigid_cavity.crit').read().splitlines()[1:] if l.strip()]
-first = next(r for r in crit if r[0] == 'limit_max')
+def data(name):
+    """Rows of a uniarc table: after the header line, without the `#` provenance lines."""
+    return [l.split() for l in open(f'{run}/{name}').read().splitlines()[1:] if l.strip() and l[0] != '#']
+first = next(r for r in data('ring_rigid_cavity.crit') if r[0] == 'limit_max')
 step, lam, v = map(float, first[1:4])
-names = open(f'{run}/ring_rigid_cavity.path').readline()[1:].split()
-rows = [list(map(float, l.split())) for l in open(f'{run}/ring_rigid_cavity.path').read().splitlines()[1:]]
+names = open(f'{run}/ring_rigid_cavity.path').readline().split()
+rows = [list(map(float, r)) for r in data('ring_rigid_cavity.path')]
 before = max(r for r in rows if r[0] <= step)
 after = min(r for r in rows if r[0] >= step)
 t = (step - before[0]) / (after[0] - before[0]) if after[0] > before[0] else 0.0
