@@ -3,7 +3,8 @@
 # uniarc path files, stable branches solid and unstable ones dashed, with the limit points and
 # bifurcations of the STEM.crit beside each path file marked and labelled with their lambda.
 #
-#   scripts/plot_path.sh [-x COLUMN] [-y COLUMN] [-o OUT.png] [-t TITLE] [-C] [-l LABEL]... FILE.path...
+#   scripts/plot_path.sh [-x COLUMN] [-y COLUMN] [-o OUT.png] [-t TITLE] [-C] [-l LABEL]... [-g FILE.gp]
+#                        FILE.path...
 #
 #   -x COLUMN   x axis: a column name of the path header (default: the first tracked column, the one
 #               after lambda) or a column number (1 = step)
@@ -12,6 +13,8 @@
 #   -t TITLE    the title (default: the deck stem and the -D values all files share)
 #   -C          also mark the contact events (contact_start, contact_lost)
 #   -l LABEL    legend of the next file, in the order of the files (repeatable; the rest as below)
+#   -g FILE.gp  also write the gnuplot commands (data included) to FILE.gp, to restyle the picture:
+#               edit it and run `gnuplot FILE.gp`
 #
 # Legend: the -D values of each run (from the `# defines:` line of its path file) that differ between
 # the files, as "k = 1e4"; the deck stem too when the files come from different decks; the stem alone
@@ -26,7 +29,7 @@ usage() { sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
 fail() { echo "plot_path.sh: $*" >&2; exit 2; }
 
 xcolumn="" ycolumn=lambda out="" title="" contact=no
-files=() labels=()
+files=() labels=() gp_file=""
 while [ $# -gt 0 ]; do
   case $1 in
     -x) [ $# -ge 2 ] || fail "-x needs a value"; xcolumn=$2; shift 2 ;;
@@ -35,6 +38,7 @@ while [ $# -gt 0 ]; do
     -t) [ $# -ge 2 ] || fail "-t needs a value"; title=$2; shift 2 ;;
     -C) contact=yes; shift ;;
     -l) [ $# -ge 2 ] || fail "-l needs a value"; labels+=("$2"); shift 2 ;;
+    -g) [ $# -ge 2 ] || fail "-g needs a file name"; gp_file=$2; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     --) shift; files+=("$@"); break ;;
     -?*) fail "unknown option $1 (see -h)" ;;
@@ -230,4 +234,5 @@ print('plot ' + ', \\\n     '.join(plots))
 PYTHON
 )
 printf '%s\n' "$script" | gnuplot
+if [ -n "$gp_file" ]; then printf '%s\n' "$script" > "$gp_file"; fi
 echo "$out"

@@ -3,7 +3,8 @@
 # the foundations and obstacles (from STEM.surface beside the shape file), the nodes in contact
 # (reaction > 0, above round-off) marked, displacements magnified by a scale factor, equal axes.
 #
-#   scripts/plot_shapes.sh [-s STEPS] [-f SCALE] [-o OUT.png] [-t TITLE] [-F] [-r RATIO] FILE.shape
+#   scripts/plot_shapes.sh [-s STEPS] [-f SCALE] [-o OUT.png] [-t TITLE] [-F] [-r RATIO] [-g FILE.gp]
+#                          FILE.shape
 #
 #   -s STEPS   comma-separated step numbers of snapshots in the file, or `all` (default: up to six
 #              snapshots spread over the path, the last one included)
@@ -15,6 +16,8 @@
 #              vertical scale is the horizontal (for very shallow structures)
 #   -r RATIO   a node is in contact when its reaction exceeds RATIO times the largest reaction in
 #              the file (default 1e-6; uniarc leaves round-off of order 1e-28 at free nodes)
+#   -g FILE.gp  also write the gnuplot commands (data included) to FILE.gp, to restyle the picture:
+#               edit it and run `gnuplot FILE.gp`
 #
 # Each medium of STEM.surface (a foundation, springs or an obstacle) is drawn as a broad band through
 # the points where its candidates' gaps close (brown: rigid, sand: elastic), under the undeformed
@@ -27,6 +30,7 @@ usage() { sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'
 fail() { echo "plot_shapes.sh: $*" >&2; exit 2; }
 
 steps="" scale=1 out="" title="" free=no ratio=1e-6
+gp_file=""
 files=()
 while [ $# -gt 0 ]; do
   case $1 in
@@ -35,6 +39,7 @@ while [ $# -gt 0 ]; do
     -o) [ $# -ge 2 ] || fail "-o needs a value"; out=$2; shift 2 ;;
     -t) [ $# -ge 2 ] || fail "-t needs a value"; title=$2; shift 2 ;;
     -r) [ $# -ge 2 ] || fail "-r needs a value"; ratio=$2; shift 2 ;;
+    -g) [ $# -ge 2 ] || fail "-g needs a file name"; gp_file=$2; shift 2 ;;
     -F) free=yes; shift ;;
     -h|--help) usage; exit 0 ;;
     --) shift; files+=("$@"); break ;;
@@ -206,4 +211,5 @@ print('plot ' + ', \\\n     '.join(plots))
 PYTHON
 )
 printf '%s\n' "$script" | gnuplot
+if [ -n "$gp_file" ]; then printf '%s\n' "$script" > "$gp_file"; fi
 echo "$out"
