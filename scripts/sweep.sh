@@ -25,8 +25,8 @@
 # fractional step) and the status: ok, no_limit (the run ended without a limit point) or failed(N)
 # (uniarc's exit code N; what the run traced is still summarised). Numbers missing are `nan`.
 # sweep.png plots the first limit load against the value (log axis when the positive values span a
-# decade or more); labelled values and values <= 0 are drawn as horizontal lines with their label,
-# never joined to the curve. A sweep folder that exists already (an earlier sweep, whose value folders
+# decade or more); labelled values, and on a log axis values <= 0, are drawn as horizontal lines with
+# their label, never joined to the curve. A sweep folder that exists already (an earlier sweep, whose value folders
 # would mix with these) is refused, exit 2, unless --replace is given.
 set -euo pipefail
 
