@@ -133,6 +133,8 @@ if contact == 'yes':
 styles = {'limit point': 'pt 7 ps 1.6', 'bifurcation': 'pt 13 ps 1.9', 'lift-off bifurcation': 'pt 12 ps 1.9',
           'contact starts': 'pt 8 ps 1.5', 'contact lost': 'pt 10 ps 1.5'}
 plots, blocks, used, label_lines = [], [], [], []
+wanted_labels, all_points = [], []   # (x, y, side, text, colour) of the critical points; every point drawn
+headroom, footroom = 0.0, 0.0         # how far labels reach above and below the frame (graph fractions)
 any_unstable = False
 for number, (path, table) in enumerate(zip(files, tables)):
     names = table.names
@@ -194,15 +196,38 @@ for number, (path, table) in enumerate(zip(files, tables)):
         if kind in critical:
             # the critical point's lambda beside its marker, in the colour of its path
             # above a maximum, below a minimum, staggered by file so that nearby paths' labels part
-            rise = (1.4 + 1.4 * (number % 3)) * (-1 if kind == 'limit_min' else 1)
-            label_lines.append(f'set label {quote("{/Symbol l} = " + f"{y:.4g}")} at {x!r},{y!r} center '
-                               f'offset 0,{rise:g} tc rgb "{colour}" boxed front')
+            wanted_labels.append((x, y, -1 if kind == 'limit_min' else 1, "{/Symbol l} = " + f"{y:.4g}", colour))
+    all_points += [(row[ix], row[iy]) for row in rows]
     for kind, found in points.items():
         block = f'$events{number}_{len(blocks)}'
         blocks.append(block + ' << EOD\n' + '\n'.join(f'{x!r} {y!r}' for x, y in found) + '\nEOD')
         plots.append(f'{block} using 1:2 with points {styles[kind]} lc rgb "{colour}" notitle')
         if kind not in used:
             used.append(kind)
+# Each label above its maximum (below a minimum), raised further, a line at a time, until it overlaps
+# no label placed before: boxes in graph fractions, from the data's extent (with the offsets below)
+# and the frame's size in characters (1000 x 700 canvas, key outside: about 85 x 38 characters).
+if wanted_labels and all_points:
+    xs, ys = [p[0] for p in all_points], [p[1] for p in all_points]
+    span_x, span_y = (max(xs) - min(xs)) or 1.0, (max(ys) - min(ys)) or 1.0
+    span_x_graph, span_y_graph = span_x * 1.08, span_y * 1.22
+    char_x, char_y = 1.0 / 85.0, 1.0 / 38.0
+    placed = []
+    for x, y, side, text, colour in wanted_labels:
+        gx = (x - min(xs)) / span_x_graph
+        gy = (y - min(ys) + 0.08 * span_y) / span_y_graph
+        half_width = 0.5 * (len(text) - 8) * char_x + char_x   # the {/Symbol l} markup is one glyph
+        for step in range(1, 12):
+            rise = side * 1.4 * step
+            centre = gy + rise * char_y
+            box = (gx - half_width, gx + half_width, centre - 0.6 * char_y, centre + 0.6 * char_y)
+            if all(box[1] < b[0] or box[0] > b[1] or box[3] < b[2] or box[2] > b[3] for b in placed):
+                break
+        placed.append(box)
+        headroom = max(headroom, box[3] - 0.97)
+        footroom = max(footroom, 0.03 - box[2])
+        label_lines.append(f'set label {quote(text)} at {x!r},{y!r} center offset 0,{rise:g} '
+                           f'tc rgb "{colour}" boxed front')
 if any_unstable:
     plots.append('NaN with lines lw 2 dt 1 lc rgb "black" title "stable (no negative pivot)"')
     plots.append('NaN with lines lw 2 dt 2 lc rgb "black" title "unstable (negative pivots)"')
@@ -225,7 +250,8 @@ print(f'set ylabel {quote(label.get(yname, yname))}' + ('' if yname in label els
 print('set grid')
 print('set key outside right top box')
 print('set xzeroaxis lt -1 lw 0.5')
-print('set offsets 0, graph 0.08, graph 0.14, graph 0.08')
+# room for the labels: the offsets are fractions of the data's extent, the label reach of the frame's
+print(f'set offsets 0, graph 0.08, graph {0.14 + 1.22 * headroom:.3f}, graph {0.08 + 1.22 * footroom:.3f}')
 print('set style textbox opaque noborder margins 1, 1')
 print('\n'.join(label_lines))
 for block in blocks:
