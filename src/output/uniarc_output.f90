@@ -97,25 +97,32 @@ contains
       type(table_t) :: surface
       real(dp) :: point(2)
       integer :: c, rigid
-      character(len=:), allocatable :: medium
       call open_table(results, surface, results%stem//'.surface', 'medium candidate node x y rigid', comments, &
                       csv, error)
       if (allocated(error)) return
       do c = 1, size(model%contacts)
          point = surface_point(model, c)
          rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp)
-         medium = 'medium_'//integer_to_string(model%contacts(c)%group)
-         if (allocated(model%contact_groups)) then
-            if (model%contacts(c)%group >= 1 .and. model%contacts(c)%group <= size(model%contact_groups)) &
-               medium = model%contact_groups(model%contacts(c)%group)%name
-         end if
-         call put_row(surface, medium//' '//integer_to_string(c)//' '// &
+         call put_row(surface, medium_name(model, model%contacts(c)%group)//' '//integer_to_string(c)//' '// &
                       integer_to_string(model%node_label(model%contacts(c)%node))//' '// &
                       trim(format_number(point(1)))//' '//trim(format_number(point(2)))//' '// &
                       integer_to_string(rigid))
       end do
       call close_table(surface, error)
    end subroutine write_surface
+
+   !> The name of contact group `group` (its card's NAME=), or `medium_<group>` for a group without
+   !> one: a name is one field of a STEM.surface row, never empty.
+   pure function medium_name(model, group) result(name)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: group
+      character(len=:), allocatable :: name
+      name = 'medium_'//integer_to_string(group)
+      if (.not. allocated(model%contact_groups)) return
+      if (group < 1 .or. group > size(model%contact_groups)) return
+      if (.not. allocated(model%contact_groups(group)%name)) return
+      if (len(model%contact_groups(group)%name) > 0) name = model%contact_groups(group)%name
+   end function medium_name
 
    !> Where contact candidate `c` meets its medium, (2) in model units: the point its node reaches when
    !> the candidate's gap closes moving straight to the medium (uniarc_contact_law, candidate_gap).
