@@ -4,7 +4,8 @@
 # ```gnuplot blocks of the tables' readers, in a scratch folder that has the tree's input/ and scripts/
 # and the uniarc under test as build/uniarc. The Slurm example runs with the fake sbatch of
 # tests/scripts/fake_slurm. Each picture an example makes must be a PNG. A block that refers to a
-# file a later block makes fails here.
+# file a later block makes fails here. The Walker arch deck of docs/input.md (*FOUNDATION) must give
+# the critical points its text states.
 #   test_docs_examples.sh UNIARC WORKDIR
 set -euo pipefail
 uniarc=$1 work=$2
@@ -52,3 +53,35 @@ for png in $(find . -name '*.png' -newer blocks); do
   [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
 done
 echo "ok: $count blocks ran in order; $(find . -name '*.png' -newer blocks | wc -l) pictures"
+
+# docs/input.md's Walker arch (*FOUNDATION, ex. 2) is a deck of its own: it must be Walker's arch, with
+# the critical points the text below it states (to the 4 significant digits written there)
+python3 - "$source_dir/docs/input.md" <<'PYTHON' > walker_input.inp
+import re, sys
+text = open(sys.argv[1]).read()
+print(re.search(r"^```\n(\*\* Ex\. 2: Walker's arch.*?)^```", text, re.S | re.M).group(1), end='')
+PYTHON
+"$uniarc" walker_input.inp -o walker_input -q
+"$uniarc" walker_input.inp -o walker_input_free -q -D k=0
+python3 - "$source_dir/docs/input.md" <<'PYTHON'
+import re, sys
+text = open(sys.argv[1]).read()
+said = re.search(r'symmetric limit point at λ = ([\d.]+) and, before it, a bifurcation into the\s+'
+                 r'antisymmetric mode at λ = ([\d.]+) \(`STEM.crit`; with `-D k=0`: ([\d.]+) and ([\d.]+)\)', text)
+if not said:
+    sys.exit('FAIL: docs/input.md no longer states the Walker arch critical points as this test reads them')
+limit, bifurcation, free_limit, free_bifurcation = map(float, said.groups())
+
+
+def first(folder, kind):
+    lines = [l.split() for l in open(f'{folder}/walker_input.crit').read().splitlines()[1:] if l and l[0] != '#']
+    return next(float(l[2]) for l in lines if l[0] == kind)
+
+
+got = [first('walker_input', 'limit_max'), first('walker_input', 'bifurcation'),
+       first('walker_input_free', 'limit_max'), first('walker_input_free', 'bifurcation')]
+for stated, value in zip((limit, bifurcation, free_limit, free_bifurcation), got):
+    if f'{value:.4g}' != f'{stated:.4g}':
+        sys.exit(f'FAIL: docs/input.md says {stated}, the deck gives {value!r}')
+print('docs/input.md Walker arch: limit, bifurcation (k = 1e4, k = 0) as stated:', got)
+PYTHON
