@@ -402,7 +402,7 @@ results = run_all(job_list)
 sweep_dir = os.path.join(work, 'sweep')
 shutil.rmtree(sweep_dir, ignore_errors=True)
 subprocess.run(['bash', os.path.join(root, 'scripts', 'sweep.sh'), os.path.join(root, 'input', 'ring_rigid_cavity.inp'),
-                'k', *SWEEP_VALUES, '-D', 'n=50', '--uniarc', uniarc, '--out', sweep_dir],
+                'k', *SWEEP_VALUES, '-D', 'n=50', '--label', '0=rigid', '--uniarc', uniarc, '--out', sweep_dir],
                check=True, capture_output=True, text=True)
 sweep_folder = os.path.join(sweep_dir, 'sweep_ring_rigid_cavity_k')
 shutil.copy(os.path.join(sweep_folder, 'sweep.png'), os.path.join(image_dir, 'ex1_sweep_k.png'))
@@ -593,7 +593,7 @@ for part, cases in SECTIONS:
 section_number += 1
 out(f'## {section_number}. Ex. 1 with an elastic cavity: K_cr against k (the paper\'s Fig. 6)')
 out('')
-out('`scripts/sweep.sh input/ring_rigid_cavity.inp k ' + ' '.join(SWEEP_VALUES) + ' -D n=50` — discrete '
+out('`scripts/sweep.sh input/ring_rigid_cavity.inp k ' + ' '.join(SWEEP_VALUES) + ' -D n=50 --label 0=rigid` — discrete '
     'radial springs k EI/R³ per node on the paper\'s mesh (50 elements on the half ring); k = 0 is the '
     'exactly rigid cavity, the k → ∞ limit. Reference: the independent model of benchmarks.md (OpenSees, '
     'the same definition and mesh); the paper gives these values only as a figure. K_cr must rise '
