@@ -1,5 +1,5 @@
 !> The command line of docs/contracts.md:
-!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose]
+!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv]
 !>   uniarc --help | --version
 module uniarc_cli
    use uniarc_error, only: error_t, make_error, error_input
@@ -21,6 +21,7 @@ module uniarc_cli
       logical :: version = .false.
       logical :: quiet = .false.
       logical :: verbose = .false.
+      logical :: csv = .false.       !< --csv: the tables also as comma-separated STEM.*.csv
    end type cli_options_t
 
 contains
@@ -47,6 +48,8 @@ contains
             options%quiet = .true.
          case ('-v', '--verbose')
             options%verbose = .true.
+         case ('--csv')
+            options%csv = .true.
          case ('-o', '--output')
             if (i == n) then
                call make_error(error, 'option '//argument//' needs a directory', error_input)
@@ -105,20 +108,22 @@ contains
    pure function usage_text() result(text)
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
-      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose]'//nl// &
+      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv]'//nl// &
              '       uniarc --help | --version'//nl//nl// &
              'Traces the equilibrium path of the structure described by the input deck DECK'//nl// &
              '(keyword cards, see docs/input.md) and writes, named after the deck''s stem:'//nl// &
              '  STEM.path   one row per converged step: step, lambda, tracked values, contact, solver'//nl// &
              '  STEM.crit   critical points and contact events along the path'//nl// &
              '  STEM.shape  node coordinates and displacements per snapshot'//nl// &
-             '  STEM_NNNN.vtk, STEM_NNNN.vtu, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
+             '  STEM.surface  where each contact candidate meets its foundation or obstacle'//nl// &
+             '  STEM_NNNN.vtp, STEM_NNNN.vtk, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
              'options:'//nl// &
              '  -o OUTDIR        write the result files to OUTDIR (created; default: .)'//nl// &
              '  -D NAME=VALUE    override the deck''s *PARAMETER NAME (repeatable; VALUE may be'//nl// &
              '                   an expression)'//nl// &
              '  -q, --quiet      no progress on stderr'//nl// &
              '  -v, --verbose    more progress on stderr (every step)'//nl// &
+             '      --csv        also write the tables comma-separated: STEM.path.csv, ...'//nl// &
              '  -h, --help       this text'//nl// &
              '      --version    the version'//nl//nl// &
              'exit status: 0 success; 1 analysis failed (steps traced so far are kept);'//nl// &

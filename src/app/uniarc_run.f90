@@ -15,6 +15,7 @@ module uniarc_run
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results
+   use uniarc_provenance, only: provenance_t
    implicit none
    private
    public :: run_options_t, run_model
@@ -25,6 +26,8 @@ module uniarc_run
       character(len=:), allocatable :: stem
       logical :: quiet = .false.
       logical :: verbose = .false.
+      type(provenance_t) :: provenance   !< under the header of every table (uniarc_provenance)
+      logical :: csv = .false.           !< also write the tables as STEM.*.csv (--csv)
    end type run_options_t
 
 contains
@@ -62,12 +65,21 @@ contains
       type(vtk_series_t) :: vtk
       type(step_record_t) :: record
       type(error_t), allocatable :: io_error
-      call solve_linear_static(model, record%displacement, record%neg_pivots, error)
+      type(contact_summary_t) :: summary
+      logical, allocatable :: active(:)
+      call solve_linear_static(model, record%displacement, record%neg_pivots, error, record%reactions, active, &
+                               record%lcp_pivots, record%lcp_residual)
       if (allocated(error)) return
+      summary = summarize_contact(model, record%reactions, active)
+      record%n_contact = summary%n_contact
+      record%contact_regions = summary%regions
+      record%s_contact = summary%s_contact
+      record%reaction_max = summary%reaction_max
+      record%reaction_sum = summary%reaction_sum
       record%step = 1
       record%lambda = 1.0_dp
       record%iterations = 1
-      call open_outputs(model, results, files, io_error)
+      call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
@@ -99,7 +111,7 @@ contains
       clock_last = clock_start
       call driver_start(model, driver, error)
       if (allocated(error)) return
-      call open_outputs(model, results, files, io_error)
+      call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       call record_state(model, driver, record)
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)

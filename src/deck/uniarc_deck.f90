@@ -22,7 +22,7 @@ module uniarc_deck
    use uniarc_deck_state, only: parameter_override_t, deck_t
    use uniarc_deck_mesh, only: read_section, read_node, read_element, read_generator, read_node_set, &
                                read_element_set
-   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load
+   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
    implicit none
@@ -96,6 +96,8 @@ contains
          call read_concentrated_load(source, card, deck, error)
       case ('DLOAD')
          call read_distributed_load(source, card, deck, error)
+      case ('TEMPERATURE')
+         call read_temperature(source, card, deck, error)
       case ('TRACK')
          call read_track(source, card, deck, error)
       case ('FOUNDATION')

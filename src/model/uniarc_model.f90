@@ -21,6 +21,7 @@ module uniarc_model
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
    public :: foundation_t, foundation_winkler
    public :: side_left, side_right, side_inner, side_outer, side_direction
+   public :: thermal_load_t
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
    integer, parameter :: dofs_per_node = 3
@@ -67,6 +68,18 @@ module uniarc_model
       real(dp) :: pressure = 0.0_dp  !< along the left normal of node 1 → node 2 (pressure load)
       logical :: follower = .false.  !< pressure follows the deformed normal
    end type distributed_load_t
+
+   !> A temperature change of one element (*TEMPERATURE), scaled by the load parameter λ: ΔT at the
+   !> element's axis (axial strain α ΔT) and the difference ΔT_left − ΔT_right between its faces over
+   !> the depth h (curvature −α (ΔT_left − ΔT_right)/h, positive toward the left normal). The thermal
+   !> strains are natural deformations of the basic element (uniarc_element_loads, docs/theory.md).
+   type :: thermal_load_t
+      integer :: element = 0
+      real(dp) :: alpha = 0.0_dp        !< coefficient of thermal expansion (1/temperature)
+      real(dp) :: delta_t = 0.0_dp      !< ΔT at the axis
+      real(dp) :: difference = 0.0_dp   !< ΔT_left − ΔT_right (0: uniform through the depth)
+      real(dp) :: depth = 0.0_dp        !< h, the depth between the two faces (> 0 when difference ≠ 0)
+   end type thermal_load_t
 
    !> A displacement component written as a column of the path file: scale * u(dof) of one node.
    type :: track_t
@@ -193,6 +206,10 @@ module uniarc_model
       type(foundation_t), allocatable :: foundations(:)      !< the foundations as described (may be empty)
       type(analysis_options_t) :: analysis
       type(output_options_t) :: output
+      type(thermal_load_t), allocatable :: thermal_loads(:)  !< temperature changes (may be unallocated: none)
+      !> (3, n_nodes) prescribed displacements of held DOFs (support settlements), scaled by λ like the
+      !> loads; unallocated: none (every held DOF stays at zero).
+      real(dp), allocatable :: prescribed(:, :)
    end type model_t
 
 contains

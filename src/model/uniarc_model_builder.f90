@@ -25,7 +25,7 @@ module uniarc_model_builder
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
-                           gap_fixed_direction, element_beam_column
+                           gap_fixed_direction, element_beam_column, thermal_load_t
    use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
                                  path_coordinates, normals_valid, foundation_straight, foundation_problem
    implicit none
@@ -37,6 +37,7 @@ module uniarc_model_builder
    public :: node_index, element_index, section_index, node_set_index, element_set_index
    public :: unused_node, element_without_section, model_size
    public :: penetration_tolerance
+   public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -86,6 +87,11 @@ module uniarc_model_builder
 
       type(analysis_options_t) :: analysis            !< linear static unless set otherwise
       type(output_options_t) :: output                !< extra result files
+      integer :: n_thermal = 0
+      type(thermal_load_t), allocatable :: thermal(:)
+      integer :: n_prescribed = 0                     !< prescribed displacements (node, dof, value)
+      integer, allocatable :: prescribed_node(:), prescribed_dof(:)
+      real(dp), allocatable :: prescribed_value(:)
    end type model_builder_t
 
 contains
@@ -284,6 +290,50 @@ contains
       call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record)
       builder%loads(record)%pressure = builder%loads(record)%pressure + value
    end subroutine add_pressure
+
+   !> Add a temperature change of `element` (thermal_load_t: α, ΔT at the axis, ΔT_left − ΔT_right,
+   !> depth h), a reference load scaled by λ; several on one element add up.
+   pure subroutine add_thermal_load(builder, element, alpha, delta_t, difference, depth)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element
+      real(dp), intent(in) :: alpha, delta_t, difference, depth
+      type(thermal_load_t), allocatable :: grown(:)
+      if (.not. allocated(builder%thermal)) allocate (builder%thermal(8))
+      if (builder%n_thermal == size(builder%thermal)) then
+         allocate (grown(2*size(builder%thermal)))
+         grown(1:builder%n_thermal) = builder%thermal(1:builder%n_thermal)
+         call move_alloc(grown, builder%thermal)
+      end if
+      builder%n_thermal = builder%n_thermal + 1
+      builder%thermal(builder%n_thermal) = thermal_load_t(element=element, alpha=alpha, delta_t=delta_t, &
+                                                          difference=difference, depth=depth)
+   end subroutine add_thermal_load
+
+   !> Hold DOF `dof` of `node` and prescribe its displacement `value` (a support settlement), a reference
+   !> value scaled by λ like the loads; values on one DOF add up.
+   pure subroutine add_prescribed_displacement(builder, node, dof, value)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node, dof
+      real(dp), intent(in) :: value
+      if (.not. allocated(builder%prescribed_node)) allocate (builder%prescribed_node(8), builder%prescribed_dof(8), &
+                                                              builder%prescribed_value(8))
+      if (builder%n_prescribed == size(builder%prescribed_node)) then
+         call grow_integers(builder%prescribed_node, 2*builder%n_prescribed)
+         call grow_integers(builder%prescribed_dof, 2*builder%n_prescribed)
+         builder%prescribed_value = [builder%prescribed_value, spread(0.0_dp, 1, builder%n_prescribed)]
+      end if
+      builder%n_prescribed = builder%n_prescribed + 1
+      builder%prescribed_node(builder%n_prescribed) = node
+      builder%prescribed_dof(builder%n_prescribed) = dof
+      builder%prescribed_value(builder%n_prescribed) = value
+      builder%fixed(dof, node) = .true.
+   end subroutine add_prescribed_displacement
+
+   !> True if some DOF has a prescribed displacement (add_prescribed_displacement).
+   pure logical function has_prescribed_displacements(builder)
+      type(model_builder_t), intent(in) :: builder
+      has_prescribed_displacements = builder%n_prescribed > 0
+   end function has_prescribed_displacements
 
    !> The load record of `element` in `slot`, made if the element has none there yet.
    pure subroutine load_record(builder, element, slot, record)
@@ -491,7 +541,7 @@ contains
       type(model_t), intent(out) :: model
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
-      integer :: n, e, bad
+      integer :: n, e, bad, i
 
       n = builder%n_nodes
       e = builder%n_elements
@@ -545,6 +595,15 @@ contains
       if (builder%n_foundations > 0) model%foundations = builder%foundations(1:builder%n_foundations)
       model%analysis = builder%analysis
       model%output = builder%output
+      allocate (model%thermal_loads(builder%n_thermal))
+      if (builder%n_thermal > 0) model%thermal_loads = builder%thermal(1:builder%n_thermal)
+      if (builder%n_prescribed > 0) then
+         allocate (model%prescribed(dofs_per_node, n), source=0.0_dp)
+         do i = 1, builder%n_prescribed
+            model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
+               model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
+         end do
+      end if
    end subroutine finish_model
 
    ! ================================================================================================
