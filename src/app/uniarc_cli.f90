@@ -4,7 +4,6 @@
 module uniarc_cli
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_deck, only: parameter_override_t
-   use uniarc_strings, only: same_text
    implicit none
    private
    public :: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
@@ -130,14 +129,14 @@ contains
              '             2 bad input or usage (no output file is written)'
    end function usage_text
 
-   !> Add `-D NAME=VALUE` to the overrides; a NAME given before (in any case) takes the new VALUE:
-   !> the last -D of a name wins.
+   !> Add `-D NAME=VALUE` to the overrides, in the order given (the provenance lists them so); of
+   !> several -D of one NAME the deck applies the last (uniarc_deck: find_override).
    subroutine add_override(text, options, error)
       character(len=*), intent(in) :: text
       type(cli_options_t), intent(inout) :: options
       type(error_t), allocatable, intent(out) :: error
       type(parameter_override_t) :: override
-      integer :: equals, i
+      integer :: equals
       equals = index(text, '=')
       if (equals <= 1 .or. equals == len(text)) then
          call make_error(error, '-D '//text//': expected NAME=VALUE', error_input)
@@ -145,12 +144,6 @@ contains
       end if
       override%name = trim(adjustl(text(:equals - 1)))
       override%value = trim(adjustl(text(equals + 1:)))
-      do i = 1, size(options%overrides)
-         if (same_text(options%overrides(i)%name, override%name)) then
-            options%overrides(i)%value = override%value
-            return
-         end if
-      end do
       options%overrides = [options%overrides, override]
    end subroutine add_override
 
