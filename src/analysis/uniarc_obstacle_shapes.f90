@@ -82,30 +82,34 @@ contains
    !> Geometric Tools): the nearest point is z = (a² y1/(t + a²), b² y2/(t + b²)), t the root of
    !> F(t) = (a y1/(t + a²))² + (b y2/(t + b²))² − 1 on t > −b². F is decreasing and convex there, and
    !> F(t0) ≥ 0 at t0 = −b² + b y2, so Newton's method from t0 stays left of the root and increases to it
-   !> monotonically (Fourier's condition): no bracketing failure, no overshoot. Eberly bisects; Newton
-   !> is the same safe iteration, faster. On the major axis (y2 = 0) the nearest point is
+   !> monotonically (Fourier's condition): no bracketing failure, no overshoot; it is run in s = t + b²
+   !> so that no cancellation spoils t + b² near the centre. Eberly bisects; Newton is the same safe
+   !> iteration, faster. On the major axis (y2 = 0) the nearest point is
    !> (a² y1/(a² − b²), b √(1 − (z1/a)²)) while y1 < (a² − b²)/a, else (a, 0); on the minor axis (0, b).
    pure subroutine ellipse_closest_point(a, b, y, z)
       real(dp), intent(in) :: a, b, y(2)
       real(dp), intent(out) :: z(2)
-      real(dp) :: t, t_next, t_high, r1, r2, f, slope
+      real(dp) :: s, s_next, s_high, c, r1, r2, f, slope
       integer :: iteration
 
       if (y(2) > 0.0_dp) then
          if (y(1) > 0.0_dp) then
-            t = -b**2 + b*y(2)
-            t_high = -b**2 + sqrt((a*y(1))**2 + (b*y(2))**2)
+            ! Newton in s = t + b² (exact at the start, s0 = b y2): t + b² and t + a² = s + (a² − b²) keep
+            ! their relative precision even when s is tiny (a point near the centre or the major axis).
+            c = a**2 - b**2
+            s = b*y(2)
+            s_high = sqrt((a*y(1))**2 + (b*y(2))**2)
             do iteration = 1, max_newton
-               r1 = a*y(1)/(t + a**2)
-               r2 = b*y(2)/(t + b**2)
+               r1 = a*y(1)/(s + c)
+               r2 = b*y(2)/s
                f = r1**2 + r2**2 - 1.0_dp
                if (.not. f > 0.0_dp) exit
-               slope = -2.0_dp*(r1**2/(t + a**2) + r2**2/(t + b**2))
-               t_next = min(t - f/slope, t_high)
-               if (.not. t_next > t) exit
-               t = t_next
+               slope = -2.0_dp*(r1**2/(s + c) + r2**2/s)
+               s_next = min(s - f/slope, s_high)
+               if (.not. s_next > s) exit
+               s = s_next
             end do
-            z = [a**2*y(1)/(t + a**2), b**2*y(2)/(t + b**2)]
+            z = [a**2*y(1)/(s + c), b**2*y(2)/s]
          else
             z = [0.0_dp, b]
          end if
