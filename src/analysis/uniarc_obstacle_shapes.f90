@@ -10,8 +10,9 @@
 !>   ∂g/∂x = n,   ∂²g/∂x² = −κ/(1 − κ g) t tᵀ
 !>
 !> (the Hessian of the distance function in principal coordinates: Gilbarg & Trudinger 2001, Elliptic
-!> Partial Differential Equations of Second Order, §14.6, Lemma 14.17; docs/theory.md §3.6). The circle of radius R is κ = 1/R inside (g = R − |x − c|) and
-!> κ = −1/R outside; a straight segment κ = 0; a corner point of a polyline is a circle of radius 0.
+!> Partial Differential Equations of Second Order, §14.6, Lemma 14.17; docs/theory.md §3.6). The circle
+!> of radius R is κ = 1/R inside (g = R − |x − c|) and κ = −1/R outside; a straight segment κ = 0; a
+!> corner point of a polyline is a circle of radius 0.
 !>
 !> All routines are pure and allocation-free: the contact assembly calls them at every iteration.
 module uniarc_obstacle_shapes
