@@ -161,6 +161,7 @@ SOURCES = [
     ('contact_ex4', '', 'the paper, Table 3'),
     ('members_timoshenko_column', '', 'Engesser: Timoshenko & Gere 1961 §2.13, P_E/(1 + P_E/κGA)'),
     ('members_timoshenko', '', 'closed form: w = PL³/3EI + PL/κGA, θ = PL²/2EI'),
+    ('members_spring_base_column', '', 'Timoshenko & Gere 1961 ch. 2: αL tan αL = kL/EI'),
     ('members_hinge', '', 'closed form (statics of the hinge, then cantilever and simple span)'),
     ('members_spring_joint', '', 'closed form: w = PL³/3EI + Pb²/k, θ = PL²/2EI + Pb/k'),
     ('obstacle_column_against_step', '', 'hand solution in the deck (propped cantilever)'),
@@ -345,7 +346,8 @@ SECTIONS = [
     ]),
     ('Members and obstacles', [
         ('Timoshenko beams, hinges and rotational-spring joints', 'members_',
-         'Decks `tests/regression/decks/{timo_cantilever,hinge_gerber,spring_joint,timoshenko_column}.inp` '
+         'Decks `tests/regression/decks/{timo_cantilever,hinge_gerber,spring_joint,timoshenko_column,'
+         'spring_base_column}.inp` '
          '(docs/theory.md §1.9): the Timoshenko element and the jointed beams are exact for nodal loads, so '
          'the linear cases meet their closed forms to round-off; the column is corotational.', []),
         ('Obstacles of any shape: ellipse and polyline', 'obstacle_',
