@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Time uniarc on decks that are large in their input only (docs/benchmarks.md §5): a cantilever of 4
+"""Time uniarc on decks that are large in their input only (docs/benchmarks.md §6): a cantilever of 4
 elements after N *PARAMETER lines (each built on the one before: p_i = p_(i-1) + 1, so every line looks
 one name up), or after one comment line of M MiB (64 MiB: the longest line a deck may have). The analysis is the same tiny one in every deck, so
 the time is that of reading the deck.

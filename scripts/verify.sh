@@ -170,6 +170,13 @@ SOURCES = [
     ('contact_ex4', 'at w6_over_h', 'independent model N = 120 (benchmarks.md)'),
     ('contact_ex4', 'contact_start', 'the paper / benchmarks.md'),
     ('contact_ex4', '', 'the paper, Table 3'),
+    ('members_timoshenko_column', '', 'Engesser: Timoshenko & Gere 1961 §2.13, P_E/(1 + P_E/κGA)'),
+    ('members_timoshenko', '', 'closed form: w = PL³/3EI + PL/κGA, θ = PL²/2EI'),
+    ('members_spring_base_column', '', 'Timoshenko & Gere 1961 ch. 2: αL tan αL = kL/EI'),
+    ('members_hinge', '', 'closed form (statics of the hinge, then cantilever and simple span)'),
+    ('members_spring_joint', '', 'closed form: w = PL³/3EI + Pb²/k, θ = PL²/2EI + Pb/k'),
+    ('obstacle_column_against_step', '', 'hand solution in the deck (propped cantilever)'),
+    ('obstacle_cantilever_on_ellipse', '', 'hand solution in the deck (reaction along the normal)'),
 ]
 
 # published values behind a range or a rounded reference: uniarc's value against each of them
@@ -356,6 +363,17 @@ SECTIONS = [
          'Decks `tests/regression/decks/thermal_*.inp`, `settlement_two_span.inp`, '
          '`static_heavy_beam_bonded_winkler.inp`, `ring_hydrostatic.inp`; each deck\'s comment gives its '
          'closed form.', []),
+    ]),
+    ('Members and obstacles', [
+        ('Timoshenko beams, hinges and rotational-spring joints', 'members_',
+         'Decks `tests/regression/decks/{timo_cantilever,hinge_gerber,spring_joint,timoshenko_column,'
+         'spring_base_column}.inp` '
+         '(docs/theory.md §1.10): the Timoshenko element and the jointed beams are exact for nodal loads, so '
+         'the linear cases meet their closed forms to round-off; the column is corotational.', []),
+        ('Obstacles of any shape: ellipse and polyline', 'obstacle_',
+         'Decks `tests/regression/decks/{ring_circle_cavity,ring_oval_cavity,column_step,'
+         'cantilever_on_ellipse}.inp` (docs/theory.md §3.7). The ellipse with a = b is compared with the '
+         'circle over the whole path (a numeric diff, not listed here).', []),
     ]),
 ]
 
