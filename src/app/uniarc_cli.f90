@@ -56,6 +56,12 @@ contains
             end if
             i = i + 1
             options%output_directory = get_argument(i)
+            ! an empty OUTDIR would make the result files '/STEM.path': refused, not taken as the root
+            if (len(options%output_directory) == 0) then
+               call make_error(error, 'option '//argument//' needs a directory, found an empty argument', &
+                               error_input)
+               return
+            end if
          case ('-D')
             if (i == n) then
                call make_error(error, 'option -D needs NAME=VALUE', error_input)
@@ -123,6 +129,8 @@ contains
              '             2 bad input or usage (no output file is written)'
    end function usage_text
 
+   !> Add `-D NAME=VALUE` to the overrides, in the order given (the provenance lists them so); of
+   !> several -D of one NAME the deck applies the last (uniarc_deck: find_override).
    subroutine add_override(text, options, error)
       character(len=*), intent(in) :: text
       type(cli_options_t), intent(inout) :: options

@@ -9,7 +9,8 @@
 !> errno is read through `__errno_location`, the accessor of glibc and musl (Linux).
 module uniarc_foreign
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_null_ptr, c_size_t, &
-                                          c_funptr, c_null_funptr, c_intptr_t, c_associated, c_f_pointer
+                                          c_funptr, c_null_funptr, c_intptr_t, c_associated, c_f_pointer, &
+                                          c_int16_t, c_int32_t, c_int64_t
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis, error_internal
@@ -20,12 +21,28 @@ module uniarc_foreign
    public :: lapack_check, rename_file, make_directory, exit_program
    public :: stream_t, stream_open, stream_write, stream_flush, stream_close
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
+   public :: file_status
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
    type :: stream_t
       private
       type(c_ptr) :: handle = c_null_ptr
    end type stream_t
+
+   !> What Linux's statx(2) returns (struct statx of <linux/stat.h>, 256 bytes, the same on every
+   !> architecture): the fields up to the size, then the times, device numbers and spare room.
+   type, bind(c) :: statx_t
+      integer(c_int32_t) :: mask = 0, block_size = 0
+      integer(c_int64_t) :: attributes = 0
+      integer(c_int32_t) :: links = 0, user = 0, group = 0
+      integer(c_int16_t) :: mode = 0, spare = 0
+      integer(c_int64_t) :: inode = 0, size = 0, blocks = 0, attributes_mask = 0
+      integer(c_int64_t) :: rest(24) = 0
+   end type statx_t
+
+   !> statx(2): AT_FDCWD (paths relative to the working directory) and the fields asked for,
+   !> STATX_TYPE | STATX_SIZE.
+   integer(c_int), parameter :: at_current_directory = -100_c_int, statx_type_and_size = int(z'201', c_int)
 
    !> SIGXFSZ, sent to a process that writes past its file size limit (Linux; BSD and macOS too).
    integer(c_int), parameter :: signal_file_size = 25_c_int
@@ -155,6 +172,14 @@ module uniarc_foreign
          type(c_ptr), value, intent(in) :: text
          integer(c_size_t) :: length
       end function c_strlen
+
+      function c_statx(directory, path, flags, mask, buffer) bind(c, name='statx') result(status)
+         import :: c_int, c_char, statx_t
+         integer(c_int), value, intent(in) :: directory, flags, mask
+         character(kind=c_char), intent(in) :: path(*)
+         type(statx_t), intent(out) :: buffer
+         integer(c_int) :: status
+      end function c_statx
    end interface
 
 contains
@@ -265,6 +290,45 @@ contains
       status = c_rmdir(path//c_null_char)
       if (present(removed)) removed = status == 0
    end subroutine remove_directory
+
+   !> The type and size of the file `path` (symbolic links followed), from statx(2) (Linux 4.11,
+   !> glibc 2.28): `kind` is 'regular file', 'directory', 'character device', 'block device', 'FIFO',
+   !> 'socket' or 'file of unknown type'; `bytes` its size (of a regular file). When the file cannot be
+   !> looked at (it does not exist, a folder on its path is not searchable), `failure` holds the
+   !> system's words and `kind` is ''.
+   subroutine file_status(path, kind, bytes, failure)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable, intent(out) :: kind
+      integer(c_int64_t), intent(out) :: bytes
+      character(len=:), allocatable, intent(out) :: failure
+      type(statx_t) :: status
+      integer :: type_bits
+      kind = ''
+      bytes = 0
+      if (c_statx(at_current_directory, path//c_null_char, 0_c_int, statx_type_and_size, status) /= 0) then
+         failure = system_error_text()
+         return
+      end if
+      bytes = status%size
+      ! S_IFMT of the mode (an unsigned 16-bit field, read through a signed one)
+      type_bits = iand(iand(int(status%mode), int(z'FFFF')), int(o'170000'))
+      select case (type_bits)
+      case (int(o'100000'))
+         kind = 'regular file'
+      case (int(o'040000'))
+         kind = 'directory'
+      case (int(o'020000'))
+         kind = 'character device'
+      case (int(o'060000'))
+         kind = 'block device'
+      case (int(o'010000'))
+         kind = 'FIFO'
+      case (int(o'140000'))
+         kind = 'socket'
+      case default
+         kind = 'file of unknown type'
+      end select
+   end subroutine file_status
 
    !> The process id (getpid), which makes the names of a run's temporary files its own.
    integer function process_id()

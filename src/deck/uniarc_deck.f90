@@ -117,7 +117,8 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT), found ''*'//card%keyword//'''', error)
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT), found ''*'// &
+                    clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch
 
@@ -127,16 +128,32 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i
-      character(len=:), allocatable :: text
+      integer :: i, length, first, last
 
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
-      deck%model%title = ''
+      ! the length first, then one allocation: a title of many lines is joined in linear time
+      length = 0
       do i = 1, card%n_data
-         text = trim(adjustl(source%lines(card%data_lines(i))%text))
-         if (len(deck%model%title) > 0) deck%model%title = deck%model%title//' '
-         deck%model%title = deck%model%title//text
+         associate (text => source%lines(card%data_lines(i))%text)
+            if (length > 0) length = length + 1
+            length = length + len_trim(text) - verify(text, ' ') + 1
+         end associate
+      end do
+      if (allocated(deck%model%title)) deallocate (deck%model%title)
+      allocate (character(len=length) :: deck%model%title)
+      length = 0
+      do i = 1, card%n_data
+         associate (text => source%lines(card%data_lines(i))%text)
+            first = verify(text, ' ')
+            last = len_trim(text)
+            if (length > 0) then
+               deck%model%title(length + 1:length + 1) = ' '
+               length = length + 1
+            end if
+            deck%model%title(length + 1:length + last - first + 1) = text(first:last)
+            length = length + last - first + 1
+         end associate
       end do
    end subroutine read_heading
 
@@ -176,14 +193,14 @@ contains
          end if
          existing = find_parameter(deck%parameters, name)
          if (existing > 0) then
-            call raise(source, line, first, 'expected a new parameter name, found '''//name// &
+            call raise(source, line, first, 'expected a new parameter name, found '''//clip(name)// &
                        ''' (defined at line '//integer_to_string(deck%parameter_line(existing))//')', error)
             return
          end if
 
          k = find_override(deck, name)
          if (k > 0) then
-            deck%override_used(k) = .true.
+            call mark_overrides_used(deck, name)
             call evaluate_expression(deck%overrides(k)%value, deck%parameters, value, error, column)
             if (allocated(error)) then
                message = error%message
@@ -262,6 +279,17 @@ contains
                                    joints=model%end_joints)
       end associate
    end subroutine check_whole_deck
+
+   !> Mark every override of parameter `name` used: of several -D of one name, the last is applied
+   !> (find_override) and none is reported as unknown.
+   pure subroutine mark_overrides_used(deck, name)
+      type(deck_t), intent(inout) :: deck
+      character(len=*), intent(in) :: name
+      integer :: i
+      do i = 1, size(deck%overrides)
+         if (same_text(deck%overrides(i)%name, name)) deck%override_used(i) = .true.
+      end do
+   end subroutine mark_overrides_used
 
    !> Index of the override of parameter `name`, 0 if there is none (the last -D of a name wins).
    pure integer function find_override(deck, name) result(index)

@@ -4,7 +4,9 @@
 !> quote its line. Messages follow fpm: `FILE:LINE:COL: what was expected, found 'x'`, then the line
 !> and a caret under the column. Nothing here knows what a card means; uniarc_deck does.
 module uniarc_deck_source
+   use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_kinds, only: dp
+   use uniarc_foreign, only: file_status
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: field_t, split_fields, to_upper, is_name, first_nonblank, last_nonblank, &
                              same_text, integer_to_string
@@ -15,6 +17,23 @@ module uniarc_deck_source
    public :: read_source, next_card, raise, raise_plain, clip
    public :: check_options, option_index, require_option
    public :: data_fields, require_field_count, field_real, field_integer
+   public :: max_line_length, max_deck_bytes, max_fields
+
+   !> Longest line a deck may have, in characters (64 MiB).
+   integer, parameter :: max_line_length = 67108864
+
+   !> Most comma-separated fields a keyword or data line may have (2**20): each field costs about 64
+   !> bytes apart from its text, so that a long line of commas cannot take 30 times its size.
+   integer, parameter :: max_fields = 1048576
+
+   !> Largest deck, in bytes (1 GiB): it is held in memory twice while it is split into lines.
+   integer(int64), parameter :: max_deck_bytes = 1073741824_int64
+
+   !> Bytes read from the deck at a time.
+   integer, parameter :: chunk_bytes = 1048576
+
+   !> A line longer than this is shown in a message as a window of about this width around the column.
+   integer, parameter :: echo_width = 120
 
    !> One line of the deck, tabs replaced by blanks so that columns and carets agree.
    type :: line_t
@@ -49,84 +68,156 @@ module uniarc_deck_source
 
 contains
 
-   !> Read the file `path` into `source`.
+   !> Read the deck `path` into `source`.
    !>
-   !> Trailing carriage returns (files written on Windows) are dropped and tabs become single blanks.
-   subroutine read_source(path, source, error)
+   !> The deck must be a regular file (a directory, a device such as /dev/null or /dev/zero, a FIFO
+   !> are refused by name) of at most `max_deck_bytes`; it is read in chunks of `chunk_bytes` and split
+   !> at line feeds, in time linear in its size. A trailing carriage return (files written on Windows)
+   !> is dropped and tabs become single blanks. A line longer than `line_limit` characters (default
+   !> `max_line_length`) is refused at `PATH:LINE:COL`, COL the first character past the limit, and a
+   !> card or data line of more than `max_fields` fields at the start of the field too many.
+   subroutine read_source(path, source, error, line_limit)
       character(len=*), intent(in) :: path
       type(source_t), intent(out) :: source
       type(error_t), allocatable, intent(out) :: error
-      integer :: unit, status
+      integer, intent(in), optional :: line_limit
+      character(len=:), allocatable :: kind, failure, buffer
       character(len=512) :: message
-      character(len=:), allocatable :: text
-      type(line_t), allocatable :: grown(:)
-      integer :: i
+      integer(int64) :: bytes
+      integer :: unit, status, offset, limit
 
       source%path = path
-      open (newunit=unit, file=path, status='old', action='read', form='formatted', access='sequential', &
+      allocate (source%lines(0))
+      limit = max_line_length
+      if (present(line_limit)) limit = line_limit
+      call file_status(path, kind, bytes, failure)
+      if (allocated(failure)) then
+         call make_error(error, path//': cannot open ('//failure//')', error_input)
+         return
+      end if
+      if (kind /= 'regular file') then
+         call make_error(error, path//': expected a regular file as the deck, found a '//kind, error_input)
+         return
+      end if
+      if (bytes > max_deck_bytes) then
+         call make_error(error, path//': expected a deck of at most '//integer_to_string(int(max_deck_bytes))// &
+                         ' bytes, found '//trim(adjustl(bytes_text(bytes)))//' bytes', error_input)
+         return
+      end if
+      allocate (character(len=bytes) :: buffer, stat=status)
+      if (status /= 0) then
+         call make_error(error, path//': cannot hold the deck in memory ('// &
+                         integer_to_string(int(bytes))//' bytes)', error_input)
+         return
+      end if
+      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
             iostat=status, iomsg=message)
       if (status /= 0) then
          call make_error(error, path//': cannot open ('//trim(message)//')', error_input)
          return
       end if
-      allocate (source%lines(64))
-      do
-         call read_line(unit, text, status, message)
-         if (status < 0) exit
-         if (status > 0) then
+      do offset = 0, int(bytes) - 1, chunk_bytes
+         read (unit, iostat=status, iomsg=message) buffer(offset + 1:min(offset + chunk_bytes, int(bytes)))
+         if (status /= 0) then
             call make_error(error, path//': cannot read ('//trim(message)//')', error_input)
             close (unit)
             return
          end if
-         if (len(text) > 0) then
-            if (text(len(text):len(text)) == achar(13)) text = text(1:len(text) - 1)
-         end if
-         do i = 1, len(text)
-            if (text(i:i) == achar(9)) text(i:i) = ' '
-         end do
-         if (source%n_lines == size(source%lines)) then
-            allocate (grown(2*size(source%lines)))
-            grown(1:source%n_lines) = source%lines(1:source%n_lines)
-            call move_alloc(grown, source%lines)
-         end if
-         source%n_lines = source%n_lines + 1
-         source%lines(source%n_lines)%text = text
       end do
       close (unit)
+      call split_lines(buffer, limit, source, error)
    end subroutine read_source
 
-   !> Read one record of any length (non-advancing reads in chunks). status < 0 at the end of file.
-   subroutine read_line(unit, text, status, message)
-      integer, intent(in) :: unit
-      character(len=:), allocatable, intent(out) :: text
-      integer, intent(out) :: status
-      character(len=*), intent(inout) :: message
-      character(len=256) :: chunk
-      integer :: count
-      logical :: any_read
+   !> Split the deck's text into `source%lines` at line feeds (a last line without one counts).
+   subroutine split_lines(text, limit, source, error)
+      character(len=*), intent(in) :: text
+      integer, intent(in) :: limit
+      type(source_t), intent(inout) :: source
+      type(error_t), allocatable, intent(out) :: error
+      character(len=1), parameter :: line_feed = achar(10), carriage_return = achar(13), tab = achar(9)
+      integer :: n, start, length, i, k, status
 
-      text = ''
-      any_read = .false.
-      do
-         read (unit, '(a)', advance='no', iostat=status, iomsg=message, size=count) chunk
-         if (is_iostat_eor(status)) then
-            text = text//chunk(1:count)
-            status = 0
-            return
-         end if
-         if (is_iostat_end(status)) then
-            ! a last line without a newline still counts
-            if (any_read .or. count > 0) then
-               text = text//chunk(1:count)
-               status = 0
-            end if
-            return
-         end if
-         if (status /= 0) return
-         text = text//chunk(1:count)
-         any_read = .true.
+      n = 0
+      start = 1
+      do while (start <= len(text))
+         n = n + 1
+         length = index(text(start:), line_feed)
+         if (length == 0) exit
+         start = start + length
       end do
-   end subroutine read_line
+      deallocate (source%lines)
+      allocate (source%lines(n), stat=status)
+      if (status /= 0) then
+         call raise_plain(source, 'cannot hold the deck in memory ('//integer_to_string(n)//' lines)', error)
+         return
+      end if
+
+      start = 1
+      do i = 1, n
+         length = index(text(start:), line_feed) - 1
+         if (length < 0) length = len(text) - start + 1
+         associate (line => source%lines(i))
+            line%text = text(start:start + length - 1)
+            start = start + length + 1
+            if (length > 0) then
+               if (line%text(length:length) == carriage_return) line%text = line%text(1:length - 1)
+            end if
+            if (len(line%text) > limit) then
+               source%n_lines = i
+               call raise(source, i, limit + 1, 'expected a line of at most '//integer_to_string(limit)// &
+                          ' characters, found '//integer_to_string(len(line%text)), error)
+               return
+            end if
+            do k = 1, len(line%text)
+               if (line%text(k:k) == tab) line%text(k:k) = ' '
+            end do
+            k = field_past_limit(line%text)
+            if (k > 0) then
+               source%n_lines = i
+               call raise(source, i, k, 'expected at most '//integer_to_string(max_fields)// &
+                          ' fields in a line, found more', error)
+               return
+            end if
+         end associate
+      end do
+      source%n_lines = n
+   end subroutine split_lines
+
+   !> Column of the first character of field max_fields + 1 of a card or data line (fields split as
+   !> `split_fields` does: at commas outside parentheses), 0 when it has no more fields or is a comment.
+   pure integer function field_past_limit(text) result(column)
+      character(len=*), intent(in) :: text
+      integer :: i, depth, commas, first
+      column = 0
+      first = first_nonblank(text)
+      if (first == 0) return
+      if (is_comment(text, first)) return
+      depth = 0
+      commas = 0
+      do i = first, len(text)
+         select case (text(i:i))
+         case ('(')
+            depth = depth + 1
+         case (')')
+            depth = max(depth - 1, 0)
+         case (',')
+            if (depth > 0) cycle
+            commas = commas + 1
+            if (commas == max_fields) then
+               ! a trailing comma opens no field
+               if (last_nonblank(text) > i) column = i + 1
+               return
+            end if
+         end select
+      end do
+   end function field_past_limit
+
+   !> A byte count as text (64-bit: a deck may be larger than the default integer).
+   pure function bytes_text(bytes) result(text)
+      integer(int64), intent(in) :: bytes
+      character(len=24) :: text
+      write (text, '(i0)') bytes
+   end function bytes_text
 
    !> Find the card that starts at or after line `position`; on return `position` is the line after its
    !> last data line. `found` is false at the end of the deck.
@@ -238,7 +329,7 @@ contains
                end if
                if (len_trim(option%value) == 0) then
                   call raise(source, line, field%column + equals, 'expected a value after '''// &
-                             option%name//'='', found nothing', error)
+                             clip(option%name)//'='', found nothing', error)
                   return
                end if
             else
@@ -277,7 +368,7 @@ contains
                   end do
                end if
                call raise(source, card%line, option%column, 'expected '//list//' on *'//card%keyword// &
-                          ', found '''//option%name//'''', error)
+                          ', found '''//clip(option%name)//'''', error)
                return
             end if
             takes_value = index(allowed(k), '=') > 0
@@ -417,19 +508,46 @@ contains
    end subroutine field_integer
 
    !> Make an input error at line `line`, column `column`: `PATH:LINE:COL: message`, the line, a caret.
+   !> A line longer than `echo_width` is shown as the part of it around the column (`echo_window`).
    subroutine raise(source, line, column, message, error)
       type(source_t), intent(in) :: source
       integer, intent(in) :: line, column
       character(len=*), intent(in) :: message
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: text
+      character(len=:), allocatable :: text, shown
+      integer :: caret
       text = source%path//':'//integer_to_string(line)//':'//integer_to_string(column)//': '//message
       if (line >= 1 .and. line <= source%n_lines) then
-         text = text//new_line('a')//source%lines(line)%text//new_line('a')// &
-                repeat(' ', max(column - 1, 0))//'^'
+         call echo_window(source%lines(line)%text, column, shown, caret)
+         text = text//new_line('a')//shown//new_line('a')//repeat(' ', max(caret - 1, 0))//'^'
       end if
       call make_error(error, text, error_input)
    end subroutine raise
+
+   !> The line `text` as a message shows it, with the caret's column in what is shown: the whole
+   !> line when it has at most `echo_width` characters, else `echo_width` of them around `column`,
+   !> with '...' where the line was cut.
+   pure subroutine echo_window(text, column, shown, caret)
+      character(len=*), intent(in) :: text
+      integer, intent(in) :: column
+      character(len=:), allocatable, intent(out) :: shown
+      integer, intent(out) :: caret
+      integer :: first, last
+      if (len(text) <= echo_width) then
+         shown = text
+         caret = column
+         return
+      end if
+      first = max(1, min(column - echo_width/2, len(text) - echo_width + 1))
+      last = first + echo_width - 1
+      shown = text(first:last)
+      caret = column - first + 1
+      if (first > 1) then
+         shown = '...'//shown
+         caret = caret + 3
+      end if
+      if (last < len(text)) shown = shown//'...'
+   end subroutine echo_window
 
    !> Make an input error about the deck as a whole: `PATH: message`.
    subroutine raise_plain(source, message, error)

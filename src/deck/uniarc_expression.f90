@@ -15,17 +15,29 @@
 !> Nothing here may raise a floating-point exception, since Debug builds trap them: every operation that
 !> could overflow, divide by zero or leave its domain is checked first and reported as an input error,
 !> with the column of the operator or function that failed.
+!>
+!> Nesting is bounded: each parenthesis, function call, sign and power's exponent opens a level (the
+!> grammar recurses there and nowhere else), and more than `max_nesting_depth` open levels are refused
+!> at the column of the one too many, so that no expression can exhaust the stack (issue 14).
 module uniarc_expression
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: is_digit, is_letter, is_blank, to_lower, same_text, real_to_string, &
                              integer_to_string
+   use uniarc_parameter_table, only: parameter_table_t, set_parameter, find_parameter, parameter_value
    implicit none
    private
    public :: parameter_table_t
    public :: evaluate_expression, set_parameter, find_parameter, is_reserved_name
    public :: evaluate_integer, is_whole_number
    public :: sin_degrees, cos_degrees, pi
+   public :: max_nesting_depth
+
+   !> Most levels an expression may nest: parentheses, function calls, signs and powers' exponents
+   !> (`-(2*(x + 1))**-2` opens 4). A level of function call, the dearest, takes 1–1.5 KiB of stack
+   !> (256 nested calls need between 256 and 384 KiB, Release and Debug builds alike): the limit uses
+   !> under 0.4 MiB of the usual 8 MiB stack.
+   integer, parameter :: max_nesting_depth = 256
 
    !> π to double precision.
    real(dp), parameter :: pi = 3.14159265358979323846264338327950288_dp
@@ -37,18 +49,6 @@ module uniarc_expression
    character(len=*), parameter :: function_names(19) = [character(len=7) :: &
       'sin', 'cos', 'tan', 'asin', 'acos', 'atan', 'atan2', 'sqrt', 'exp', 'log', 'log10', 'abs', &
       'min', 'max', 'sind', 'cosd', 'tand', 'deg2rad', 'rad2deg']
-
-   !> A named value.
-   type :: parameter_entry_t
-      character(len=:), allocatable :: name
-      real(dp) :: value = 0.0_dp
-   end type parameter_entry_t
-
-   !> The parameters an expression may use, in the order they were defined.
-   type :: parameter_table_t
-      integer :: count = 0
-      type(parameter_entry_t), allocatable :: entries(:)
-   end type parameter_table_t
 
    !> Kinds of token.
    integer, parameter :: token_end = 0, token_number = 1, token_name = 2, token_plus = 3, &
@@ -63,6 +63,7 @@ module uniarc_expression
       integer :: start = 1           !< column of the current token
       real(dp) :: number = 0.0_dp    !< value of a number token
       character(len=:), allocatable :: lexeme
+      integer :: depth = 0           !< levels open (parentheses, calls, signs, exponents)
    end type parser_t
 
 contains
@@ -92,7 +93,7 @@ contains
       if (allocated(error)) return
       if (parser%kind /= token_end) then
          call fail(parser, parser%start, 'expected an operator or the end of the expression, found '''// &
-                   parser%lexeme//'''', error, column)
+                   shortened(parser%lexeme)//'''', error, column)
       end if
    end subroutine evaluate_expression
 
@@ -110,7 +111,7 @@ contains
       call evaluate_expression(text, table, real_value, error, column)
       if (allocated(error)) return
       if (abs(real_value) >= real(huge(1), dp) .or. .not. is_whole_number(real_value)) then
-         call make_error(error, 'expected an integer, found '''//trim(text)//''' = '// &
+         call make_error(error, 'expected an integer, found '''//shortened(trim(text))//''' = '// &
                          real_to_string(real_value), error_input)
          column = max(1, verify(text, ' '//achar(9)))
          return
@@ -124,44 +125,6 @@ contains
       real(dp), intent(in) :: x
       is_whole_number = abs(x - aint(x)) <= 0.0_dp
    end function is_whole_number
-
-   !> Define `name` or change its value; parameters are looked up case-insensitively.
-   pure subroutine set_parameter(table, name, value)
-      type(parameter_table_t), intent(inout) :: table
-      character(len=*), intent(in) :: name
-      real(dp), intent(in) :: value
-      type(parameter_entry_t), allocatable :: grown(:)
-      integer :: i
-
-      i = find_parameter(table, name)
-      if (i > 0) then
-         table%entries(i)%value = value
-         return
-      end if
-      if (.not. allocated(table%entries)) allocate (table%entries(8))
-      if (table%count == size(table%entries)) then
-         allocate (grown(2*size(table%entries)))
-         grown(1:table%count) = table%entries(1:table%count)
-         call move_alloc(grown, table%entries)
-      end if
-      table%count = table%count + 1
-      table%entries(table%count)%name = name
-      table%entries(table%count)%value = value
-   end subroutine set_parameter
-
-   !> Index of parameter `name` in `table` (case-insensitive), 0 if it is not defined.
-   pure integer function find_parameter(table, name) result(index)
-      type(parameter_table_t), intent(in) :: table
-      character(len=*), intent(in) :: name
-      integer :: i
-      index = 0
-      do i = 1, table%count
-         if (same_text(table%entries(i)%name, name)) then
-            index = i
-            return
-         end if
-      end do
-   end function find_parameter
 
    !> True for `pi` and the function names, which a parameter may not shadow.
    pure logical function is_reserved_name(name)
@@ -288,9 +251,12 @@ contains
 
       if (parser%kind == token_plus .or. parser%kind == token_minus) then
          operator = parser%kind
+         call open_level(parser, error, column)
+         if (allocated(error)) return
          call next_token(parser)
          call parse_unary(parser, table, value, error, column)
          if (allocated(error)) return
+         parser%depth = parser%depth - 1
          if (operator == token_minus) value = -value
       else
          call parse_power(parser, table, value, error, column)
@@ -311,9 +277,12 @@ contains
       if (allocated(error)) return
       if (parser%kind /= token_power) return
       operator_column = parser%start
+      call open_level(parser, error, column)
+      if (allocated(error)) return
       call next_token(parser)
       call parse_unary(parser, table, exponent, error, column)
       if (allocated(error)) return
+      parser%depth = parser%depth - 1
       call checked_power(value, exponent, error)
       if (allocated(error)) then
          column = operator_column
@@ -337,6 +306,8 @@ contains
          value = parser%number
          call next_token(parser)
       case (token_open)
+         call open_level(parser, error, column)
+         if (allocated(error)) return
          call next_token(parser)
          call parse_sum(parser, table, value, error, column)
          if (allocated(error)) return
@@ -344,6 +315,7 @@ contains
             call fail(parser, parser%start, 'expected '')'', found '//found(parser), error, column)
             return
          end if
+         parser%depth = parser%depth - 1
          call next_token(parser)
       case (token_name)
          name = parser%lexeme
@@ -370,7 +342,7 @@ contains
                       error, column)
             return
          end if
-         value = table%entries(i)%value
+         value = parameter_value(table, i)
       case (token_bad)
          call fail(parser, parser%start, parser%lexeme, error, column)
       case default
@@ -394,6 +366,8 @@ contains
 
       value = 0.0_dp
       count = 0
+      call open_level(parser, error, column)
+      if (allocated(error)) return
       call next_token(parser)
       do
          if (count == size(arguments)) then
@@ -411,6 +385,7 @@ contains
          call fail(parser, parser%start, 'expected '','' or '')'', found '//found(parser), error, column)
          return
       end do
+      parser%depth = parser%depth - 1
       call next_token(parser)
       call apply_function(to_lower(name), arguments(1:count), value, message)
       if (allocated(message)) call fail(parser, name_column, message, error, column)
@@ -496,7 +471,7 @@ contains
             return
          end if
       case default
-         message = 'expected a known function, found '''//name//''''
+         message = 'expected a known function, found '''//shortened(name)//''''
          return
       end select
 
@@ -678,7 +653,7 @@ contains
       parser%kind = token_bad
       parser%start = first
       if (integer_digits + fraction_digits == 0) then
-         parser%lexeme = 'expected digits in a number, found '''//parser%text(first:i - 1)//''''
+         parser%lexeme = 'expected digits in a number, found '''//shortened(parser%text(first:i - 1))//''''
          parser%position = i
          return
       end if
@@ -698,12 +673,13 @@ contains
             end do
             if (i == exponent_start .or. .not. is_digit(parser%text(i - 1:i - 1))) then
                parser%lexeme = 'expected exponent digits in the number, found '''// &
-                               parser%text(first:min(i, n))//''''
+                               shortened(parser%text(first:min(i, n)))//''''
                parser%position = i
                return
             end if
             if (i - exponent_start > 6) then
-               parser%lexeme = 'expected a number below 1e308, found '''//parser%text(first:i - 1)//''''
+               parser%lexeme = 'expected a number below 1e308, found '''// &
+                               shortened(parser%text(first:i - 1))//''''
                parser%position = i
                return
             end if
@@ -714,7 +690,7 @@ contains
       if (i <= n) then
          if (is_letter(parser%text(i:i)) .or. parser%text(i:i) == '_' .or. parser%text(i:i) == '.') then
             parser%lexeme = 'expected an operator after the number, found '''// &
-                            parser%text(first:i)//''''
+                            shortened(parser%text(first:i))//''''
             return
          end if
       end if
@@ -723,7 +699,8 @@ contains
          ! decimal exponent of the leading nonzero digit
          magnitude = integer_digits - leading_zeros - 1 + exponent_value
          if (magnitude >= 308) then
-            parser%lexeme = 'expected a number below 1e308, found '''//parser%text(first:i - 1)//''''
+            parser%lexeme = 'expected a number below 1e308, found '''// &
+                            shortened(parser%text(first:i - 1))//''''
             return
          end if
          if (magnitude < -300) then
@@ -738,7 +715,7 @@ contains
       if (literal(1:1) == '.') literal = '0'//literal
       read (literal, *, iostat=status) parser%number
       if (status /= 0) then
-         parser%lexeme = 'expected a number, found '''//literal//''''
+         parser%lexeme = 'expected a number, found '''//shortened(literal)//''''
          return
       end if
       parser%kind = token_number
@@ -766,6 +743,21 @@ contains
          short = text
       end if
    end function shortened
+
+   !> Open a level of nesting at the current token (a parenthesis, a call's '(', a sign, '**'); more
+   !> than max_nesting_depth levels open is an error at that token.
+   subroutine open_level(parser, error, column)
+      type(parser_t), intent(inout) :: parser
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(out) :: column
+      column = 0
+      if (parser%depth == max_nesting_depth) then
+         call fail(parser, parser%start, 'expected at most '//integer_to_string(max_nesting_depth)// &
+                   ' nested parentheses, function calls, signs and powers, found more', error, column)
+         return
+      end if
+      parser%depth = parser%depth + 1
+   end subroutine open_level
 
    !> Record a failure at `at`.
    subroutine fail(parser, at, message, error, column)

@@ -5,7 +5,8 @@
 # Header lines of the deck (at its top, in any order):
 #   ** expect: <substring>|<substring>...   every substring must occur in stderr (required)
 #   ** args: <more arguments>               appended to the command line (e.g. -D nosuch=1)
-#   ** deck: <path>                         run on this path (relative to the deck) instead of the deck
+#   ** deck: <path>                         run on this path (relative to the deck, or absolute) instead
+#                                           of the deck
 # Passes when uniarc exits with 2 (bad input), stderr has every expected substring, and the output
 # directory, fresh and empty before the run, is still empty after it (nothing written on bad input).
 foreach(variable UNIARC DECK WORK)
@@ -27,7 +28,11 @@ foreach(header IN LISTS header_lines)
   elseif(header MATCHES "^\\*\\* *args: *(.*)$")
     separate_arguments(extra_arguments UNIX_COMMAND "${CMAKE_MATCH_1}")
   elseif(header MATCHES "^\\*\\* *deck: *(.*)$")
-    set(run_path "${deck_directory}/${CMAKE_MATCH_1}")
+    if(IS_ABSOLUTE "${CMAKE_MATCH_1}")
+      set(run_path "${CMAKE_MATCH_1}")
+    else()
+      set(run_path "${deck_directory}/${CMAKE_MATCH_1}")
+    endif()
   endif()
 endforeach()
 if(expected STREQUAL "")
