@@ -11,7 +11,8 @@
 !> test / system of equations): uniarc_path_state (committed state, trial, system of equations),
 !> uniarc_path_integrator (step constraint and δλ strategies), uniarc_path_newton (one attempt:
 !> predictor, Newton and its convergence test), uniarc_path_contact_set (contact working set),
-!> uniarc_path_stability (inertia, least eigenvalue), uniarc_path_point (the point record). Here:
+!> uniarc_path_stability (inertia, least eigenvalue), uniarc_path_point (the point record),
+!> uniarc_path_locate (critical points passed by a step, located by re-solving it). Here:
 !> path_initialize, and path_advance with the cut-back, the commit and the next step length.
 !>
 !> Predictor sign: the predictor goes along +K⁻¹R or −K⁻¹R, whichever makes a positive angle with the
@@ -30,8 +31,9 @@ module uniarc_path_following
                                 nodal_displacements, candidate_reactions, equilibrium_at
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
-   use uniarc_path_stability, only: structural_inertia, least_eigenvalue, liftoff_stability
+   use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
+   use uniarc_path_locate, only: locate_critical_points
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -114,6 +116,7 @@ contains
       integer, intent(out), optional :: cuts
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
+      type(path_state_t) :: before
       real(dp) :: length, factor, remaining
       integer :: attempt, halvings
       logical :: to_limit
@@ -150,6 +153,8 @@ contains
             call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
             return
          end if
+         ! The state at the start of the step, for the critical-point locator (no system: moved out).
+         before = state
          ! Commit the converged trial.
          state%u = state%u + trial%increment
          state%lambda = state%lambda + trial%dlambda
@@ -159,8 +164,8 @@ contains
          state%last_increment = trial%increment
          state%point%s = state%point%s + masked_norm(state%map, trial%increment)
          call commit_tangent(model, state, system, .false., error)
-         call move_alloc(system, state%system)
          if (allocated(error)) then
+            call move_alloc(system, state%system)
             call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
             return
          end if
@@ -174,55 +179,15 @@ contains
             end if
          end select
          call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+         ! A limit point or bifurcation the step has passed is located by re-solving from its start.
+         call locate_critical_points(model, before, state, system, length)
+         call move_alloc(system, state%system)
          factor = sqrt(real(options%desired_iterations, dp)/real(max(trial%iterations, 1), dp))
          factor = min(2.0_dp, max(0.25_dp, factor))
          state%step_length = min(options%max_increment*state%first_length, &
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
-
-   !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
-   !> residual, K⁻¹R, inertia and least eigenvalue into the state.
-   !> Errors: a singular tangent (band_factorize, band_solve).
-   subroutine commit_tangent(model, state, system, unloaded, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(inout) :: state
-      type(path_system_t), intent(inout) :: system
-      logical, intent(in) :: unloaded   !< the unloaded state of path_initialize
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
-      real(dp) :: element_scale
-      integer :: n
-      system%holds_committed = .false.
-      n = state%map%n_equations
-      allocate (internal(n), reference(n), rhs(n, 1))
-      if (system%holds_converged) then
-         ! The attempt's last assembly is this very state (the same u, λ and working set).
-         internal = system%converged_internal
-         reference = system%converged_reference
-         system%holds_converged = .false.
-      else
-         call nodal_displacements(model, state, nodal)
-         call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
-                             reference, element_scale)
-      end if
-      state%reference = reference
-      ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
-      ! LCP needs both): the step's first attempt does not assemble and factorise them again.
-      call band_copy(system%tangent, system%assembled)
-      state%committed_residual = state%lambda*state%reference - internal
-      call band_factorize(system%tangent, error)
-      if (allocated(error)) return
-      call structural_inertia(system%tangent, system%assembled, state%active, state%map%candidate_equation, &
-                              state%point%neg_pivots, state%point%n_active)
-      rhs(:, 1) = state%reference
-      call band_solve(system%tangent, rhs, error)
-      if (allocated(error)) return
-      system%holds_committed = .true.
-      state%tangent_displacement = rhs(:, 1)
-      state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
-      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
-   end subroutine commit_tangent
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)
