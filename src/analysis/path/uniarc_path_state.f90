@@ -96,6 +96,8 @@ module uniarc_path_state
       real(dp) :: length = 0.0_dp               !< step length of the attempt (units of state%step_length)
       real(dp), allocatable :: increment(:)     !< (n) Δx: unknowns minus the committed ones
       real(dp) :: dlambda = 0.0_dp              !< Δλ: load factor minus the committed one
+      real(dp), allocatable :: predictor(:)     !< (n) Δx of the predictor (before any correction)
+      real(dp) :: predictor_dlambda = 0.0_dp    !< Δλ of the predictor
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       integer :: iterations = 0                 !< Newton corrections
       integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs
