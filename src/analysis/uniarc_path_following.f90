@@ -34,6 +34,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
+   use uniarc_path_mechanism, only: check_mechanism
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -76,6 +77,9 @@ contains
                return
             end if
          end if
+         ! A model that no contact can hold is refused before the path starts (exit code 2).
+         call check_mechanism(model, state, system, nodal, error)
+         if (allocated(error)) return
          call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
