@@ -67,10 +67,48 @@ contains
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: modes(:, :), forces(:, :), motion(:)
-      real(dp) :: ratio, centre(2), gram(2, 2), angle, shift(2), det, best, residual
+      real(dp), allocatable :: motion(:)
+      real(dp) :: ratio
       character(len=:), allocatable :: what, deck
-      integer :: row, below, node, dof, largest, label
+      integer :: row, node, dof, largest, label
+      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+      if (.not. allocated(motion)) return
+      largest = maxloc(abs(map%metric*motion), 1)
+      node = 0
+      dof = 0
+      do node = 1, size(map%equation, 2)
+         dof = findloc(map%equation(:, node), largest, 1)
+         if (dof > 0) exit
+      end do
+      deck = 'the model'
+      if (allocated(model%deck_path)) deck = model%deck_path//': the model'
+      label = node
+      if (allocated(model%node_label)) label = model%node_label(node)
+      call make_error(error, deck//' is a mechanism (its stiffness is singular): it can move as a rigid body, '// &
+                      what//', without deforming anything that holds it (even with every contact closed; '// &
+                      'weakest pivot '//trim(real_to_string(ratio, '(es9.2)'))//' of its diagonal, at equation '// &
+                      integer_to_string(row)//'); the motion is largest at node '//integer_to_string(label)//', '// &
+                      component_name(dof)//'; hold it with supports (*BOUNDARY)', error_input)
+
+   end subroutine find_mechanism
+
+   !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
+   !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
+   !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(in) :: stiffness
+      real(dp), allocatable, intent(out) :: motion(:)
+      real(dp), intent(out) :: ratio
+      integer, intent(out) :: row
+      character(len=:), allocatable, intent(out) :: what
+      real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual
+      integer :: below, node, dof
+      what = ''
+      ratio = huge(1.0_dp)
+      row = 0
       if (map%n_equations == 0) return
       call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below)
       if (row == 0 .or. ratio > pivot_tolerance) return
@@ -94,8 +132,8 @@ contains
       gram(2, 2) = dot_product(forces(:, 2), forces(:, 2))
       gram(1, 2) = dot_product(forces(:, 1), forces(:, 2))
       angle = 0.5_dp*atan2(2.0_dp*gram(1, 2), gram(1, 1) - gram(2, 2)) + 2.0_dp*atan(1.0_dp)
-      motion = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
-      best = held(motion)
+      candidate = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
+      best = held(candidate)
       what = 'a translation in the direction ('//trim(adjustl(real_to_string(cos(angle), '(f6.3)')))// &
              ', '//trim(adjustl(real_to_string(sin(angle), '(f6.3)')))//')'
       ! The rotation least held: about the centroid plus the translation that minimises its forces
@@ -112,27 +150,12 @@ contains
       residual = held(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))
       if (residual < best) then
          best = residual
-         motion = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
+         candidate = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
          what = 'a rotation about ('//trim(real_to_string(centre(1) - shift(2), '(es10.3)'))//', '// &
                 trim(real_to_string(centre(2) + shift(1), '(es10.3)'))//')'
       end if
       if (best > 1.0_dp) return
-      largest = maxloc(abs(map%metric*motion), 1)
-      node = 0
-      dof = 0
-      do node = 1, size(map%equation, 2)
-         dof = findloc(map%equation(:, node), largest, 1)
-         if (dof > 0) exit
-      end do
-      deck = 'the model'
-      if (allocated(model%deck_path)) deck = model%deck_path//': the model'
-      label = node
-      if (allocated(model%node_label)) label = model%node_label(node)
-      call make_error(error, deck//' is a mechanism (its stiffness is singular): it can move as a rigid body, '// &
-                      what//', without deforming anything that holds it (even with every contact closed; '// &
-                      'weakest pivot '//trim(real_to_string(ratio, '(es9.2)'))//' of its diagonal, at equation '// &
-                      integer_to_string(row)//'); the motion is largest at node '//integer_to_string(label)//', '// &
-                      component_name(dof)//'; hold it with supports (*BOUNDARY)', error_input)
+      motion = candidate
 
    contains
 
@@ -166,7 +189,7 @@ contains
          if (map%equation(component, at_node) > 0) modes(map%equation(component, at_node), mode) = value
       end subroutine put
 
-   end subroutine find_mechanism
+   end subroutine free_rigid_motion
 
    !> The deck's name of a nodal component (1, 2, 3).
    pure function component_name(dof) result(name)
