@@ -385,7 +385,8 @@ def limit_resources(memory_mb, file_mb):
     def apply():
         os.setsid()
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
-        if memory_mb:
+        # AddressSanitizer reserves terabytes of address space for its shadow memory: no limit under it.
+        if memory_mb and 'ASAN_OPTIONS' not in os.environ:
             resource.setrlimit(resource.RLIMIT_AS, (memory_mb << 20, memory_mb << 20))
         if file_mb:
             resource.setrlimit(resource.RLIMIT_FSIZE, (file_mb << 20, file_mb << 20))
@@ -515,7 +516,8 @@ def main():
     parser.add_argument('--only', type=int, action='append', help='run only mutant INDEX (repeatable)')
     parser.add_argument('--jobs', type=int, default=2)
     parser.add_argument('--timeout', type=float, default=20.0, help='seconds per run')
-    parser.add_argument('--memory-mb', type=int, default=2048, help='address-space limit per run (0: none)')
+    parser.add_argument('--memory-mb', type=int, default=2048,
+                        help='address-space limit per run (0: none; none either when ASAN_OPTIONS is set)')
     parser.add_argument('--file-mb', type=int, default=256, help='file-size limit per run (0: none)')
     parser.add_argument('--corpus', nargs='+', default=DEFAULT_CORPUS, help='decks or folders of decks')
     parser.add_argument('--work', default=None, help='scratch folder (default: a folder in /tmp)')
