@@ -206,7 +206,9 @@ contains
       real(dp), allocatable :: nodal_reaction(:)
       character(len=:), allocatable :: line
       integer :: i, k
-      nodal_reaction = nodal_reactions(model, record%reactions)
+      ! allocate with source=, not an assignment: under -fcheck=bounds gfortran 12 compares the bounds of
+      ! the unallocated array before allocating it on assignment (valgrind: uninitialised values).
+      allocate (nodal_reaction, source=nodal_reactions(model, record%reactions))
       do i = 1, model%n_nodes
          line = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '// &
                 integer_to_string(model%node_label(i))
