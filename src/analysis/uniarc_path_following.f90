@@ -152,6 +152,11 @@ contains
                trial%length = length
                call attempt_step(model, state, system, trial)
                if (trial%converged) then
+                  ! The distance test holds only where the predictor's linearisation does: a step
+                  ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
+                  ! O(Δl²) (a tip stopped by an obstacle moves far less than the free predictor said);
+                  ! such a step is judged by the angle tests of its commit (off_branch) alone.
+                  if (any(trial%active .neqv. state%active)) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
