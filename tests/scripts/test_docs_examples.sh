@@ -59,7 +59,7 @@ echo "ok: $count blocks ran in order; $(find . -name '*.png' -newer blocks | wc 
 python3 - "$source_dir/docs/input.md" <<'PYTHON' > walker_input.inp
 import re, sys
 text = open(sys.argv[1]).read()
-print(re.search(r"^```\n(\*\* Ex\. 2: Walker's arch.*?)^```", text, re.S | re.M).group(1), end='')
+print(re.search(r"^```(?:deck)?\n(\*\* Ex\. 2: Walker's arch.*?)^```", text, re.S | re.M).group(1), end='')
 PYTHON
 "$uniarc" walker_input.inp -o walker_input -q
 "$uniarc" walker_input.inp -o walker_input_free -q -D k=0
