@@ -8,9 +8,9 @@ module uniarc_run
    use uniarc_path_following, only: candidate_reactions
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit
-   use uniarc_contact, only: contact_summary_t, summarize_contact
+   use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
-                            write_crit_row, close_outputs, discard_outputs, format_number
+                            write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
@@ -71,6 +71,7 @@ contains
                                record%lcp_pivots, record%lcp_residual)
       if (allocated(error)) return
       summary = summarize_contact(model, record%reactions, active)
+      record%groups = summarize_groups(model, record%reactions, active)
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
       record%s_contact = summary%s_contact
@@ -83,6 +84,7 @@ contains
       call open_vtk_series(model, options%stem, vtk)
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
+      if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
@@ -117,6 +119,7 @@ contains
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error) .and. forces_due(model, record%step)) call write_forces(files, model, record, io_error)
       n_events = 0
       done = allocated(io_error)
       do while (.not. done)
@@ -143,6 +146,8 @@ contains
             call write_vtk_snapshot(vtk, results, model, record, io_error)
             if (allocated(io_error)) exit
          end if
+         if (forces_due(model, record%step)) call write_forces(files, model, record, io_error)
+         if (allocated(io_error)) exit
          done = driver%stop /= stop_none
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
@@ -158,7 +163,8 @@ contains
       end do
       if (.not. allocated(io_error) .and. mod(record%step, model%analysis%shape_every) /= 0) &
          call write_shape(files, model, record, io_error)
-      ! The last converged step closes the VTK series, also when the path failed after it.
+      ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
+      if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
@@ -209,6 +215,7 @@ contains
          record%lcp_residual = state%point%lcp_residual
          record%reactions = candidate_reactions(state)
          summary = summarize_contact(model, record%reactions, state%active)
+         record%groups = summarize_groups(model, record%reactions, state%active)
       end associate
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions

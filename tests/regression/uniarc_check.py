@@ -365,7 +365,8 @@ def main():
     # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0'), and
     # every table has its provenance lines and its counts written as integers.
     for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
-        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface'):
+        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface', 'forces',
+                                                                    'contact'):
             with open(os.path.join(args.out, name)) as f:
                 text = f.read()
             if '-0.000000000000E+000' in text:
@@ -377,7 +378,7 @@ def main():
 
 
 INTEGER_COLUMNS = ('step', 'node', 'n_contact', 'contact_regions', 'lcp_pivots', 'iterations', 'neg_pivots',
-                   'candidate', 'rigid')
+                   'candidate', 'rigid', 'element', 'node_start', 'node_end')
 
 
 def check_table_format(path, text, deck, defines):
@@ -396,7 +397,8 @@ def check_table_format(path, text, deck, defines):
     for number, pattern in enumerate(expected, start=2):
         if not re.fullmatch(pattern, lines[number - 1]):
             failures.append(f'{name}:{number}: {lines[number - 1]!r} is not the provenance line {pattern!r}')
-    counts = [i for i, column in enumerate(names) if column in INTEGER_COLUMNS
+    counts = [i for i, column in enumerate(names)
+              if (column in INTEGER_COLUMNS or column.startswith(('n_contact_', 'contact_regions_')))
               and not (column == 'step' and name.endswith('.crit'))]
     for number, line in enumerate(lines[5:], start=6):
         fields = line.split()
