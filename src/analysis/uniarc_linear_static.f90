@@ -35,7 +35,8 @@ contains
          end if
       end if
       call build_dof_map(model, map)
-      call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
+      call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
+      if (allocated(error)) return
       call assemble_linear_stiffness(model, map, stiffness)
       call band_inertia(stiffness, negative_pivots, singular)
       allocate (rhs(map%n_equations, 1))
