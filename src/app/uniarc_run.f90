@@ -209,8 +209,8 @@ contains
       if (.not. options%quiet) then
          write (output_unit, '(a)') 'path traced: '//integer_to_string(record%step)//' steps, lambda = '// &
             trim(format_number(record%lambda))//'; '//stop_message(model, driver)
-         write (output_unit, '(a)') '  '//integer_to_string(n_critical)//' critical points and '// &
-            integer_to_string(n_contact_events)//' contact events in '//options%stem//'.crit'
+         write (output_unit, '(a)') '  '//counted(n_critical, 'critical point')//' and '// &
+            counted(n_contact_events, 'contact event')//' in '//options%stem//'.crit'
       end if
    end subroutine run_path
 
@@ -334,9 +334,13 @@ contains
       text = 'step '//integer_to_string(record%step)//'  lambda '//trim(format_number(record%lambda))// &
              '  iterations '//integer_to_string(record%iterations)//'  contacts '// &
              integer_to_string(record%n_contact)//'  neg_pivots '//integer_to_string(record%neg_pivots)// &
-             '  ('//integer_to_string(int(100.0_dp*done))//'% of the target, '//short_number(rate)//' steps/s'
+             '  ('//integer_to_string(int(100.0_dp*done))//'% of the target, '//rate_text(rate)//' steps/s'
       if (done > 0.0_dp .and. done < 1.0_dp) then
-         text = text//', about '//duration_text(elapsed*(1.0_dp - done)/done)//' left)'
+         if (elapsed*(1.0_dp - done)/done < 0.5_dp) then
+            text = text//', less than 1 s left)'
+         else
+            text = text//', about '//duration_text(elapsed*(1.0_dp - done)/done)//' left)'
+         end if
       else
          text = text//')'
       end if
@@ -362,6 +366,28 @@ contains
          text = integer_to_string(s/3600)//' h '//trim(minutes)//' min'
       end if
    end function duration_text
+
+   !> "1 critical point", "2 critical points": a count and its noun.
+   pure function counted(n, noun) result(text)
+      integer, intent(in) :: n
+      character(len=*), intent(in) :: noun
+      character(len=:), allocatable :: text
+      text = integer_to_string(n)//' '//noun
+      if (n /= 1) text = text//'s'
+   end function counted
+
+   !> A rate (steps per second) with three significant digits at most: "727", "52.3", "0.215".
+   function rate_text(rate) result(text)
+      real(dp), intent(in) :: rate
+      character(len=:), allocatable :: text
+      if (rate >= 999.5_dp) then
+         text = integer_to_string(nint(min(rate, 1.0e9_dp)))
+      else if (rate > 0.0_dp) then
+         text = short_number(real(nint(rate*10.0_dp**(2 - floor(log10(rate)))), dp)/10.0_dp**(2 - floor(log10(rate))))
+      else
+         text = '0'
+      end if
+   end function rate_text
 
    !> A number for a message with six significant digits and no trailing zeros, in fixed notation from
    !> 1e-4 to 1e6 ("76.219", "0.25", "-208.31"), else in scientific ("1.5e-07").
