@@ -112,6 +112,8 @@ contains
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
+      if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
+         ' during the linear analysis, which ended all the same: its result files are complete'
       if (.not. options%quiet) call print_tracks(model, record)
    end subroutine run_linear
 
