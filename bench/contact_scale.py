@@ -107,9 +107,11 @@ def read_path_file(directory, stem):
                 lines = f.read().splitlines()
             if not lines:
                 return []
-            header = lines[0].lstrip('#').split()
+            header = lines[0].split()
             rows = []
             for line in lines[1:]:
+                if line.startswith('#'):
+                    continue        # the provenance lines
                 fields = line.split()
                 if len(fields) != len(header):
                     break          # a row cut short by the kill

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Install what uniarc needs on a Debian machine (run as root): gfortran, LAPACK/BLAS, CMake, Python 3
-# (test tools), gnuplot (plots). Does nothing when everything is there already.
+# (test tools), gnuplot (plots), Python's VTK (the ParaView file checks read every file with VTK's
+# readers), numpy and pandas (the test that reads the tables with them). Does nothing when everything
+# is there already.
 set -euo pipefail
-packages=(gfortran liblapack-dev libblas-dev cmake make python3 gnuplot-nox)
+packages=(gfortran liblapack-dev libblas-dev cmake make python3 gnuplot-nox python3-numpy python3-pandas)
+packages+=(python3-vtk9)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -11,6 +11,10 @@
 #   -o, --out DIR   where the sweep folder goes (default: .)
 #   -j, --jobs N    runs at a time (default: all cores, nproc)
 #   --xscale log|lin  x axis of the plot (default: log when the positive values span a decade)
+#   --label VALUE=TEXT  what a value means, for the plot (repeatable): e.g. --label 0=rigid for
+#                   ring_rigid_cavity.inp, where k = 0 is the rigid cavity; a labelled value is drawn
+#                   as a horizontal line "TEXT (NAME = VALUE)", never as a point of the curve
+#   --replace       the sweep folder exists already: delete it first (without this, refuse)
 #   --no-plot       no PNG (gnuplot not needed)
 #   --summarize DIR  only (re)write DIR/sweep.tsv and DIR/sweep.png from finished runs
 #
@@ -20,8 +24,10 @@
 # there, the contact extent there (s_contact_1, s_contact_2 of the path interpolated at the event's
 # fractional step) and the status: ok, no_limit (the run ended without a limit point) or failed(N)
 # (uniarc's exit code N; what the run traced is still summarised). Numbers missing are `nan`.
-# sweep.png plots the first limit load against the value; values <= 0 cannot sit on a log axis and are
-# drawn as horizontal lines (in ring_rigid_cavity.inp, k = 0 is the rigid cavity: the k -> oo limit).
+# sweep.png plots the first limit load against the value (log axis when the positive values span a
+# decade or more); labelled values, and on a log axis values <= 0, are drawn as horizontal lines with
+# their label, never joined to the curve. A sweep folder that exists already (an earlier sweep, whose value folders
+# would mix with these) is refused, exit 2, unless --replace is given.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -34,8 +40,9 @@ fail() { echo "sweep.sh: $*" >&2; exit 2; }
 summarize() {
   local dir=$1 xscale=$2 plot=$3
   [ -f "$dir/sweep.conf" ] || fail "$dir: not a sweep folder (no sweep.conf)"
-  python3 - "$dir" <<'PYTHON'
+  PYTHONPATH="$here" python3 - "$dir" <<'PYTHON'
 import os, sys
+from uniarc_table import Table
 
 directory = sys.argv[1]
 conf = dict(line.rstrip('\n').split('=', 1) for line in open(os.path.join(directory, 'sweep.conf')))
@@ -44,27 +51,21 @@ values = [v for v in open(os.path.join(directory, 'values.txt')).read().split('\
 
 
 def table(path):
-    """Column names and numeric rows of a uniarc path file (header line `# names`)."""
-    lines = open(path).read().splitlines()
-    names = lines[0][1:].split() if lines and lines[0].startswith('#') else []
-    rows = []
-    for line in lines[1:]:
-        fields = line.split()
-        if len(fields) == len(names) and names:
-            rows.append([float(x) for x in fields])
-    return names, rows
+    """Column names and numeric rows of a uniarc path file (docs/contracts.md)."""
+    try:
+        data = Table(path)
+    except ValueError:
+        return [], []
+    return data.names, [[float(x) for x in row] for row in data.rows]
 
 
 def events(path):
     """Column names after `kind` and the (kind, numbers) rows of a STEM.crit file."""
-    lines = open(path).read().splitlines()
-    names = lines[0][1:].split()[1:] if lines and lines[0].startswith('#') else []
-    found = []
-    for line in lines[1:]:
-        fields = line.split()
-        if len(fields) == len(names) + 1:
-            found.append((fields[0], [float(x) for x in fields[1:]]))
-    return names, found
+    try:
+        data = Table(path)
+    except ValueError:
+        return [], []
+    return data.names[1:], [(row[0], [float(x) for x in row[1:]]) for row in data.rows]
 
 
 def at_step(names, rows, step, column):
@@ -133,6 +134,9 @@ import math, os, sys
 
 directory, xscale = sys.argv[1], sys.argv[2]
 conf = dict(line.rstrip('\n').split('=', 1) for line in open(os.path.join(directory, 'sweep.conf')))
+labels_file = os.path.join(directory, 'labels.txt')
+labels = dict(line.rstrip('\n').split('=', 1) for line in open(labels_file) if '=' in line) \
+    if os.path.isfile(labels_file) else {}
 lines = open(os.path.join(directory, 'sweep.tsv')).read().splitlines()
 rows = [line.split('\t') for line in lines[1:] if line]
 finite = []
@@ -142,29 +146,36 @@ for row in rows:
     except ValueError:
         continue
     if math.isfinite(load):
-        finite.append((value, load, row[-1]))
-positive = sorted((v, l, s) for v, l, s in finite if v > 0)
-if xscale == 'auto':
-    xs = [v for v, _, _ in positive]
-    xscale = 'log' if xs and max(xs) >= 10 * min(xs) else 'lin'
-on_axis = positive if xscale == 'log' else sorted(finite)
-level = [(v, l) for v, l, _ in finite if v <= 0] if xscale == 'log' else []
+        finite.append((row[0], value, load))
 name = conf['name']
+# a labelled value (e.g. k = 0: the rigid cavity) or one <= 0 on a log axis is a level, not a point
+curve = sorted((v, l) for text, v, l in finite if text not in labels and (v > 0 or xscale == 'lin'))
+if xscale == 'auto':
+    xs = [v for v, _ in curve if v > 0]
+    xscale = 'log' if xs and max(xs) >= 10 * min(xs) else 'lin'
+if xscale == 'log':
+    curve = [(v, l) for v, l in curve if v > 0]
+levels = [(labels.get(text, ''), text, l) for text, v, l in finite if (v, l) not in curve]
 without = [f'{row[0]} ({row[-1]})' for row in rows if row[-1] != 'ok']
 print('set terminal pngcairo size 900,600 enhanced font "Sans,11"')
 print(f'set output "{os.path.join(directory, "sweep.png")}"')
 print(f'set title "{conf["stem"]}: first limit load against {name}" noenhanced')
-print(f'set xlabel "{name}" noenhanced')
+print(f'set xlabel "{name}" noenhanced' + (' offset 0,-0.3' if xscale == 'log' else ''))
 print('set ylabel "first limit load {/Symbol l}_{lim}"')
 print('set grid')
 print('set key bottom right box opaque')
 if xscale == 'log':
     print('set logscale x')
     print('set format x "10^{%T}"')
-    if on_axis:
-        xs = [v for v, _, _ in on_axis]
-        print(f'set xrange [{min(xs) / 2!r}:{max(xs) * 2!r}]')
-ys = [l for _, l, _ in finite]
+if curve:
+    xs = [v for v, _ in curve]
+    low, high = min(xs), max(xs)
+    if xscale == 'log':
+        print(f'set xrange [{low / 2!r}:{high * 2!r}]')
+    else:
+        pad = 0.05 * (high - low) if high > low else max(abs(high), 1.0)
+        print(f'set xrange [{low - pad!r}:{high + pad!r}]')
+ys = [l for _, _, l in finite]
 if ys:
     span = max(max(ys) - min(ys), 0.05 * abs(max(ys)), 1e-12)
     print(f'set yrange [{min(ys) - 0.08 * span!r}:{max(ys) + 0.15 * span!r}]')
@@ -172,20 +183,23 @@ if without:
     print(f'set label 1 "no limit point or failed: {", ".join(without)}" at graph 0.02, graph 0.95 '
           'left front noenhanced')
 print('$sweep << EOD')
-for v, l, _ in on_axis:
+for v, l in curve:
     print(f'{v!r} {l!r}')
 print('EOD')
 plots = []
-if on_axis:
-    plots.append('$sweep using 1:2 with linespoints lw 2 pt 7 ps 1.3 lc rgb "#1f4e9c" title "uniarc"')
-for k, (v, l) in enumerate(level):
-    plots.append(f'{l!r} with lines dt 2 lw 2 lc rgb "#b22222" title "{name} = {v:g}: {l:.4g}" noenhanced')
+if curve:
+    plots.append('$sweep using 1:2 with linespoints lw 2 pt 7 ps 1.3 lc rgb "#1f4e9c" title "uniarc" noenhanced')
+level_colours = ['#b22222', '#228b22', '#6a3d9a', '#ff8c00']
+for k, (label, text, l) in enumerate(levels):
+    title = f'{label} ({name} = {text}): {l:.4g}' if label else f'{name} = {text}: {l:.4g}'
+    plots.append(f'{l!r} with lines dt 2 lw 2 lc rgb "{level_colours[k % len(level_colours)]}" '
+                 f'title "{title}" noenhanced')
 if not plots:
     print('set label 2 "no limit point in any run" at graph 0.5, graph 0.5 center')
     print('set xrange [0:1]; set yrange [0:1]')
     plots.append('NaN notitle')
-if xscale == 'log' and level and not on_axis:
-    print('set xrange [0.1:10]')
+if levels and not curve:
+    print('set xrange [0.1:10]' if xscale == 'log' else 'set xrange [-1:1]')
 print('plot ' + ', \\\n     '.join(plots))
 PYTHON
   echo "$dir/sweep.png"
@@ -214,8 +228,8 @@ run_one() {
 
 # --- command line -------------------------------------------------------------------------------------
 main() {
-  local uniarc=${UNIARC:-$root/build/uniarc} outroot=. jobs="" xscale=auto plot=yes summarize_only=""
-  local -a defines=() positional=() range=()
+  local uniarc=${UNIARC:-$root/build/uniarc} outroot=. jobs="" xscale=auto plot=yes summarize_only="" replace=no
+  local -a defines=() positional=() range=() labels=()
   while [ $# -gt 0 ]; do
     case $1 in
       -h|--help) usage; exit 0 ;;
@@ -226,6 +240,9 @@ main() {
       -j|--jobs) [ $# -ge 2 ] || fail "$1 needs a number"; jobs=$2; shift 2 ;;
       --xscale) [ $# -ge 2 ] || fail "--xscale needs log or lin"; xscale=$2; shift 2 ;;
       --no-plot) plot=no; shift ;;
+      --replace) replace=yes; shift ;;
+      --label) [ $# -ge 2 ] || fail "--label needs VALUE=TEXT"; [[ $2 == ?*=?* ]] || fail "--label $2: expected VALUE=TEXT"
+               labels+=("$2"); shift 2 ;;
       --summarize) [ $# -ge 2 ] || fail "--summarize needs a sweep folder"; summarize_only=$2; shift 2 ;;
       --run-one) run_one "$2" "$3"; exit 0 ;;
       --log|--lin) [ $# -ge 4 ] || fail "$1 needs FROM TO N"; range=("$1" "$2" "$3" "$4"); shift 4 ;;
@@ -267,6 +284,12 @@ PYTHON
   local stem dir
   stem=$(basename "$deck"); stem=${stem%.*}
   dir=$outroot/sweep_${stem}_$name
+  # value folders of an earlier sweep would mix with these runs in sweep.tsv and the plots
+  if [ -e "$dir" ] && [ -n "$(ls -A "$dir" 2>/dev/null)" ]; then
+    [ "$replace" = yes ] || fail "$dir exists (an earlier sweep): remove it, give --replace to delete it first, or -o another folder"
+    [ -f "$dir/sweep.conf" ] || fail "$dir is not a sweep folder (no sweep.conf): not deleted, even with --replace"
+    rm -rf "$dir"
+  fi
   mkdir -p "$dir"
   # absolute paths, so that the runs (and the Slurm tasks) do not depend on the working directory
   {
@@ -277,6 +300,7 @@ PYTHON
   } > "$dir/sweep.conf"
   printf '%s\n' "${defines[@]}" | sed '/^$/d' > "$dir/defines.txt"
   printf '%s\n' "${values[@]}" > "$dir/values.txt"
+  printf '%s\n' "${labels[@]}" | sed '/^$/d' > "$dir/labels.txt"
   if [ "${SWEEP_PREPARE_ONLY:-}" = 1 ]; then echo "$dir"; return 0; fi
   jobs=${jobs:-$(nproc)}
   echo "sweep.sh: ${#values[@]} runs of $stem over $name, $jobs at a time, in $dir" >&2

@@ -5,7 +5,8 @@
 #   scripts/sweep_slurm.sh [options] DECK NAME VALUE...
 #   scripts/sweep_slurm.sh [options] DECK NAME --log FROM TO N | --lin FROM TO N
 #
-# options: those of sweep.sh (-D NAME=VALUE, -u/--uniarc BIN, -o/--out DIR, --xscale, --no-plot), and
+# options: those of sweep.sh (-D NAME=VALUE, -u/--uniarc BIN, -o/--out DIR, --xscale, --label, --replace,
+#   --no-plot), and
 #   --max-running N   at most N array tasks at a time (--array=0-M%N)
 #   --sbatch ARG      passed to both sbatch calls (repeatable), e.g. --sbatch --partition=short
 #                     --sbatch --time=00:30:00; sbatch's SBATCH_* environment variables work too

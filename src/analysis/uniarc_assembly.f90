@@ -6,6 +6,7 @@ module uniarc_assembly
    use uniarc_band, only: band_matrix_t, band_add_element, band_zero
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element, only: element_response_t, element_response, element_coordinates, transformation_linear
+   use uniarc_element_loads, only: thermal_load_vector
    implicit none
    private
    public :: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
@@ -29,21 +30,31 @@ contains
    end subroutine assemble_linear_stiffness
 
    !> Reference load vector R_r (paper Eq. 17) in equation numbering: nodal loads plus consistent nodal
-   !> loads of the distributed loads on the initial geometry. Follower pressure is excluded when
-   !> `include_follower` is false (the nonlinear analysis evaluates it on the current geometry).
+   !> loads of the distributed loads on the initial geometry. The loads that depend on the displacements
+   !> — follower pressure and temperature changes (B0ᵀ q0, uniarc_element_loads) — are included only
+   !> when `include_follower` is true (the linear analysis); the nonlinear analysis evaluates them on the
+   !> current geometry (uniarc_equilibrium).
    pure subroutine assemble_reference_load(model, map, include_follower, load)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       logical, intent(in) :: include_follower
       real(dp), intent(out) :: load(:)
       integer :: i, k, e
-      real(dp) :: f(2*dofs_per_node)
+      real(dp) :: f(2*dofs_per_node), k_unused(2*dofs_per_node, 2*dofs_per_node)
+      real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
       load = 0.0_dp
       do i = 1, model%n_nodes
          do k = 1, dofs_per_node
             if (map%equation(k, i) > 0) load(map%equation(k, i)) = load(map%equation(k, i)) + model%nodal_load(k, i)
          end do
       end do
+      if (include_follower .and. allocated(model%thermal_loads)) then
+         do i = 1, size(model%thermal_loads)
+            e = model%thermal_loads(i)%element
+            call thermal_load_vector(model, model%thermal_loads(i), at_rest, transformation_linear, f, k_unused)
+            call scatter_add(element_equations(model, map, e), f, load)
+         end do
+      end if
       if (.not. allocated(model%distributed_loads)) return
       do i = 1, size(model%distributed_loads)
          associate (dload => model%distributed_loads(i))

@@ -17,7 +17,9 @@
 module uniarc_contact_law
    use uniarc_kinds, only: dp
    use uniarc_model, only: contact_candidate_t, foundation_t, gap_fixed_direction, gap_circle_inside, &
-                           gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction
+                           gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction, &
+                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline
+   use uniarc_obstacle_shapes, only: ellipse_gap, polyline_gap
    implicit none
    private
    public :: candidate_gap, initial_gap, obstacle_candidate
@@ -51,7 +53,8 @@ contains
    !>
    !> Fixed direction: g = g0 + n·u (a = n, h = 0). Circle of centre c and radius R, with d = x0 + u − c
    !> and e = d/|d|: inside a cavity g = R − |d| (a = −e, h = −(I − e eᵀ)/|d|), outside a cylinder
-   !> g = |d| − R (a = e, h = (I − e eᵀ)/|d|).
+   !> g = |d| − R (a = e, h = (I − e eᵀ)/|d|). Ellipse (inside or outside) and polyline: the signed
+   !> distance to the surface and its derivatives (uniarc_obstacle_shapes: ellipse_gap, polyline_gap).
    pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
@@ -73,6 +76,11 @@ contains
             gradient = n
             hessian = projector/distance
          end if
+      case (gap_ellipse_inside, gap_ellipse_outside)
+         call ellipse_gap(candidate%centre, candidate%axis, candidate%semi_axes, x0 + u, &
+                          candidate%gap_kind == gap_ellipse_inside, gap, gradient, hessian)
+      case (gap_polyline)
+         call polyline_gap(candidate%vertices, x0 + u, gap, gradient, hessian)
       case default
          gap = candidate%offset + dot_product(candidate%direction, u)
          gradient = candidate%direction
@@ -92,25 +100,37 @@ contains
    !>
    !> gap_fixed_direction: the line through `point` whose unit normal `normal` points to the free side;
    !> the candidate's offset is the initial gap n·(x0 − p). gap_circle_inside, gap_circle_outside: the
-   !> circle of centre `point` and radius `radius` (> 0). Flexibility 0 (rigid), group and coordinate
-   !> are left to the caller.
-   pure function obstacle_candidate(gap_kind, point, normal, radius, node, x0) result(candidate)
+   !> circle of centre `point` and radius `radius` (> 0). gap_ellipse_inside, gap_ellipse_outside: the
+   !> ellipse of centre `point`, semi-axes `semi_axes` (a along the unit direction `normal`, b across).
+   !> gap_polyline: the polyline through `vertices` (2, n ≥ 2), free side on its left. Flexibility 0
+   !> (rigid), group and coordinate are left to the caller.
+   pure function obstacle_candidate(gap_kind, point, normal, radius, node, x0, semi_axes, vertices) &
+      result(candidate)
       integer, intent(in) :: gap_kind
       real(dp), intent(in) :: point(2)          !< a point of the plane, or the circle's centre
       real(dp), intent(in) :: normal(2)         !< plane: unit normal toward the free side (else unused)
       real(dp), intent(in) :: radius            !< circle: radius (else unused)
       integer, intent(in) :: node               !< the node (internal index)
       real(dp), intent(in) :: x0(2)             !< its initial position
+      real(dp), intent(in), optional :: semi_axes(2)    !< ellipse: a, b (> 0)
+      real(dp), intent(in), optional :: vertices(:, :)  !< polyline: (2, n ≥ 2)
       type(contact_candidate_t) :: candidate
       candidate%node = node
       candidate%gap_kind = gap_kind
-      if (gap_kind == gap_fixed_direction) then
+      select case (gap_kind)
+      case (gap_fixed_direction)
          candidate%direction = normal
          candidate%offset = dot_product(normal, x0 - point)
-      else
+      case (gap_ellipse_inside, gap_ellipse_outside)
+         candidate%centre = point
+         candidate%axis = normal
+         if (present(semi_axes)) candidate%semi_axes = semi_axes
+      case (gap_polyline)
+         if (present(vertices)) candidate%vertices = vertices
+      case default
          candidate%centre = point
          candidate%radius = radius
-      end if
+      end select
    end function obstacle_candidate
 
    ! ================================================================================================

@@ -12,6 +12,7 @@ module uniarc_equilibrium
    use uniarc_element, only: element_response_t, element_response, element_stiffness_scale, &
                              element_coordinates, element_displacements, transformation_corotational
    use uniarc_corotational, only: follower_pressure
+   use uniarc_element_loads, only: thermal_load_vector
    implicit none
    private
    public :: assemble_equilibrium
@@ -60,6 +61,15 @@ contains
       end do
       force_scale = sqrt(force_scale)
       if (present(roundoff)) roundoff = 100.0_dp*epsilon(1.0_dp)*sqrt(position_noise)
+      if (allocated(model%thermal_loads)) then
+         do i = 1, size(model%thermal_loads)
+            e = model%thermal_loads(i)%element
+            call thermal_load_vector(model, model%thermal_loads(i), element_displacements(model, e, displacement), &
+                                     transformation_corotational, f, k)
+            call scatter_add(element_equations(model, map, e), f, reference)
+            call band_add_element(tangent, element_equations(model, map, e), lambda*k)
+         end do
+      end if
       if (.not. allocated(model%distributed_loads)) return
       do i = 1, size(model%distributed_loads)
          associate (dload => model%distributed_loads(i))

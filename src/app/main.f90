@@ -9,6 +9,7 @@ program main
    use uniarc_deck, only: read_deck
    use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
    use uniarc_run, only: run_options_t, run_model, check_deck
+   use uniarc_provenance, only: make_provenance
    implicit none
    type(cli_options_t) :: cli
    type(model_t) :: model
@@ -44,6 +45,8 @@ program main
    run_options%stem = deck_stem(cli%deck)
    run_options%quiet = cli%quiet
    run_options%verbose = cli%verbose
+   run_options%csv = cli%csv
+   run_options%provenance = make_provenance(version_text, cli%deck, cli%overrides)
    call run_model(model, run_options, error)
    if (allocated(error)) call fail(error)
    if (interrupt_signal() /= 0) call exit_program(128 + interrupt_signal())

@@ -1,5 +1,5 @@
 !> The command line of docs/contracts.md:
-!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--check]
+!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv] [--check]
 !>   uniarc --help | --version
 module uniarc_cli
    use uniarc_error, only: error_t, make_error, error_input
@@ -20,6 +20,7 @@ module uniarc_cli
       logical :: version = .false.
       logical :: quiet = .false.
       logical :: verbose = .false.
+      logical :: csv = .false.       !< --csv: the tables also as comma-separated STEM.*.csv
       logical :: check = .false.   !< --check: read, build and summarise the model; no analysis
    end type cli_options_t
 
@@ -47,6 +48,8 @@ contains
             options%quiet = .true.
          case ('-v', '--verbose')
             options%verbose = .true.
+         case ('--csv')
+            options%csv = .true.
          case ('--check')
             options%check = .true.
          case ('-o', '--output')
@@ -101,20 +104,22 @@ contains
    pure function usage_text() result(text)
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
-      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--check]'//nl// &
+      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv] [--check]'//nl// &
              '       uniarc --help | --version'//nl//nl// &
              'Traces the equilibrium path of the structure described by the input deck DECK'//nl// &
              '(keyword cards, see docs/input.md) and writes, named after the deck''s stem:'//nl// &
              '  STEM.path   one row per converged step: step, lambda, tracked values, contact, solver'//nl// &
              '  STEM.crit   critical points and contact events along the path'//nl// &
              '  STEM.shape  node coordinates and displacements per snapshot'//nl// &
-             '  STEM_NNNN.vtk, STEM_NNNN.vtu, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
+             '  STEM.surface  where each contact candidate meets its foundation or obstacle'//nl// &
+             '  STEM_NNNN.vtp, STEM_NNNN.vtk, STEM.pvd  ParaView snapshots (with *OUTPUT, VTK)'//nl//nl// &
              'options:'//nl// &
              '  -o OUTDIR        write the result files to OUTDIR (created; default: .)'//nl// &
              '  -D NAME=VALUE    override the deck''s *PARAMETER NAME (repeatable; VALUE may be'//nl// &
              '                   an expression)'//nl// &
              '  -q, --quiet      no progress on stderr'//nl// &
              '  -v, --verbose    more progress on stderr (every step)'//nl// &
+             '      --csv        also write the tables comma-separated: STEM.path.csv, ...'//nl// &
              '      --check      read the deck, build the model and print its summary (counts,'//nl// &
              '                   supports, loads, contact groups, analysis, estimated memory);'//nl// &
              '                   no analysis, no file; exit status 0 or 2'//nl// &

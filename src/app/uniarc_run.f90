@@ -19,6 +19,7 @@ module uniarc_run
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_check, only: check_model, print_model_summary
    use uniarc_strings, only: integer_to_string
+   use uniarc_provenance, only: provenance_t
    implicit none
    private
    public :: run_options_t, run_model, check_deck
@@ -29,6 +30,8 @@ module uniarc_run
       character(len=:), allocatable :: stem
       logical :: quiet = .false.
       logical :: verbose = .false.
+      type(provenance_t) :: provenance   !< under the header of every table (uniarc_provenance)
+      logical :: csv = .false.           !< also write the tables as STEM.*.csv (--csv)
    end type run_options_t
 
 contains
@@ -94,9 +97,18 @@ contains
       type(vtk_series_t) :: vtk
       type(step_record_t) :: record
       type(error_t), allocatable :: io_error
-      call solve_linear_static(model, record%displacement, record%neg_pivots, error)
+      type(contact_summary_t) :: summary
+      logical, allocatable :: active(:)
+      call solve_linear_static(model, record%displacement, record%neg_pivots, error, record%reactions, active, &
+                               record%lcp_pivots, record%lcp_residual)
       if (allocated(error)) return
-      if (.not. all(abs(record%displacement) <= huge(1.0_dp))) then
+      summary = summarize_contact(model, record%reactions, active)
+      record%n_contact = summary%n_contact
+      record%contact_regions = summary%regions
+      record%s_contact = summary%s_contact
+      record%reaction_max = summary%reaction_max
+      record%reaction_sum = summary%reaction_sum
+      if (.not. finite_record(record)) then
          call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large for the '// &
                          'stiffnesses, or the stiffness matrix is singular or badly scaled; no result file '// &
                          'written', error_analysis)
@@ -105,7 +117,7 @@ contains
       record%step = 1
       record%lambda = 1.0_dp
       record%iterations = 1
-      call open_outputs(model, results, files, io_error)
+      call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
@@ -141,7 +153,7 @@ contains
       clock_last = clock_start
       call driver_start(model, driver, error)
       if (allocated(error)) return
-      call open_outputs(model, results, files, io_error)
+      call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       call record_state(model, driver, record)
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)

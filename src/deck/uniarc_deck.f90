@@ -18,11 +18,11 @@ module uniarc_deck
                                  check_options, field_real
    use uniarc_model, only: model_t
    use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kinds
-   use uniarc_deck_element, only: restrain_truss_nodes
+   use uniarc_deck_element, only: restrain_truss_nodes, read_release
    use uniarc_deck_state, only: parameter_override_t, deck_t
    use uniarc_deck_mesh, only: read_section, read_node, read_element, read_generator, read_node_set, &
                                read_element_set
-   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load
+   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
    implicit none
@@ -96,6 +96,8 @@ contains
          call read_concentrated_load(source, card, deck, error)
       case ('DLOAD')
          call read_distributed_load(source, card, deck, error)
+      case ('TEMPERATURE')
+         call read_temperature(source, card, deck, error)
       case ('TRACK')
          call read_track(source, card, deck, error)
       case ('FOUNDATION')
@@ -104,6 +106,8 @@ contains
          call read_spring(source, card, deck, error)
       case ('OBSTACLE')
          call read_obstacle(source, card, deck, error)
+      case ('RELEASE')
+         call read_release(source, card, deck, error)
       case ('PATH')
          call read_path(source, card, deck, error)
       case ('STATIC')
@@ -113,7 +117,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *STATIC, *PATH, *OUTPUT), found ''*'//card%keyword//'''', error)
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT), found ''*'//card%keyword//'''', error)
       end select
    end subroutine dispatch
 
@@ -254,7 +258,8 @@ contains
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
                                    element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
                                    deck%node_line(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
-                                   model%fixed(:, 1:model%n_nodes), model%nodal_load(:, 1:model%n_nodes), error)
+                                   model%fixed(:, 1:model%n_nodes), model%nodal_load(:, 1:model%n_nodes), error, &
+                                   joints=model%end_joints)
       end associate
    end subroutine check_whole_deck
 

@@ -12,7 +12,8 @@ module uniarc_deck_contact
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real
    use uniarc_model, only: foundation_t, foundation_winkler, side_left, side_right, side_inner, side_outer, &
-                           side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside
+                           side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside, &
+                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline
    use uniarc_model_builder, only: add_foundation, add_springs, add_obstacle
    use uniarc_contact_law, only: foundation_straight, foundation_problem
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
@@ -20,6 +21,10 @@ module uniarc_deck_contact
    implicit none
    private
    public :: read_foundation, read_spring, read_obstacle
+
+   !> Length of the sum of two consecutive unit directions of a polyline under which they are taken as
+   !> opposite (the second segment folds back on the first).
+   real(dp), parameter :: fold_tolerance = 1.0e-9_dp
 
 contains
 
@@ -183,25 +188,31 @@ contains
    end subroutine read_spring
 
 
-   !> *OBSTACLE, TYPE=PLANE|CIRCLE, NSET=set [, SIDE=INSIDE|OUTSIDE] [, STIFFNESS=k] [, END_FACTOR=f]
+   !> *OBSTACLE, TYPE=PLANE|CIRCLE|ELLIPSE|POLYLINE, NSET=set [, SIDE=...] [, STIFFNESS=k] [, END_FACTOR=f]
    !> [, NAME=name] [, SCALE=s]: a rigid (or, with STIFFNESS, elastic) obstacle for every node of the set.
    !>
    !> PLANE `px, py, angle`: the line through p whose normal n = (cos, sin) points to the free side;
-   !> g = n·(x0 − p) + n·u. CIRCLE `xc, yc, R`: g = R − |x − c| (INSIDE a cavity, the default) or
-   !> |x − c| − R (OUTSIDE a cylinder). A node that starts inside the obstacle is an error.
+   !> g = n·(x0 − p) + n·u. CIRCLE `xc, yc, R`: g = R − |x − c| (SIDE=INSIDE a cavity, the default) or
+   !> |x − c| − R (SIDE=OUTSIDE a cylinder). ELLIPSE `xc, yc, a, b [, angle]`: the ellipse of semi-axis a
+   !> along the direction `angle` (degrees, default 0) and b across, SIDE=INSIDE (default) or OUTSIDE.
+   !> POLYLINE: data lines `x, y`, at least two vertices, the first and last segments going on as rays;
+   !> SIDE=LEFT (default) or RIGHT of the direction first → last vertex is free. Ellipse and polyline gaps:
+   !> the signed distance (uniarc_obstacle_shapes). A node that starts inside the obstacle is an error.
    subroutine read_obstacle(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: type_option, set_option, side_option, stiffness_option, factor_option, line, i, gap_kind, bad
-      real(dp) :: values(3), scale, stiffness, end_factor, normal(2), depth
+      real(dp) :: values(5), scale, stiffness, end_factor, normal(2), depth, angle
       type(field_t) :: field
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
-      character(len=:), allocatable :: name, kind, layout, surface
+      real(dp), allocatable :: vertices(:, :)
+      character(len=:), allocatable :: name, kind, layout, surface, side
       character(len=5), parameter :: plane_names(3) = ['px   ', 'py   ', 'angle']
       character(len=5), parameter :: circle_names(3) = ['xc   ', 'yc   ', 'R    ']
+      character(len=5), parameter :: ellipse_names(5) = ['xc   ', 'yc   ', 'a    ', 'b    ', 'angle']
 
       call check_options(source, card, [character(len=11) :: 'TYPE=', 'NSET=', 'SIDE=', 'STIFFNESS=', &
                                         'END_FACTOR=', 'NAME=', 'SCALE='], error)
@@ -211,9 +222,9 @@ contains
       call require_option(source, card, 'TYPE', type_option, error)
       if (allocated(error)) return
       kind = to_upper(card%options(type_option)%value)
-      if (kind /= 'PLANE' .and. kind /= 'CIRCLE') then
-         call raise(source, card%line, card%options(type_option)%value_column, 'expected TYPE=PLANE or ' // &
-                    'TYPE=CIRCLE, found '''//clip(card%options(type_option)%value)//'''', error)
+      if (kind /= 'PLANE' .and. kind /= 'CIRCLE' .and. kind /= 'ELLIPSE' .and. kind /= 'POLYLINE') then
+         call raise(source, card%line, card%options(type_option)%value_column, 'expected TYPE=PLANE, ' // &
+                    'CIRCLE, ELLIPSE or POLYLINE, found '''//clip(card%options(type_option)%value)//'''', error)
          return
       end if
       call require_option(source, card, 'NSET', set_option, error)
@@ -227,24 +238,42 @@ contains
          return
       end if
 
-      gap_kind = gap_fixed_direction
-      if (kind == 'CIRCLE') gap_kind = gap_circle_inside
+      select case (kind)
+      case ('CIRCLE')
+         gap_kind = gap_circle_inside
+      case ('ELLIPSE')
+         gap_kind = gap_ellipse_inside
+      case ('POLYLINE')
+         gap_kind = gap_polyline
+      case default
+         gap_kind = gap_fixed_direction
+      end select
+      side = ''
       side_option = option_index(card, 'SIDE')
       if (side_option > 0) then
-         if (kind /= 'CIRCLE') then
+         side = to_upper(card%options(side_option)%value)
+         select case (kind)
+         case ('PLANE')
             call raise(source, card%line, card%options(side_option)%column, 'expected SIDE= only with ' // &
-                       'TYPE=CIRCLE (a plane''s free side is its normal''s), found it with TYPE='//kind, error)
+                       'TYPE=CIRCLE, ELLIPSE or POLYLINE (a plane''s free side is its normal''s), found it ' // &
+                       'with TYPE=PLANE', error)
             return
-         end if
-         select case (to_upper(card%options(side_option)%value))
-         case ('INSIDE')
-            gap_kind = gap_circle_inside
-         case ('OUTSIDE')
-            gap_kind = gap_circle_outside
+         case ('POLYLINE')
+            if (side /= 'LEFT' .and. side /= 'RIGHT') then
+               call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=LEFT ' // &
+                          'or SIDE=RIGHT with TYPE=POLYLINE, found '''//clip(card%options(side_option)%value)// &
+                          '''', error)
+               return
+            end if
          case default
-            call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INSIDE ' // &
-                       'or SIDE=OUTSIDE, found '''//clip(card%options(side_option)%value)//'''', error)
-            return
+            if (side /= 'INSIDE' .and. side /= 'OUTSIDE') then
+               call raise(source, card%line, card%options(side_option)%value_column, 'expected SIDE=INSIDE ' // &
+                          'or SIDE=OUTSIDE, found '''//clip(card%options(side_option)%value)//'''', error)
+               return
+            end if
+            if (side == 'OUTSIDE') then
+               gap_kind = merge(gap_circle_outside, gap_ellipse_outside, kind == 'CIRCLE')
+            end if
          end select
       end if
 
@@ -280,42 +309,77 @@ contains
       call contact_scale(source, card, deck, scale, error)
       if (allocated(error)) return
 
-      call require_one_data_line(source, card, error)
-      if (allocated(error)) return
-      line = card%data_lines(1)
-      call data_fields(source, line, fields)
-      if (kind == 'PLANE') then
-         layout = 'px, py, angle'
-      else
-         layout = 'xc, yc, R'
-      end if
-      call require_field_count(source, line, fields, 3, 3, layout, error)
-      if (allocated(error)) return
-      do i = 1, 3
-         if (kind == 'PLANE') then
-            call field_real(source, deck%parameters, line, fields(i), trim(plane_names(i)), values(i), error)
-         else
-            call field_real(source, deck%parameters, line, fields(i), trim(circle_names(i)), values(i), error)
-         end if
+      if (kind == 'POLYLINE') then
+         call read_polyline(source, card, deck, side == 'RIGHT', vertices, error)
          if (allocated(error)) return
-      end do
-      if (kind == 'CIRCLE' .and. .not. values(3) > 0.0_dp) then
-         call raise(source, line, fields(3)%column, 'expected a positive radius R, found '// &
-                    real_to_string(values(3)), error)
-         return
-      end if
+         line = card%data_lines(1)
+         call data_fields(source, line, fields)
+         call add_obstacle(deck%model, name, gap_kind, [0.0_dp, 0.0_dp], [1.0_dp, 0.0_dp], 0.0_dp, nodes, &
+                           stiffness, end_factor, scale, error, bad, depth, vertices=vertices)
+      else
+         call require_one_data_line(source, card, error)
+         if (allocated(error)) return
+         line = card%data_lines(1)
+         call data_fields(source, line, fields)
+         select case (kind)
+         case ('PLANE')
+            layout = 'px, py, angle'
+            call require_field_count(source, line, fields, 3, 3, layout, error)
+         case ('CIRCLE')
+            layout = 'xc, yc, R'
+            call require_field_count(source, line, fields, 3, 3, layout, error)
+         case default
+            layout = 'xc, yc, a, b [, angle]'
+            call require_field_count(source, line, fields, 4, 5, layout, error)
+         end select
+         if (allocated(error)) return
+         values = 0.0_dp
+         do i = 1, size(fields)
+            select case (kind)
+            case ('PLANE')
+               call field_real(source, deck%parameters, line, fields(i), trim(plane_names(i)), values(i), error)
+            case ('CIRCLE')
+               call field_real(source, deck%parameters, line, fields(i), trim(circle_names(i)), values(i), error)
+            case default
+               call field_real(source, deck%parameters, line, fields(i), trim(ellipse_names(i)), values(i), error)
+            end select
+            if (allocated(error)) return
+         end do
+         if (kind == 'CIRCLE' .and. .not. values(3) > 0.0_dp) then
+            call raise(source, line, fields(3)%column, 'expected a positive radius R, found '// &
+                       real_to_string(values(3)), error)
+            return
+         end if
+         if (kind == 'ELLIPSE') then
+            do i = 3, 4
+               if (.not. values(i) > 0.0_dp) then
+                  call raise(source, line, fields(i)%column, 'expected a positive semi-axis '// &
+                             trim(ellipse_names(i))//', found '//real_to_string(values(i)), error)
+                  return
+               end if
+            end do
+         end if
 
-      ! The builder makes the candidates (uniarc_contact_law) and finds a node that starts inside; the
-      ! message says it here with the position.
-      normal = [cos_degrees(values(3)), sin_degrees(values(3))]
-      call add_obstacle(deck%model, name, gap_kind, values(1:2), normal, values(3), nodes, stiffness, end_factor, &
-                        scale, error, bad, depth)
+         ! The builder makes the candidates (uniarc_contact_law) and finds a node that starts inside; the
+         ! message says it here with the position.
+         angle = values(3)
+         if (kind == 'ELLIPSE') angle = values(5)
+         normal = [cos_degrees(angle), sin_degrees(angle)]
+         call add_obstacle(deck%model, name, gap_kind, values(1:2), normal, values(3), nodes, stiffness, &
+                           end_factor, scale, error, bad, depth, semi_axes=values(3:4))
+      end if
       if (.not. allocated(error)) return
       select case (gap_kind)
       case (gap_fixed_direction)
          surface = 'the plane'
       case (gap_circle_inside)
          surface = 'the circular cavity'
+      case (gap_ellipse_inside)
+         surface = 'the elliptical cavity'
+      case (gap_ellipse_outside)
+         surface = 'the elliptical cylinder'
+      case (gap_polyline)
+         surface = 'the polyline'
       case default
          surface = 'the cylinder'
       end select
@@ -323,6 +387,56 @@ contains
                  ''' clear of '//surface//', found node '//integer_to_string(deck%model%node_label(nodes(bad)))// &
                  ' inside it by '//real_to_string(depth), error)
    end subroutine read_obstacle
+
+   !> The vertices (2, n ≥ 2) of a TYPE=POLYLINE obstacle, one `x, y` data line each, in the order read
+   !> (free side on the left) or reversed when `reverse` (SIDE=RIGHT), so that the free side is always
+   !> on the left of the stored order. Two equal consecutive vertices (a segment of zero length) and a
+   !> segment that turns back along the previous one (no side there) are errors at the vertex's line.
+   subroutine read_polyline(source, card, deck, reverse, vertices, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      logical, intent(in) :: reverse
+      real(dp), allocatable, intent(out) :: vertices(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      type(field_t), allocatable :: fields(:)
+      real(dp) :: before(2), after(2)
+      integer :: i, line
+
+      if (card%n_data < 2) then
+         call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, 'expected at least two ' // &
+                    'data lines `x, y` (the vertices) after *OBSTACLE, TYPE=POLYLINE, found '// &
+                    integer_to_string(card%n_data), error)
+         return
+      end if
+      allocate (vertices(2, card%n_data))
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         call require_field_count(source, line, fields, 2, 2, 'x, y', error)
+         if (allocated(error)) return
+         call field_real(source, deck%parameters, line, fields(1), 'x', vertices(1, i), error)
+         if (allocated(error)) return
+         call field_real(source, deck%parameters, line, fields(2), 'y', vertices(2, i), error)
+         if (allocated(error)) return
+         if (i == 1) cycle
+         after = vertices(:, i) - vertices(:, i - 1)
+         if (.not. norm2(after) > 0.0_dp) then
+            call raise(source, line, fields(1)%column, 'expected a vertex different from the previous one, ' // &
+                       'found the same point', error)
+            return
+         end if
+         if (i == 2) cycle
+         before = vertices(:, i - 1) - vertices(:, i - 2)
+         ! the two unit directions opposite (to round-off): the segment runs back over the previous one
+         if (norm2(after/norm2(after) + before/norm2(before)) < fold_tolerance) then
+            call raise(source, line, fields(1)%column, 'expected a segment that does not run back along ' // &
+                       'the previous one, found a fold at the previous vertex', error)
+            return
+         end if
+      end do
+      if (reverse) vertices = vertices(:, card%n_data:1:-1)
+   end subroutine read_polyline
 
 
    !> The SCALE= option of a contact card (default 1): the factor from arc length to the coordinate of

@@ -1,23 +1,28 @@
-!> The element kinds of the deck: the `TYPE=` option of `*ELEMENT` and what a truss member asks of its
-!> nodes (docs/input.md, `*ELEMENT`).
+!> The element cards and options of the deck: the `TYPE=` option of `*ELEMENT` and the generators, the
+!> shear data a Timoshenko beam needs, the `*RELEASE` card (hinges and rotational springs at element
+!> ends), and what trusses and hinges ask of their nodes (docs/input.md, `*ELEMENT`, `*RELEASE`).
 !>
 !> Kept apart from uniarc_deck so that the card reader only hands over what it read: the option, the
 !> elements a card created, and at the end the tables of the whole deck.
 module uniarc_deck_element
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_strings, only: to_upper, integer_to_string
-   use uniarc_deck_source, only: source_t, card_t, raise, clip, option_index
-   use uniarc_model, only: element_beam_column, element_truss, dof_rz
+   use uniarc_strings, only: field_t, to_upper, integer_to_string, real_to_string
+   use uniarc_deck_source, only: source_t, card_t, raise, clip, option_index, check_options, data_fields, &
+                                 require_field_count, field_real, field_integer
+   use uniarc_deck_state, only: deck_t, resolve_elements
+   use uniarc_model, only: element_beam_column, element_truss, element_timoshenko, dof_rz, section_t, &
+                           end_joint_t
+   use uniarc_model_builder, only: set_end_joint, element_kinds
    implicit none
    private
-   public :: read_element_type, restrain_truss_nodes
+   public :: read_element_type, check_element_section, read_release, restrain_truss_nodes
 
 contains
 
    !> The element kind of an element-defining card: its option `TYPE=BEAM` (the default, the
-   !> Euler–Bernoulli beam-column) or `TYPE=TRUSS` (axial force only). Error at the option's value for
-   !> any other word.
+   !> Euler–Bernoulli beam-column), `TYPE=TRUSS` (axial force only) or `TYPE=TIMOSHENKO` (the
+   !> shear-deformable beam-column). Error at the option's value for any other word.
    subroutine read_element_type(source, card, kind, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -32,23 +37,114 @@ contains
          kind = element_beam_column
       case ('TRUSS')
          kind = element_truss
+      case ('TIMOSHENKO')
+         kind = element_timoshenko
       case default
          call raise(source, card%line, card%options(type_option)%value_column, &
-                    'expected TYPE=BEAM or TYPE=TRUSS, found '''//clip(card%options(type_option)%value)//'''', &
-                    error)
+                    'expected TYPE=BEAM, TYPE=TRUSS or TYPE=TIMOSHENKO, found '''// &
+                    clip(card%options(type_option)%value)//'''', error)
       end select
    end subroutine read_element_type
 
-   !> Hold the rotation of every node that only truss elements use.
+   !> A Timoshenko beam needs the shear stiffness κGA of its section (`*SECTION` data `E, A, I, G, kappa`
+   !> or `EA, EI, GAs`): error at the card's SECTION= value when the section of an element of kind
+   !> `kind` has none.
+   subroutine check_element_section(source, card, kind, section, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      integer, intent(in) :: kind
+      type(section_t), intent(in) :: section
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      if (kind /= element_timoshenko .or. section%gas > 0.0_dp) return
+      k = option_index(card, 'SECTION')
+      call raise(source, card%line, card%options(k)%value_column, 'expected a section with shear data ' // &
+                 '(E, A, I, G, kappa or EA, EI, GAs) for TYPE=TIMOSHENKO, found '''//section%name// &
+                 ''' without', error)
+   end subroutine check_element_section
+
+   !> *RELEASE: lines `target, end [, k]` — at end `end` (1: node 1, 2: node 2) of every element of the
+   !> target (an element label or set), a hinge (no k, or k = 0: no moment passes) or a linear rotational
+   !> spring of stiffness k > 0 (moment per radian) between the element end and its node. A truss end
+   !> has no moment to release, and an end takes one release: both are errors at the target.
+   subroutine read_release(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, j, line, end, e
+      integer, allocatable :: elements(:), kinds(:)
+      type(field_t), allocatable :: fields(:)
+      type(end_joint_t) :: joint
+      real(dp) :: stiffness
+
+      call check_options(source, card, [character(len=1) ::], error)
+      if (allocated(error)) return
+      if (card%n_data == 0) then
+         call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, 'expected data lines ' // &
+                    '`target, end [, k]` after *RELEASE, found none', error)
+         return
+      end if
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         call require_field_count(source, line, fields, 2, 3, 'target, end [, k]', error)
+         if (allocated(error)) return
+         call resolve_elements(source, deck, line, fields(1), elements, error)
+         if (allocated(error)) return
+         call field_integer(source, deck%parameters, line, fields(2), 'an element end (1 or 2)', end, error)
+         if (allocated(error)) return
+         if (end /= 1 .and. end /= 2) then
+            call raise(source, line, fields(2)%column, 'expected an element end 1 or 2, found '// &
+                       integer_to_string(end), error)
+            return
+         end if
+         joint = end_joint_t(hinge=.true., compliance=0.0_dp)
+         if (size(fields) == 3) then
+            call field_real(source, deck%parameters, line, fields(3), 'a rotational stiffness k', stiffness, error)
+            if (allocated(error)) return
+            if (stiffness < 0.0_dp .or. .not. stiffness < huge(1.0_dp)) then
+               call raise(source, line, fields(3)%column, 'expected a rotational stiffness k >= 0 (0: a ' // &
+                          'hinge), found '//real_to_string(stiffness), error)
+               return
+            end if
+            if (stiffness > 0.0_dp) joint = end_joint_t(hinge=.false., compliance=1.0_dp/stiffness)
+         end if
+         kinds = element_kinds(deck%model, deck%model%n_elements)
+         do j = 1, size(elements)
+            e = elements(j)
+            if (kinds(e) == element_truss) then
+               call raise(source, line, fields(1)%column, 'expected beam elements, found truss element '// &
+                          integer_to_string(deck%model%element_label(e))//' (it carries no moment to release)', &
+                          error)
+               return
+            end if
+            if (allocated(deck%model%end_joints)) then
+               if (e <= size(deck%model%end_joints, 2)) then
+                  if (deck%model%end_joints(end, e)%hinge .or. deck%model%end_joints(end, e)%compliance > 0.0_dp) then
+                     call raise(source, line, fields(1)%column, 'expected one release per element end, found ' // &
+                                'end '//integer_to_string(end)//' of element '// &
+                                integer_to_string(deck%model%element_label(e))//' released again', error)
+                     return
+                  end if
+               end if
+            end if
+            call set_end_joint(deck%model, e, end, joint)
+         end do
+      end do
+   end subroutine read_release
+
+   !> Hold the rotation of every node that no element end holds: a node used only by truss elements or
+   !> by hinged element ends (`*RELEASE` without k).
    !>
-   !> A truss has no rotational stiffness, so the rotation of a node connected to trusses only would be
-   !> a zero pivot of the stiffness: it is held (`fixed(dof_rz, node)` set; docs/input.md). A moment
-   !> (`*CLOAD ..., MZ`) on such a node would then do no work and is an error at the node's definition
-   !> (`node_line`, `node_column`). (A distributed load on a truss is refused where `*DLOAD` is read,
-   !> uniarc_deck_loads.) Arrays: connectivity (2, n_elements), kinds (n_elements),
-   !> node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes).
+   !> Such a node's rotation has no stiffness, a zero pivot: it is held (`fixed(dof_rz, node)` set;
+   !> docs/input.md). A moment (`*CLOAD ..., MZ`) on such a node would then do no work and is an error at
+   !> the node's definition (`node_line`, `node_column`). (A distributed load on a truss is refused where
+   !> `*DLOAD` is read, uniarc_deck_loads.) Arrays: connectivity (2, n_elements), kinds (n_elements),
+   !> node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes); `joints` (optional,
+   !> (2, ≥ 0)) the end joints of the first elements (the others rigid).
    subroutine restrain_truss_nodes(source, connectivity, kinds, node_label, node_line, node_column, &
-                                   fixed, nodal_load, error)
+                                   fixed, nodal_load, error, joints)
       type(source_t), intent(in) :: source
       integer, intent(in) :: connectivity(:, :)
       integer, intent(in) :: kinds(:)
@@ -56,24 +152,30 @@ contains
       logical, intent(inout) :: fixed(:, :)
       real(dp), intent(in) :: nodal_load(:, :)
       type(error_t), allocatable, intent(out) :: error
-      logical :: has_beam(size(node_label)), has_truss(size(node_label))
+      type(end_joint_t), intent(in), optional :: joints(:, :)
+      logical :: held(size(node_label)), touched(size(node_label)), free_end(2, size(kinds))
       integer :: e, i
-      if (all(kinds /= element_truss)) return
-      has_beam = .false.
-      has_truss = .false.
+      free_end = spread(kinds == element_truss, 1, 2)
+      if (present(joints)) then
+         do e = 1, min(size(kinds), size(joints, 2))
+            free_end(:, e) = free_end(:, e) .or. joints(:, e)%hinge
+         end do
+      end if
+      if (.not. any(free_end)) return
+      held = .false.
+      touched = .false.
       do e = 1, size(kinds)
-         if (kinds(e) == element_truss) then
-            has_truss(connectivity(:, e)) = .true.
-         else
-            has_beam(connectivity(:, e)) = .true.
-         end if
+         do i = 1, 2
+            touched(connectivity(i, e)) = .true.
+            if (.not. free_end(i, e)) held(connectivity(i, e)) = .true.
+         end do
       end do
       do i = 1, size(node_label)
-         if (.not. has_truss(i) .or. has_beam(i)) cycle
+         if (held(i) .or. .not. touched(i)) cycle
          if (abs(nodal_load(dof_rz, i)) > 0.0_dp) then
             call raise(source, node_line(i), node_column(i), 'expected no moment (MZ) on node '// &
-                       integer_to_string(node_label(i))//', found one: only truss elements use the node, and '// &
-                       'a truss carries no moment', error)
+                       integer_to_string(node_label(i))//', found one: only truss elements or hinged ' // &
+                       'element ends use the node, and they carry no moment', error)
             return
          end if
          fixed(dof_rz, i) = .true.

@@ -1,29 +1,34 @@
-!> The support and load cards of the deck: *BOUNDARY, *CLOAD and *DLOAD (docs/input.md). Loads are
-!> reference loads, multiplied by the load parameter λ of the analysis.
+!> The support and load cards of the deck: *BOUNDARY (with prescribed displacements), *CLOAD, *DLOAD
+!> (with intensities that vary with position, and self-weight) and *TEMPERATURE (docs/input.md). Loads
+!> are reference loads, multiplied by the load parameter λ of the analysis.
 module uniarc_deck_loads
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string
-   use uniarc_expression, only: find_parameter
+   use uniarc_expression, only: find_parameter, parameter_table_t, set_parameter, sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
-   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
-   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds
-   use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof
+   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss, analysis_nonlinear
+   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds, &
+                                   add_thermal_load, add_prescribed_displacement
+   use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
    implicit none
    private
-   public :: read_boundary, read_concentrated_load, read_distributed_load
+   public :: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
 
 contains
 
-   !> *BOUNDARY: lines `target, type` with a named type, or `target, first_dof [, last_dof]`.
+   !> *BOUNDARY: lines `target, type` with a named type, or `target, first_dof [, last_dof [, value]]`;
+   !> a value prescribes the displacement of the held DOFs (a support settlement, scaled by λ; *STATIC
+   !> only).
    subroutine read_boundary(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, first_dof, last_dof
+      integer :: i, j, k, line, first_dof, last_dof
       logical :: held(3), named
+      real(dp) :: settlement
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
 
@@ -32,7 +37,8 @@ contains
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)
-         call require_field_count(source, line, fields, 2, 3, 'target, type or target, first_dof, last_dof', error)
+         call require_field_count(source, line, fields, 2, 4, 'target, type or target, first_dof, last_dof, value', &
+                                  error)
          if (allocated(error)) return
          call resolve_nodes(source, deck, line, fields(1), nodes, error)
          if (allocated(error)) return
@@ -82,6 +88,21 @@ contains
                end if
             end if
             held(first_dof:last_dof) = .true.
+            if (size(fields) > 3) then
+               if (deck%model%analysis%kind == analysis_nonlinear) then
+                  call raise(source, line, fields(4)%column, 'expected no prescribed displacement under *PATH '// &
+                             '(support settlements are in the linear analysis, *STATIC, so far)', error)
+                  return
+               end if
+               call field_real(source, deck%parameters, line, fields(4), 'a prescribed displacement', settlement, &
+                               error)
+               if (allocated(error)) return
+               do j = 1, size(nodes)
+                  do k = first_dof, last_dof
+                     call add_prescribed_displacement(deck%model, nodes(j), k, settlement)
+                  end do
+               end do
+            end if
          end if
          do j = 1, size(nodes)
             call add_support(deck%model, nodes(j), held)
@@ -133,30 +154,54 @@ contains
       end do
    end subroutine read_concentrated_load
 
-   !> *DLOAD [, FOLLOWER]: lines `elset, type, value` with type PX, PY (per unit initial length, global)
-   !> or P (normal pressure along the element's left normal). FOLLOWER is only for P.
+   !> *DLOAD [, FOLLOWER] [, XC=xc, YC=yc]: lines `elset, type, value` with type PX, PY (per unit
+   !> initial length, global) or P (normal pressure along the element's left normal), and
+   !> `elset, WEIGHT, w [, angle]` (self-weight w per unit initial length, acting in the direction
+   !> `angle`, degrees from +x, default 270: down). FOLLOWER is only for P.
    !>
-   !> Loads of one kind on one element are summed into one record: an element has at most one fixed-
-   !> direction record, one pressure record and one follower-pressure record.
+   !> The value (and the angle) may use the position of the element: x, y (its midpoint on the initial
+   !> chord), s (the arc length along the target's elements, in their order, to that midpoint) and
+   !> theta (degrees, atan2 of the midpoint about the centre (XC, YC), default the origin). It is
+   !> evaluated at each element's midpoint and taken as uniform on the element (the midpoint rule: the
+   !> load resultants converge as h²); the names x, y, s, theta shadow deck parameters of those names
+   !> here. Loads of one kind on one element are summed into one record: an element has at most one
+   !> fixed-direction record, one pressure record and one follower-pressure record.
    subroutine read_distributed_load(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line
+      integer :: i, j, line, centre_option
       logical :: follower
-      real(dp) :: value
+      real(dp) :: value, angle, centre(2)
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: elements(:), kinds(:)
       character(len=:), allocatable :: load_type
+      type(parameter_table_t) :: table
+      real(dp), allocatable :: position(:, :)
 
-      call check_options(source, card, [character(len=8) :: 'FOLLOWER'], error)
+      call check_options(source, card, [character(len=8) :: 'FOLLOWER', 'XC=', 'YC='], error)
       if (allocated(error)) return
       follower = option_index(card, 'FOLLOWER') > 0
+      centre = 0.0_dp
+      centre_option = option_index(card, 'XC')
+      if (centre_option > 0) call option_real(source, card, deck, centre_option, 'a coordinate', centre(1), error)
+      if (allocated(error)) return
+      centre_option = option_index(card, 'YC')
+      if (centre_option > 0) call option_real(source, card, deck, centre_option, 'a coordinate', centre(2), error)
+      if (allocated(error)) return
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)
-         call require_field_count(source, line, fields, 3, 3, 'elset, type, value', error)
+         if (size(fields) >= 2) then
+            if (to_upper(fields(2)%text) == 'WEIGHT') then
+               call require_field_count(source, line, fields, 3, 4, 'elset, WEIGHT, weight per length, angle', error)
+            else
+               call require_field_count(source, line, fields, 3, 3, 'elset, type, value', error)
+            end if
+         else
+            call require_field_count(source, line, fields, 3, 3, 'elset, type, value', error)
+         end if
          if (allocated(error)) return
          call resolve_elements(source, deck, line, fields(1), elements, error)
          if (allocated(error)) return
@@ -173,7 +218,7 @@ contains
          end do
          load_type = to_upper(fields(2)%text)
          select case (load_type)
-         case ('PX', 'PY')
+         case ('PX', 'PY', 'WEIGHT')
             if (follower) then
                call raise(source, line, fields(2)%column, 'expected type P with FOLLOWER, found '''// &
                           load_type//'''', error)
@@ -182,23 +227,127 @@ contains
          case ('P')
             continue
          case default
-            call raise(source, line, fields(2)%column, 'expected a load type PX, PY or P, found '''// &
+            call raise(source, line, fields(2)%column, 'expected a load type PX, PY, P or WEIGHT, found '''// &
                        clip(fields(2)%text)//'''', error)
             return
          end select
-         call field_real(source, deck%parameters, line, fields(3), 'a load value', value, error)
-         if (allocated(error)) return
+         position = element_positions(deck, elements, centre)
+         table = deck%parameters
          do j = 1, size(elements)
+            call set_parameter(table, 'x', position(1, j))
+            call set_parameter(table, 'y', position(2, j))
+            call set_parameter(table, 's', position(3, j))
+            call set_parameter(table, 'theta', position(4, j))
+            call field_real(source, table, line, fields(3), 'a load value', value, error)
+            if (allocated(error)) return
             select case (load_type)
             case ('PX')
                call add_line_load(deck%model, elements(j), dof_ux, value)
             case ('PY')
                call add_line_load(deck%model, elements(j), dof_uy, value)
+            case ('WEIGHT')
+               angle = 270.0_dp
+               if (size(fields) > 3) call field_real(source, table, line, fields(4), 'an angle in degrees', angle, error)
+               if (allocated(error)) return
+               call add_line_load(deck%model, elements(j), dof_ux, value*cos_degrees(angle))
+               call add_line_load(deck%model, elements(j), dof_uy, value*sin_degrees(angle))
             case default
                call add_pressure(deck%model, elements(j), value, follower)
             end select
          end do
       end do
    end subroutine read_distributed_load
+
+   !> Position variables of the elements `elements` (in that order) at their midpoints on the initial
+   !> chord: (x, y, s, theta) per element (4, n); s the arc length along the list to the midpoint,
+   !> theta = atan2(y − yc, x − xc) in degrees, (−180, 180].
+   pure function element_positions(deck, elements, centre) result(position)
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: elements(:)
+      real(dp), intent(in) :: centre(2)
+      real(dp) :: position(4, size(elements))
+      real(dp) :: ends(2, 2), middle(2), length, travelled
+      real(dp), parameter :: degrees = 180.0_dp/acos(-1.0_dp)
+      integer :: j
+      travelled = 0.0_dp
+      do j = 1, size(elements)
+         ends(:, 1) = deck%model%coordinates(:, deck%model%connectivity(1, elements(j)))
+         ends(:, 2) = deck%model%coordinates(:, deck%model%connectivity(2, elements(j)))
+         middle = 0.5_dp*(ends(:, 1) + ends(:, 2))
+         length = norm2(ends(:, 2) - ends(:, 1))
+         position(1:2, j) = middle
+         position(3, j) = travelled + 0.5_dp*length
+         position(4, j) = 0.0_dp
+         if (any(middle /= centre)) position(4, j) = degrees*atan2(middle(2) - centre(2), middle(1) - centre(1))
+         travelled = travelled + length
+      end do
+   end function element_positions
+
+   !> *TEMPERATURE: lines `elset, alpha, dT [, dT_difference, depth]`: a temperature change dT at the
+   !> elements' axis (axial strain alpha dT) and, optionally, a difference dT_left − dT_right between the
+   !> faces (left: the side of the left normal) over the depth h (curvature −alpha dT_difference/h), with
+   !> the coefficient of thermal expansion alpha of the elements' material. Reference loads scaled by λ;
+   !> the values may use x, y, s, theta as in *DLOAD (no XC/YC: theta about the origin).
+   subroutine read_temperature(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, j, line
+      real(dp) :: alpha, delta_t, difference, depth
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: elements(:), kinds(:)
+      type(parameter_table_t) :: table
+      real(dp), allocatable :: position(:, :)
+
+      call check_options(source, card, [character(len=1) ::], error)
+      if (allocated(error)) return
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         call require_field_count(source, line, fields, 3, 5, 'elset, alpha, dT, dT_difference, depth', error)
+         if (allocated(error)) return
+         if (size(fields) == 4) then
+            call raise(source, line, fields(4)%column + len(fields(4)%text), &
+                       'expected the depth h after the temperature difference', error)
+            return
+         end if
+         call resolve_elements(source, deck, line, fields(1), elements, error)
+         if (allocated(error)) return
+         kinds = element_kinds(deck%model, deck%model%n_elements)
+         position = element_positions(deck, elements, [0.0_dp, 0.0_dp])
+         table = deck%parameters
+         do j = 1, size(elements)
+            call set_parameter(table, 'x', position(1, j))
+            call set_parameter(table, 'y', position(2, j))
+            call set_parameter(table, 's', position(3, j))
+            call set_parameter(table, 'theta', position(4, j))
+            call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+            if (allocated(error)) return
+            call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error)
+            if (allocated(error)) return
+            difference = 0.0_dp
+            depth = 0.0_dp
+            if (size(fields) == 5) then
+               call field_real(source, table, line, fields(4), 'a temperature difference', difference, error)
+               if (allocated(error)) return
+               call field_real(source, table, line, fields(5), 'a depth', depth, error)
+               if (allocated(error)) return
+               if (.not. depth > 0.0_dp) then
+                  call raise(source, line, fields(5)%column, 'expected a depth h > 0, found '''// &
+                             clip(fields(5)%text)//'''', error)
+                  return
+               end if
+               if (difference /= 0.0_dp .and. kinds(elements(j)) == element_truss) then
+                  call raise(source, line, fields(4)%column, 'expected no temperature difference on truss element '// &
+                             integer_to_string(deck%model%element_label(elements(j)))// &
+                             ' (a truss has no bending)', error)
+                  return
+               end if
+            end if
+            call add_thermal_load(deck%model, elements(j), alpha, delta_t, difference, depth)
+         end do
+      end do
+   end subroutine read_temperature
 
 end module uniarc_deck_loads

@@ -11,7 +11,7 @@ module uniarc_deck_mesh
    use uniarc_model_builder, only: model_builder_t, add_section, add_element, add_to_node_set, add_to_element_set, &
                                    node_index, element_index, section_index, node_set_index, element_set_index, &
                                   set_element_kind
-   use uniarc_deck_element, only: read_element_type
+   use uniarc_deck_element, only: read_element_type, check_element_section
    use uniarc_memory, only: memory_shortfall, model_memory_bytes
    use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements
    implicit none
@@ -26,8 +26,9 @@ module uniarc_deck_mesh
 
 contains
 
-   !> *SECTION, NAME=s [, STIFFNESS | TYPE=STIFFNESS|MATERIAL]: data `E, A, I` (material form, the
-   !> default) or `EA, EI` (stiffness form). Every value must be positive.
+   !> *SECTION, NAME=s [, STIFFNESS | TYPE=STIFFNESS|MATERIAL]: data `E, A, I [, G, kappa]` (material
+   !> form, the default) or `EA, EI [, GAs]` (stiffness form); the optional shear data give the shear
+   !> stiffness κGA of a Timoshenko beam (`*ELEMENT, TYPE=TIMOSHENKO`). Every value must be positive.
    subroutine read_section(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -36,10 +37,11 @@ contains
       integer :: name_option, type_option, line, i, n_values
       logical :: stiffness_form
       type(field_t), allocatable :: fields(:)
-      real(dp) :: values(3)
-      character(len=2), parameter :: material_names(3) = ['E ', 'A ', 'I ']
-      character(len=2), parameter :: stiffness_names(2) = ['EA', 'EI']
+      real(dp) :: values(5)
+      character(len=5), parameter :: material_names(5) = ['E    ', 'A    ', 'I    ', 'G    ', 'kappa']
+      character(len=3), parameter :: stiffness_names(3) = ['EA ', 'EI ', 'GAs']
       real(dp), parameter :: stiffness_limit = 1.0e100_dp
+      real(dp) :: stiffnesses(2)
       character(len=:), allocatable :: name, what
 
       call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS'], error)
@@ -82,13 +84,15 @@ contains
       line = card%data_lines(1)
       call data_fields(source, line, fields)
       if (stiffness_form) then
-         n_values = 2
-         call require_field_count(source, line, fields, 2, 2, 'EA, EI', error)
+         call require_field_count(source, line, fields, 2, 3, 'EA, EI [, GAs]', error)
       else
-         n_values = 3
-         call require_field_count(source, line, fields, 3, 3, 'E, A, I', error)
+         call require_field_count(source, line, fields, 3, 5, 'E, A, I [, G, kappa]', error)
+         if (.not. allocated(error) .and. size(fields) == 4) &
+            call raise(source, line, fields(4)%column, 'expected G and kappa together (E, A, I, G, kappa), ' // &
+                       'found G alone', error)
       end if
       if (allocated(error)) return
+      n_values = size(fields)
       do i = 1, n_values
          if (stiffness_form) then
             what = trim(stiffness_names(i))
@@ -104,18 +108,28 @@ contains
          end if
       end do
 
-      if (.not. stiffness_form) values(1:2) = [values(1)*values(2), values(1)*values(3)]
       ! Stiffnesses beyond 1e100 overflow double precision in the equations (12 EI/L^3 and the squares of
       ! the convergence test; docs/contracts.md, "Non-finite results").
+      stiffnesses = values(1:2)
+      if (.not. stiffness_form) stiffnesses = [values(1)*values(2), values(1)*values(3)]
       do i = 1, 2
-         if (.not. values(i) <= stiffness_limit) then
+         if (.not. stiffnesses(i) <= stiffness_limit) then
             call raise(source, line, fields(merge(i, i + 1, stiffness_form))%column, 'expected '// &
                        trim(stiffness_names(i))//' at most 1e100 (larger stiffnesses overflow the equations '// &
-                       'in double precision: rescale the units), found '//real_to_string(values(i)), error)
+                       'in double precision: rescale the units), found '//real_to_string(stiffnesses(i)), error)
             return
          end if
       end do
-      call add_section(deck%model, name, ea=values(1), ei=values(2))
+      if (stiffness_form .and. n_values == 3) then
+         call add_section(deck%model, name, ea=values(1), ei=values(2), gas=values(3))
+      else if (stiffness_form) then
+         call add_section(deck%model, name, ea=values(1), ei=values(2))
+      else if (n_values == 5) then
+         call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3), &
+                          gas=values(5)*values(4)*values(2))
+      else
+         call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3))
+      end if
    end subroutine read_section
 
    !> *NODE [, NSET=name]: lines `label, x, y`.
@@ -167,7 +181,7 @@ contains
       if (set_option > 0) call add_to_node_set(deck%model, card%options(set_option)%value, created)
    end subroutine read_node
 
-   !> *ELEMENT, SECTION=s [, ELSET=name] [, TYPE=BEAM|TRUSS]: lines `label, node1, node2` (node labels).
+   !> *ELEMENT, SECTION=s [, ELSET=name] [, TYPE=BEAM|TRUSS|TIMOSHENKO]: lines `label, node1, node2` (node labels).
    subroutine read_element(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -183,6 +197,8 @@ contains
       call read_element_type(source, card, kind, error)
       if (allocated(error)) return
       call card_section(source, card, deck, section, error)
+      if (allocated(error)) return
+      call check_element_section(source, card, kind, deck%model%sections(section), error)
       if (allocated(error)) return
       set_option = option_index(card, 'ELSET')
       if (set_option > 0) then
@@ -233,7 +249,7 @@ contains
       if (set_option > 0) call add_to_element_set(deck%model, card%options(set_option)%value, created)
    end subroutine read_element
 
-   !> *ARC, *RING and *LINE, ELSET=name, SECTION=s: one data line that generates nodes and elements.
+   !> *ARC, *RING and *LINE, ELSET=name, SECTION=s [, TYPE=BEAM|TRUSS|TIMOSHENKO]: one data line that generates nodes and elements.
    !>
    !> ARC `xc, yc, R, theta_start, theta_end, n` (degrees, counter-clockwise from +x); RING `xc, yc, R,
    !> n [, theta_start]` (closed); LINE `x1, y1, x2, y2, n`. A generated node within merge_tolerance ×
@@ -245,7 +261,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: set_option, section, line, n, i, field_n, nodes_layout
+      integer :: set_option, section, line, n, i, field_n, nodes_layout, kind
       type(field_t), allocatable :: fields(:)
       real(dp) :: values(5), size_scale, angle, sweep, tolerance
       real(dp), allocatable :: points(:, :)
@@ -253,7 +269,9 @@ contains
       character(len=:), allocatable :: name, layout, shortfall
       logical :: closed
 
-      call check_options(source, card, [character(len=8) :: 'ELSET=', 'SECTION='], error)
+      call check_options(source, card, [character(len=8) :: 'ELSET=', 'SECTION=', 'TYPE='], error)
+      if (allocated(error)) return
+      call read_element_type(source, card, kind, error)
       if (allocated(error)) return
       call require_option(source, card, 'ELSET', set_option, error)
       if (allocated(error)) return
@@ -261,6 +279,8 @@ contains
       call check_generator_sets(source, card, deck, name, error)
       if (allocated(error)) return
       call card_section(source, card, deck, section, error)
+      if (allocated(error)) return
+      call check_element_section(source, card, kind, deck%model%sections(section), error)
       if (allocated(error)) return
       call require_one_data_line(source, card, error)
       if (allocated(error)) return
@@ -379,6 +399,7 @@ contains
          elements(i) = deck%model%n_elements
       end do
 
+      call set_element_kind(deck%model, elements, kind)
       call add_to_element_set(deck%model, name, elements)
       call add_to_node_set(deck%model, name, nodes)
       call add_to_node_set(deck%model, name//'_start', nodes(1:1))

@@ -21,6 +21,9 @@ module uniarc_model
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
    public :: foundation_t, foundation_winkler
    public :: side_left, side_right, side_inner, side_outer, side_direction
+   public :: thermal_load_t
+   public :: element_timoshenko, end_joint_t, end_joints_of
+   public :: gap_ellipse_inside, gap_ellipse_outside, gap_polyline
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
    integer, parameter :: dofs_per_node = 3
@@ -34,6 +37,7 @@ module uniarc_model
    !> DOFs (u_x1, u_y1, θ1, u_x2, u_y2, θ2), a truss leaving its rotations untouched).
    integer, parameter :: element_beam_column = 1 !< Euler–Bernoulli beam-column: N, M1, M2 (the default)
    integer, parameter :: element_truss = 2       !< bar: axial force N only, pinned ends
+   integer, parameter :: element_timoshenko = 3  !< shear-deformable (Timoshenko) beam-column: N, M1, M2
 
    !> Kinds of analysis.
    integer, parameter :: analysis_linear = 1
@@ -44,7 +48,15 @@ module uniarc_model
       character(len=:), allocatable :: name
       real(dp) :: ea = 0.0_dp
       real(dp) :: ei = 0.0_dp
+      real(dp) :: gas = 0.0_dp   !< shear stiffness κGA (force) of a Timoshenko beam; 0: none given
    end type section_t
+
+   !> The joint between an element end and its node (docs/input.md `*RELEASE`): rigid (the default), a
+   !> hinge (no moment passes), or a linear rotational spring M = k (θ_node − θ_end) of compliance 1/k.
+   type :: end_joint_t
+      logical :: hinge = .false.
+      real(dp) :: compliance = 0.0_dp   !< 1/k (radian per moment) of a spring; 0: rigid
+   end type end_joint_t
 
    !> A named set of nodes (internal indices).
    type :: node_set_t
@@ -68,6 +80,18 @@ module uniarc_model
       logical :: follower = .false.  !< pressure follows the deformed normal
    end type distributed_load_t
 
+   !> A temperature change of one element (*TEMPERATURE), scaled by the load parameter λ: ΔT at the
+   !> element's axis (axial strain α ΔT) and the difference ΔT_left − ΔT_right between its faces over
+   !> the depth h (curvature −α (ΔT_left − ΔT_right)/h, positive toward the left normal). The thermal
+   !> strains are natural deformations of the basic element (uniarc_element_loads, docs/theory.md).
+   type :: thermal_load_t
+      integer :: element = 0
+      real(dp) :: alpha = 0.0_dp        !< coefficient of thermal expansion (1/temperature)
+      real(dp) :: delta_t = 0.0_dp      !< ΔT at the axis
+      real(dp) :: difference = 0.0_dp   !< ΔT_left − ΔT_right (0: uniform through the depth)
+      real(dp) :: depth = 0.0_dp        !< h, the depth between the two faces (> 0 when difference ≠ 0)
+   end type thermal_load_t
+
    !> A displacement component written as a column of the path file: scale * u(dof) of one node.
    type :: track_t
       character(len=:), allocatable :: name
@@ -80,6 +104,9 @@ module uniarc_model
    integer, parameter :: gap_fixed_direction = 1 !< g = offset + n·u (foundation bed, spring, flat surface)
    integer, parameter :: gap_circle_inside = 2   !< g = R − |x − c|: the node inside a circular cavity
    integer, parameter :: gap_circle_outside = 3  !< g = |x − c| − R: the node outside a rigid cylinder
+   integer, parameter :: gap_ellipse_inside = 4  !< signed distance to an ellipse, the node inside it
+   integer, parameter :: gap_ellipse_outside = 5 !< signed distance to an ellipse, the node outside it
+   integer, parameter :: gap_polyline = 6        !< signed distance to a polyline, free side on its left
 
    !> One contact candidate: a node that a unilateral medium may push (paper §4: one row of A, one
    !> entry of T). The reaction r ≥ 0 acts on the node along ∂g/∂u, the direction in which the gap opens.
@@ -90,6 +117,11 @@ module uniarc_model
       real(dp) :: offset = 0.0_dp        !< fixed-direction gap: initial gap g0 (0 for a bonded bed)
       real(dp) :: centre(2) = 0.0_dp     !< circular obstacle: centre
       real(dp) :: radius = 0.0_dp        !< circular obstacle: radius
+      real(dp) :: semi_axes(2) = 0.0_dp  !< elliptical obstacle (centre `centre`): semi-axes a, b
+      real(dp) :: axis(2) = [1.0_dp, 0.0_dp] !< elliptical obstacle: unit direction of the semi-axis a
+      !> polyline obstacle: (2, n ≥ 2) vertices in order, the free side on the left of 1 → n; the first
+      !> and last segments go on as rays, so that the line divides the plane
+      real(dp), allocatable :: vertices(:, :)
       real(dp) :: flexibility = 0.0_dp   !< T_cc = 1/k of an elastic medium; 0 for rigid contact
       logical :: bilateral = .false.     !< bonded: reacts in tension too (always active)
       integer :: group = 0               !< the foundation/obstacle card that made it
@@ -181,6 +213,9 @@ module uniarc_model
       !> (n_elements) element_beam_column or element_truss; unallocated means every element is a
       !> beam-column (models built field by field, as in the unit tests). Read it through element_kind_of.
       integer, allocatable :: element_kind(:)
+      !> (2, n_elements) the joint at each end of each element; unallocated means every joint is rigid.
+      !> Read it through end_joints_of.
+      type(end_joint_t), allocatable :: end_joints(:, :)
       type(section_t), allocatable :: sections(:)
       type(node_set_t), allocatable :: node_sets(:)
       type(element_set_t), allocatable :: element_sets(:)
@@ -193,6 +228,10 @@ module uniarc_model
       type(foundation_t), allocatable :: foundations(:)      !< the foundations as described (may be empty)
       type(analysis_options_t) :: analysis
       type(output_options_t) :: output
+      type(thermal_load_t), allocatable :: thermal_loads(:)  !< temperature changes (may be unallocated: none)
+      !> (3, n_nodes) prescribed displacements of held DOFs (support settlements), scaled by λ like the
+      !> loads; unallocated: none (every held DOF stays at zero).
+      real(dp), allocatable :: prescribed(:, :)
    end type model_t
 
 contains
@@ -247,6 +286,15 @@ contains
       kind = element_beam_column
       if (allocated(model%element_kind)) kind = model%element_kind(e)
    end function element_kind_of
+
+   !> The joints (2) at node 1 and node 2 of element `e`: model%end_joints(:, e), or rigid ones when the
+   !> model has no joints.
+   pure function end_joints_of(model, e) result(joints)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: e
+      type(end_joint_t) :: joints(2)
+      if (allocated(model%end_joints)) joints = model%end_joints(:, e)
+   end function end_joints_of
 
    !> Values of the tracked quantities (`*TRACK`, one per track, in the order of `tracks`):
    !> scale × u(dof, node), from the nodal displacements `displacement` (dofs_per_node, n_nodes).

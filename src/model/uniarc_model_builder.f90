@@ -25,7 +25,7 @@ module uniarc_model_builder
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
-                           gap_fixed_direction, element_beam_column
+                           gap_fixed_direction, element_beam_column, thermal_load_t, end_joint_t
    use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
                                  path_coordinates, normals_valid, foundation_straight, foundation_problem
    implicit none
@@ -34,9 +34,11 @@ module uniarc_model_builder
    public :: add_section, add_node, add_element, add_to_node_set, add_to_element_set
    public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
    public :: add_springs, add_foundation, add_obstacle, set_element_kind, element_kinds
+   public :: set_end_joint
    public :: node_index, element_index, section_index, node_set_index, element_set_index
    public :: unused_node, element_without_section, model_size
    public :: penetration_tolerance
+   public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -63,6 +65,7 @@ module uniarc_model_builder
       integer, allocatable :: element_label(:)
       integer, allocatable :: element_section(:)      !< index into sections (0: none)
       integer, allocatable :: element_kind(:)         !< kinds set by set_element_kind (others: beam-column)
+      type(end_joint_t), allocatable :: end_joints(:, :) !< (2, capacity) set by set_end_joint (others rigid)
       integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
       integer :: largest_element_label = 0
       integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
@@ -86,6 +89,11 @@ module uniarc_model_builder
 
       type(analysis_options_t) :: analysis            !< linear static unless set otherwise
       type(output_options_t) :: output                !< extra result files
+      integer :: n_thermal = 0
+      type(thermal_load_t), allocatable :: thermal(:)
+      integer :: n_prescribed = 0                     !< prescribed displacements (node, dof, value)
+      integer, allocatable :: prescribed_node(:), prescribed_dof(:)
+      real(dp), allocatable :: prescribed_value(:)
    end type model_builder_t
 
 contains
@@ -96,10 +104,12 @@ contains
 
    !> Add a section of axial stiffness `ea` and bending stiffness `ei` (both > 0; force, force × length²);
    !> it becomes section `builder%n_sections`. Names are compared case-insensitively by `section_index`.
-   pure subroutine add_section(builder, name, ea, ei)
+   !> `gas` (optional, > 0): the shear stiffness κGA (force) a Timoshenko beam needs.
+   pure subroutine add_section(builder, name, ea, ei, gas)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       real(dp), intent(in) :: ea, ei
+      real(dp), intent(in), optional :: gas
       type(section_t), allocatable :: grown(:)
       if (.not. allocated(builder%sections)) allocate (builder%sections(4))
       if (builder%n_sections == size(builder%sections)) then
@@ -111,6 +121,8 @@ contains
       builder%sections(builder%n_sections)%name = name
       builder%sections(builder%n_sections)%ea = ea
       builder%sections(builder%n_sections)%ei = ei
+      builder%sections(builder%n_sections)%gas = 0.0_dp
+      if (present(gas)) builder%sections(builder%n_sections)%gas = gas
    end subroutine add_section
 
    !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
@@ -176,6 +188,24 @@ contains
          builder%element_kind = element_kinds(builder, max(maxval(elements), 2*capacity))
       builder%element_kind(elements) = kind
    end subroutine set_element_kind
+
+   !> Put the joint `joint` (a hinge or a rotational spring, uniarc_model end_joint_t) between end `end`
+   !> (1 or 2) of element `element` (internal index) and its node; joints never set are rigid.
+   pure subroutine set_end_joint(builder, element, end, joint)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element, end
+      type(end_joint_t), intent(in) :: joint
+      type(end_joint_t), allocatable :: grown(:, :)
+      integer :: capacity
+      capacity = 0
+      if (allocated(builder%end_joints)) capacity = size(builder%end_joints, 2)
+      if (element > capacity) then
+         allocate (grown(2, max(element, 2*capacity)))
+         if (capacity > 0) grown(:, 1:capacity) = builder%end_joints
+         call move_alloc(grown, builder%end_joints)
+      end if
+      builder%end_joints(end, element) = joint
+   end subroutine set_end_joint
 
    !> The kinds of elements 1..n (shape (n)): those set by set_element_kind, the beam-column for the
    !> others.
@@ -284,6 +314,50 @@ contains
       call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record)
       builder%loads(record)%pressure = builder%loads(record)%pressure + value
    end subroutine add_pressure
+
+   !> Add a temperature change of `element` (thermal_load_t: α, ΔT at the axis, ΔT_left − ΔT_right,
+   !> depth h), a reference load scaled by λ; several on one element add up.
+   pure subroutine add_thermal_load(builder, element, alpha, delta_t, difference, depth)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: element
+      real(dp), intent(in) :: alpha, delta_t, difference, depth
+      type(thermal_load_t), allocatable :: grown(:)
+      if (.not. allocated(builder%thermal)) allocate (builder%thermal(8))
+      if (builder%n_thermal == size(builder%thermal)) then
+         allocate (grown(2*size(builder%thermal)))
+         grown(1:builder%n_thermal) = builder%thermal(1:builder%n_thermal)
+         call move_alloc(grown, builder%thermal)
+      end if
+      builder%n_thermal = builder%n_thermal + 1
+      builder%thermal(builder%n_thermal) = thermal_load_t(element=element, alpha=alpha, delta_t=delta_t, &
+                                                          difference=difference, depth=depth)
+   end subroutine add_thermal_load
+
+   !> Hold DOF `dof` of `node` and prescribe its displacement `value` (a support settlement), a reference
+   !> value scaled by λ like the loads; values on one DOF add up.
+   pure subroutine add_prescribed_displacement(builder, node, dof, value)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node, dof
+      real(dp), intent(in) :: value
+      if (.not. allocated(builder%prescribed_node)) allocate (builder%prescribed_node(8), builder%prescribed_dof(8), &
+                                                              builder%prescribed_value(8))
+      if (builder%n_prescribed == size(builder%prescribed_node)) then
+         call grow_integers(builder%prescribed_node, 2*builder%n_prescribed)
+         call grow_integers(builder%prescribed_dof, 2*builder%n_prescribed)
+         builder%prescribed_value = [builder%prescribed_value, spread(0.0_dp, 1, builder%n_prescribed)]
+      end if
+      builder%n_prescribed = builder%n_prescribed + 1
+      builder%prescribed_node(builder%n_prescribed) = node
+      builder%prescribed_dof(builder%n_prescribed) = dof
+      builder%prescribed_value(builder%n_prescribed) = value
+      builder%fixed(dof, node) = .true.
+   end subroutine add_prescribed_displacement
+
+   !> True if some DOF has a prescribed displacement (add_prescribed_displacement).
+   pure logical function has_prescribed_displacements(builder)
+      type(model_builder_t), intent(in) :: builder
+      has_prescribed_displacements = builder%n_prescribed > 0
+   end function has_prescribed_displacements
 
    !> The load record of `element` in `slot`, made if the element has none there yet.
    pure subroutine load_record(builder, element, slot, record)
@@ -405,8 +479,10 @@ contains
    !> Error (category error_input): a node starting inside the obstacle (initial gap below
    !> −penetration_tolerance × `model_size`); then `bad` (if present) is its index in `nodes` and `depth`
    !> how far inside it is, and nothing is added.
+   !> An ellipse (gap_ellipse_inside/outside) takes `semi_axes` (a along `normal`, b across), a polyline
+   !> (gap_polyline) its `vertices` (2, n ≥ 2).
    subroutine add_obstacle(builder, name, gap_kind, point, normal, radius, nodes, stiffness, end_factor, &
-                                scale, error, bad, depth)
+                                scale, error, bad, depth, semi_axes, vertices)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: gap_kind
@@ -416,6 +492,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer, intent(out), optional :: bad
       real(dp), intent(out), optional :: depth
+      real(dp), intent(in), optional :: semi_axes(2)
+      real(dp), intent(in), optional :: vertices(:, :)
       type(contact_candidate_t), allocatable :: candidates(:)
       real(dp) :: tolerance, gap, factor
       integer :: i
@@ -425,7 +503,8 @@ contains
       tolerance = penetration_tolerance*model_size(builder)
       allocate (candidates(size(nodes)))
       do i = 1, size(nodes)
-         candidates(i) = obstacle_candidate(gap_kind, point, normal, radius, nodes(i), builder%coordinates(:, nodes(i)))
+         candidates(i) = obstacle_candidate(gap_kind, point, normal, radius, nodes(i), builder%coordinates(:, nodes(i)), &
+                                            semi_axes, vertices)
          gap = initial_gap(candidates(i), builder%coordinates(:, nodes(i)))
          if (gap < -tolerance) then
             if (present(bad)) bad = i
@@ -491,7 +570,7 @@ contains
       type(model_t), intent(out) :: model
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
-      integer :: n, e, bad
+      integer :: n, e, bad, i
 
       n = builder%n_nodes
       e = builder%n_elements
@@ -531,6 +610,11 @@ contains
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
       if (allocated(builder%element_kind)) model%element_kind = element_kinds(builder, e)
+      if (allocated(builder%end_joints)) then
+         allocate (model%end_joints(2, e))
+         model%end_joints(:, 1:min(e, size(builder%end_joints, 2))) = &
+            builder%end_joints(:, 1:min(e, size(builder%end_joints, 2)))
+      end if
       model%sections = builder%sections(1:builder%n_sections)
       allocate (model%node_sets(builder%n_node_sets), model%element_sets(builder%n_element_sets), &
                 model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &
@@ -545,6 +629,15 @@ contains
       if (builder%n_foundations > 0) model%foundations = builder%foundations(1:builder%n_foundations)
       model%analysis = builder%analysis
       model%output = builder%output
+      allocate (model%thermal_loads(builder%n_thermal))
+      if (builder%n_thermal > 0) model%thermal_loads = builder%thermal(1:builder%n_thermal)
+      if (builder%n_prescribed > 0) then
+         allocate (model%prescribed(dofs_per_node, n), source=0.0_dp)
+         do i = 1, builder%n_prescribed
+            model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
+               model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
+         end do
+      end if
    end subroutine finish_model
 
    ! ================================================================================================

@@ -1,28 +1,36 @@
-!> ParaView output of `*OUTPUT, VTK`: each snapshot as a legacy VTK file `STEM_NNNN.vtk` and as the
-!> same grid in VTK's XML format, `STEM_NNNN.vtu`, and the collection `STEM.pvd` that lists the
-!> `.vtu` files with their time values. Both are needed: ParaView's pvd reader (vtkXMLCollectionReader)
+!> ParaView output of `*OUTPUT, VTK`: each snapshot as VTK PolyData of line cells, twice — in VTK's
+!> XML format, `STEM_NNNN.vtp`, and in the legacy format, `STEM_NNNN.vtk` (DATASET POLYDATA) — and the
+!> collection `STEM.pvd` that lists the `.vtp` files. ParaView's pvd reader (vtkXMLCollectionReader)
 !> builds its readers from the XML extensions only (vtu, vtp, vti, ...), so a pvd cannot list legacy
-!> files, while the legacy files are what most other tools read.
+!> files, while the legacy files are what many other tools read.
 !>
-!> A snapshot is an unstructured grid of VTK_LINE cells (one per element) on the deformed geometry
-!> x0 + u, with z = 0. Point data: `displacement` (u_x, u_y, 0), `rotation` θ_z, `contact_reaction`
-!> (the sum of the reactions of the node's contact candidates) and `node_label`; cell data:
-!> `axial_force` N (tension positive), `bending_moment_start`, `bending_moment_end` and their mean
-!> `bending_moment`, and `element_label`. Field data: `lambda` and `step`. The formats are the
-!> "simple legacy" and the "XML" formats of "VTK File Formats" (Kitware, The VTK User's Guide, 11th ed.,
-!> 2010), the XML one with ASCII data arrays.
+!> PolyData, not an unstructured grid: the elements are lines, and VTK's line filters (vtkTubeFilter,
+!> ParaView's Tube; vtkRibbonFilter, vtkStripper, ...) take PolyData only, while the filters that take
+!> any data set take PolyData too (ParaView's Append Datasets makes an unstructured grid of it for the
+!> few that want one).
 !>
-!> The element forces are the element layer's (uniarc_element: axial force and end moments of any
-!> element kind); bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2:
-!> positive when the element bends towards its left normal (uniarc_transformation,
-!> transform_end_forces). Between the ends the moment of the element's cubic field is linear, so the
-!> mean is the moment at mid-element (zero for a truss). Like every moment of a
-!> displacement-based element it leaves out the fixed-end moments of a load distributed on the
-!> element itself, a difference that vanishes as the mesh is refined.
+!> A snapshot holds the deformed geometry x0 + u, with z = 0, one line cell per element (node 1 →
+!> node 2). Point data: `displacement` (u_x, u_y, 0), `rotation` θ_z, `contact_reaction` (the sum of
+!> the reactions of the node's contact candidates) and `node_label`; cell data: `axial_force` N
+!> (tension positive), `shear_force` V = dM/ds, `bending_moment_start`, `bending_moment_end` and their
+!> mean `bending_moment`, and `element_label`. Field data: `lambda` and `step`, one tuple each. The
+!> formats are the "simple legacy" and the "XML" formats of "VTK File Formats" (Kitware, The VTK
+!> User's Guide, 11th ed., 2010), the XML one with ASCII data arrays. A field data array of the
+!> XML format must state NumberOfTuples: without it VTK's XML readers size it from the piece's points
+!> or cells, which field data has none of, and read it empty.
 !>
-!> The pvd's `timestep` is λ when λ increases strictly over the snapshots (ParaView sorts and indexes
-!> by timestep); otherwise (snap-through under arc length, unloading, a negative increment) it is the
-!> step number, and the file says so in a comment. λ is in every snapshot's field data either way.
+!> The element forces are the element layer's (uniarc_element: axial force, shear force and end moments
+!> of any element kind); bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 →
+!> node 2: positive when the element bends towards its left normal (uniarc_transformation,
+!> transform_end_forces), and V = dM/ds along the same direction. Between the ends the moment of the
+!> element's cubic field is linear, so the mean is the moment at mid-element and V is constant (both
+!> zero for a truss). Like every force of a displacement-based element they leave out the fixed-end
+!> forces of a load distributed on the element itself, a difference that vanishes as the mesh is refined.
+!>
+!> The pvd's `timestep` is the step number, the NNNN of the file name, for every path: ParaView wants
+!> strictly increasing time values, which λ does not give past a limit point, on unloading or under a
+!> negative increment, and one meaning for every deck lets a ParaView state or script made on one run
+!> serve another. λ is in every snapshot's field data.
 !>
 !> Every file is written in the run's work directory and moved to its final name with the other result
 !> files when the run ends (uniarc_result_directory): a crash never leaves a half file under its final
@@ -39,9 +47,9 @@ module uniarc_vtk
    implicit none
    private
    public :: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, finish_vtk_series
-   public :: vtk_file_name, element_moments
+   public :: vtk_file_name, element_forces
 
-   !> The two files of a snapshot.
+   !> The two files of a snapshot: legacy `.vtk` and XML `.vtp`.
    integer, parameter :: legacy_format = 1, xml_format = 2
 
    !> The snapshots of one run: where they go and what has been written.
@@ -51,7 +59,6 @@ module uniarc_vtk
       integer :: every = 1                         !< snapshot interval in steps
       integer :: count = 0                         !< snapshots written
       integer, allocatable :: steps(:)             !< (count) step of each snapshot
-      real(dp), allocatable :: lambdas(:)          !< (count) λ of each snapshot
    end type vtk_series_t
 
 contains
@@ -66,7 +73,7 @@ contains
       series%stem = stem
       series%every = model%output%vtk_every
       if (series%every <= 0) series%every = max(model%analysis%shape_every, 1)
-      allocate (series%steps(0), series%lambdas(0))
+      allocate (series%steps(0))
    end subroutine open_vtk_series
 
    !> Whether step `step` is one of the series' regular snapshots (every n-th step, step 0 included).
@@ -76,7 +83,7 @@ contains
       vtk_snapshot_due = series%active .and. mod(step, series%every) == 0
    end function vtk_snapshot_due
 
-   !> Write the snapshot of `record` as `STEM_NNNN.vtk` and `STEM_NNNN.vtu` (NNNN the step). Does
+   !> Write the snapshot of `record` as `STEM_NNNN.vtk` and `STEM_NNNN.vtp` (NNNN the step). Does
    !> nothing when the series is inactive or the step is already its last snapshot.
    subroutine write_vtk_snapshot(series, results, model, record, error)
       type(vtk_series_t), intent(inout) :: series
@@ -84,19 +91,18 @@ contains
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: name
       if (.not. series%active) return
       if (series%count > 0) then
          if (series%steps(series%count) == record%step) return
       end if
-      name = vtk_file_name(series%stem, record%step)
-      call write_snapshot_file(results, name, legacy_format, model, record, series%stem, error)
+      call write_snapshot_file(results, vtk_file_name(series%stem, record%step, 'vtk'), legacy_format, model, &
+                               record, series%stem, error)
       if (allocated(error)) return
-      call write_snapshot_file(results, xml_twin(name), xml_format, model, record, series%stem, error)
+      call write_snapshot_file(results, vtk_file_name(series%stem, record%step, 'vtp'), xml_format, model, &
+                               record, series%stem, error)
       if (allocated(error)) return
       series%count = series%count + 1
       series%steps = [series%steps, record%step]
-      series%lambdas = [series%lambdas, record%lambda]
    end subroutine write_vtk_snapshot
 
    !> End the series with the last step `record` (written unless it already is the last snapshot) and
@@ -131,53 +137,49 @@ contains
       case (legacy_format)
          call write_legacy_vtk(file, model, record, stem)
       case default
-         call write_xml_vtu(file, model, record)
+         call write_xml_vtp(file, model, record)
       end select
       call close_text_file(file, error)
       if (allocated(error)) call discard_text_file(file)
    end subroutine write_snapshot_file
 
-   !> The `.vtu` name of a `.vtk` snapshot.
-   pure function xml_twin(name) result(twin)
-      character(len=*), intent(in) :: name
-      character(len=:), allocatable :: twin
-      twin = name(1:len(name) - 1)//'u'
-   end function xml_twin
-
-   !> Name of the snapshot of step `step`: `STEM_NNNN.vtk`, at least four digits.
-   pure function vtk_file_name(stem, step) result(name)
+   !> Name of the snapshot of step `step` with extension `extension` (`vtk` or `vtp`):
+   !> `STEM_NNNN.extension`, NNNN at least four digits.
+   pure function vtk_file_name(stem, step, extension) result(name)
       character(len=*), intent(in) :: stem
       integer, intent(in) :: step
+      character(len=*), intent(in) :: extension
       character(len=:), allocatable :: name
       character(len=12) :: digits
       write (digits, '(i4.4)') step
       if (step > 9999 .or. step < 0) write (digits, '(i0)') step
-      name = stem//'_'//trim(digits)//'.vtk'
+      name = stem//'_'//trim(digits)//'.'//extension
    end function vtk_file_name
 
-
-   !> Axial force and bending moments at both ends of every element: rows (N, M_start, M_end), shape
-   !> (3, n_elements), from the element layer (uniarc_element) at nodal displacements (3, n_nodes).
+   !> Axial force, shear force and bending moments at both ends of every element: rows (N, V, M_start,
+   !> M_end), shape (4, n_elements), from the element layer (uniarc_element) at nodal displacements
+   !> (3, n_nodes). Units: those of the deck's forces and forces × lengths.
    !>
    !> The transformation is the analysis' (analysis_transformation): a nonlinear analysis reports the
    !> corotational forces of the deformed element, a linear one the small-displacement forces Kb B0 u_e
    !> on the initial chord, which are the forces its solution is in equilibrium with. The moments are
-   !> in the beam convention M = EI κ (see the module header).
-   pure function element_moments(model, displacement) result(forces)
+   !> in the beam convention M = EI κ and V = dM/ds (see the module header).
+   pure function element_forces(model, displacement) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
-      real(dp) :: forces(3, model%n_elements)
+      real(dp) :: forces(4, model%n_elements)
       type(element_response_t) :: response
       integer :: e, transformation
       transformation = analysis_transformation(model%analysis%kind)
       do e = 1, model%n_elements
          call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
          forces(1, e) = response%axial_force
-         forces(2:3, e) = response%end_moments
+         forces(2, e) = response%shear_force
+         forces(3:4, e) = response%end_moments
       end do
-   end function element_moments
+   end function element_forces
 
-   !> The legacy VTK file of one snapshot (ASCII, UNSTRUCTURED_GRID, VTK_LINE cells).
+   !> The legacy VTK file of one snapshot (ASCII, DATASET POLYDATA with LINES).
    subroutine write_legacy_vtk(file, model, record, stem)
       type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
@@ -196,7 +198,8 @@ contains
       call put_line(file, '# vtk DataFile Version 3.0')
       call put_line(file, title(1:min(len(title), 255)))
       call put_line(file, 'ASCII')
-      call put_line(file, 'DATASET UNSTRUCTURED_GRID')
+      call put_line(file, 'DATASET POLYDATA')
+      ! Field data of the data set: name, components, tuples, type, then the values.
       call put_line(file, 'FIELD FieldData 2')
       call put_line(file, 'lambda 1 1 double')
       call put_line(file, trim(format_number(record%lambda)))
@@ -208,15 +211,11 @@ contains
          call put_line(file, trim(format_number(model%coordinates(1, i) + record%displacement(1, i)))//' '// &
             trim(format_number(model%coordinates(2, i) + record%displacement(2, i)))//' 0')
       end do
-      ! A VTK_LINE cell lists its two points, numbered from 0.
-      call put_line(file, 'CELLS '//integer_text(model%n_elements)//' '//integer_text(3*model%n_elements))
+      ! A line cell lists its number of points (2) and its points, numbered from 0.
+      call put_line(file, 'LINES '//integer_text(model%n_elements)//' '//integer_text(3*model%n_elements))
       do e = 1, model%n_elements
          call put_line(file, '2 '//integer_text(model%connectivity(1, e) - 1)//' '// &
             integer_text(model%connectivity(2, e) - 1))
-      end do
-      call put_line(file, 'CELL_TYPES '//integer_text(model%n_elements))
-      do e = 1, model%n_elements
-         call put_line(file, '3')
       end do
 
       reaction = nodal_reactions(model, record%reactions)
@@ -234,12 +233,13 @@ contains
          call put_line(file, integer_text(model%node_label(i)))
       end do
 
-      forces = element_moments(model, record%displacement)
+      forces = element_forces(model, record%displacement)
       call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
       call write_scalars(file, 'axial_force', forces(1, :))
-      call write_scalars(file, 'bending_moment', 0.5_dp*(forces(2, :) + forces(3, :)))
-      call write_scalars(file, 'bending_moment_start', forces(2, :))
-      call write_scalars(file, 'bending_moment_end', forces(3, :))
+      call write_scalars(file, 'shear_force', forces(2, :))
+      call write_scalars(file, 'bending_moment', 0.5_dp*(forces(3, :) + forces(4, :)))
+      call write_scalars(file, 'bending_moment_start', forces(3, :))
+      call write_scalars(file, 'bending_moment_end', forces(4, :))
       call put_line(file, 'SCALARS element_label int 1')
       call put_line(file, 'LOOKUP_TABLE default')
       do e = 1, model%n_elements
@@ -247,9 +247,9 @@ contains
       end do
    end subroutine write_legacy_vtk
 
-   !> The XML file of one snapshot (VTKFile type UnstructuredGrid, ASCII data arrays): the same
-   !> grid and arrays as the legacy file, in VTK's order Piece → PointData, CellData, Points, Cells.
-   subroutine write_xml_vtu(file, model, record)
+   !> The XML file of one snapshot (VTKFile type PolyData, ASCII data arrays): the same lines and
+   !> arrays as the legacy file, in VTK's order FieldData, Piece → PointData, CellData, Points, Lines.
+   subroutine write_xml_vtp(file, model, record)
       type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
@@ -257,14 +257,14 @@ contains
       integer :: e
 
       call put_line(file, '<?xml version="1.0"?>')
-      call put_line(file, '<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">')
-      call put_line(file, '<UnstructuredGrid>')
+      call put_line(file, '<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">')
+      call put_line(file, '<PolyData>')
       call put_line(file, '<FieldData>')
-      call write_xml_reals(file, 'lambda', 1, [record%lambda])
-      call write_xml_integers(file, 'step', 'Int32', [record%step])
+      call write_xml_reals(file, 'lambda', 1, [record%lambda], field=.true.)
+      call write_xml_integers(file, 'step', 'Int32', [record%step], field=.true.)
       call put_line(file, '</FieldData>')
-      call put_line(file, '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfCells="'// &
-         integer_text(model%n_elements)//'">')
+      call put_line(file, '<Piece NumberOfPoints="'//integer_text(model%n_nodes)//'" NumberOfVerts="0" '// &
+         'NumberOfLines="'//integer_text(model%n_elements)//'" NumberOfStrips="0" NumberOfPolys="0">')
 
       call put_line(file, '<PointData Vectors="displacement" Scalars="contact_reaction">')
       allocate (vectors(3, model%n_nodes), source=0.0_dp)
@@ -275,12 +275,13 @@ contains
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
 
-      forces = element_moments(model, record%displacement)
+      forces = element_forces(model, record%displacement)
       call put_line(file, '<CellData Scalars="bending_moment">')
       call write_xml_reals(file, 'axial_force', 1, forces(1, :))
-      call write_xml_reals(file, 'bending_moment', 1, 0.5_dp*(forces(2, :) + forces(3, :)))
-      call write_xml_reals(file, 'bending_moment_start', 1, forces(2, :))
-      call write_xml_reals(file, 'bending_moment_end', 1, forces(3, :))
+      call write_xml_reals(file, 'shear_force', 1, forces(2, :))
+      call write_xml_reals(file, 'bending_moment', 1, 0.5_dp*(forces(3, :) + forces(4, :)))
+      call write_xml_reals(file, 'bending_moment_start', 1, forces(3, :))
+      call write_xml_reals(file, 'bending_moment_end', 1, forces(4, :))
       call write_xml_integers(file, 'element_label', 'Int32', model%element_label)
       call put_line(file, '</CellData>')
 
@@ -290,28 +291,29 @@ contains
       call write_xml_reals(file, 'points', 3, reshape(deformed, [3*model%n_nodes]))
       call put_line(file, '</Points>')
 
-      ! Cells as VTK stores them: the point indices (from 0) of all cells one after the other, the
-      ! offset just past each cell's last index, and the cell types (3, VTK_LINE).
-      call put_line(file, '<Cells>')
+      ! Lines as VTK stores cells: the point indices (from 0) of all lines one after the other, and
+      ! the offset just past each line's last index.
+      call put_line(file, '<Lines>')
       call write_xml_integers(file, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
       call write_xml_integers(file, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
-      call write_xml_integers(file, 'types', 'UInt8', [(3, e=1, model%n_elements)])
-      call put_line(file, '</Cells>')
+      call put_line(file, '</Lines>')
       call put_line(file, '</Piece>')
-      call put_line(file, '</UnstructuredGrid>')
+      call put_line(file, '</PolyData>')
       call put_line(file, '</VTKFile>')
-   end subroutine write_xml_vtu
+   end subroutine write_xml_vtp
 
-   !> An XML DataArray of doubles, `components` to a tuple, one tuple a line.
-   subroutine write_xml_reals(file, name, components, values)
+   !> An XML DataArray of doubles, `components` to a tuple, one tuple a line. `field`: an array of the
+   !> FieldData, which states its NumberOfTuples (see the module header).
+   subroutine write_xml_reals(file, name, components, values, field)
       type(text_file_t), intent(inout) :: file
       character(len=*), intent(in) :: name
       integer, intent(in) :: components
       real(dp), intent(in) :: values(:)
+      logical, intent(in), optional :: field
       character(len=:), allocatable :: line
       integer :: i, k
       call put_line(file, '<DataArray type="Float64" Name="'//name//'" NumberOfComponents="'// &
-         integer_text(components)//'" format="ascii">')
+         integer_text(components)//'"'//tuples_attribute(size(values)/components, field)//' format="ascii">')
       do i = 1, size(values), components
          line = trim(format_number(values(i)))
          do k = i + 1, min(i + components - 1, size(values))
@@ -322,18 +324,32 @@ contains
       call put_line(file, '</DataArray>')
    end subroutine write_xml_reals
 
-   !> An XML DataArray of integers of VTK type `type_name`, one value a line.
-   subroutine write_xml_integers(file, name, type_name, values)
+   !> An XML DataArray of integers of VTK type `type_name`, one value a line; `field` as for
+   !> write_xml_reals.
+   subroutine write_xml_integers(file, name, type_name, values, field)
       type(text_file_t), intent(inout) :: file
       character(len=*), intent(in) :: name, type_name
       integer, intent(in) :: values(:)
+      logical, intent(in), optional :: field
       integer :: i
-      call put_line(file, '<DataArray type="'//type_name//'" Name="'//name//'" format="ascii">')
+      call put_line(file, '<DataArray type="'//type_name//'" Name="'//name//'"'// &
+         tuples_attribute(size(values), field)//' format="ascii">')
       do i = 1, size(values)
          call put_line(file, integer_text(values(i)))
       end do
       call put_line(file, '</DataArray>')
    end subroutine write_xml_integers
+
+   !> ` NumberOfTuples="n"` for an array of the FieldData (`field` present and true), else nothing.
+   pure function tuples_attribute(tuples, field) result(attribute)
+      integer, intent(in) :: tuples
+      logical, intent(in), optional :: field
+      character(len=:), allocatable :: attribute
+      attribute = ''
+      if (present(field)) then
+         if (field) attribute = ' NumberOfTuples="'//integer_text(tuples)//'"'
+      end if
+   end function tuples_attribute
 
    !> One SCALARS array of doubles.
    subroutine write_scalars(file, name, values)
@@ -348,7 +364,8 @@ contains
       end do
    end subroutine write_scalars
 
-   !> The ParaView collection `STEM.pvd` of the snapshots written (VTKFile type "Collection").
+   !> The ParaView collection `STEM.pvd` of the `.vtp` snapshots written (VTKFile type "Collection"),
+   !> the step number as each one's timestep (see the module header).
    subroutine write_collection(series, results, error)
       type(vtk_series_t), intent(in) :: series
       type(result_directory_t), intent(inout) :: results
@@ -356,48 +373,24 @@ contains
       type(text_file_t) :: file
       character(len=:), allocatable :: name
       integer :: k
-      logical :: by_lambda
-      real(dp) :: time
       name = series%stem//'.pvd'
-      by_lambda = strictly_increasing(series%lambdas)
       call add_result_file(results, name)
       call create_text_file(file, work_path(results, name), final_path(results, name), error)
       if (allocated(error)) return
       call put_line(file, '<?xml version="1.0"?>')
       call put_line(file, '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">')
-      if (by_lambda) then
-         call put_line(file, '  <!-- uniarc: timestep is the load factor lambda -->')
-      else
-         call put_line(file, '  <!-- uniarc: timestep is the step number, as lambda does not increase '// &
-            'along this path; lambda is in each file''s field data -->')
-      end if
+      call put_line(file, '  <!-- uniarc: timestep is the step number; the load factor lambda is in each '// &
+         'file''s field data -->')
       call put_line(file, '  <Collection>')
       do k = 1, series%count
-         if (by_lambda) then
-            time = series%lambdas(k)
-         else
-            time = real(series%steps(k), dp)
-         end if
-         call put_line(file, '    <DataSet timestep="'//trim(format_number(time))//'" group="" part="0" file="'// &
-            xml_escaped(xml_twin(vtk_file_name(series%stem, series%steps(k))))//'"/>')
+         call put_line(file, '    <DataSet timestep="'//integer_text(series%steps(k))//'" group="" part="0" file="'// &
+            xml_escaped(vtk_file_name(series%stem, series%steps(k), 'vtp'))//'"/>')
       end do
       call put_line(file, '  </Collection>')
       call put_line(file, '</VTKFile>')
       call close_text_file(file, error)
       if (allocated(error)) call discard_text_file(file)
    end subroutine write_collection
-
-   pure logical function strictly_increasing(values)
-      real(dp), intent(in) :: values(:)
-      integer :: k
-      strictly_increasing = .true.
-      do k = 2, size(values)
-         if (.not. values(k) > values(k - 1)) then
-            strictly_increasing = .false.
-            return
-         end if
-      end do
-   end function strictly_increasing
 
    !> Text as the value of an XML attribute: the five special characters as entities.
    pure function xml_escaped(text) result(escaped)

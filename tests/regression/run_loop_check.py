@@ -44,6 +44,16 @@ def stem_of(deck):
     return os.path.splitext(os.path.basename(deck))[0]
 
 
+def is_row(line):
+    """A line of numbers (not the column names, a provenance comment or a blank line)."""
+    fields = line.split()
+    try:
+        float(fields[0])
+        return True
+    except (IndexError, ValueError):
+        return False
+
+
 def leftovers(out, stem):
     return [name for name in os.listdir(out) if name == stem + '.lock' or name.startswith('.' + stem + '.part')]
 
@@ -60,7 +70,7 @@ def check_signal(args, failures):
     while time.monotonic() < deadline and process.poll() is None:
         if os.path.exists(work):
             with open(work) as handle:
-                rows = sum(1 for _ in handle) - 1
+                rows = sum(1 for line in handle if is_row(line))
             if rows >= 21:
                 break
         time.sleep(0.05)
@@ -92,11 +102,13 @@ def check_signal(args, failures):
         return
     with open(os.path.join(args.out, stem + '.path')) as handle:
         lines = handle.read().splitlines()
-    header = lines[0].split()
+    header = lines[0].lstrip('#').split()
     steps = []
     for line in lines[1:]:
+        if line.startswith('#'):
+            continue   # provenance lines under the column names
         fields = line.split()
-        if len(fields) != len(header) - 1:
+        if len(fields) != len(header):
             failures.append(f'a torn row: {line!r}')
             return
         steps.append(float(fields[0]))
@@ -105,7 +117,7 @@ def check_signal(args, failures):
     if last < 20:
         failures.append(f'interrupted after step {last}, fewer than the 20 rows seen before the signal')
     with open(os.path.join(args.out, stem + '.shape')) as handle:
-        shape_steps = [float(line.split()[0]) for line in handle if line.strip() and not line.startswith('#')]
+        shape_steps = [float(line.split()[0]) for line in handle if is_row(line)]
     if not shape_steps or shape_steps[-1] != float(last):
         failures.append(f'the last shape snapshot is not at step {last}')
     if not failures:
@@ -179,8 +191,8 @@ def check_non_finite(args, failures):
         failures.append(f'files written: {names}')
     for name in names:
         with open(os.path.join(args.out, name)) as handle:
-            text = handle.read().lower()
-        if 'nan' in text or 'inf' in text:
+            numbers = [field.lower() for line in handle if not line.startswith('#') for field in line.split()]
+        if any('nan' in field or 'inf' in field for field in numbers):
             failures.append(f'{name} holds a NaN or Inf')
 
 

@@ -24,10 +24,10 @@ def events(path):
     with open(path) as handle:
         for line in handle:
             fields = line.split()
-            if line.startswith('#'):
-                names = fields[1:]
+            if names is None:
+                names = fields[1:]   # the header line: kind step lambda ...
                 continue
-            if fields:
+            if fields and not line.startswith('#'):
                 rows.append((fields[0], float(fields[names.index('lambda')])))
     return rows
 

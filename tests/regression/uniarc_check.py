@@ -32,21 +32,23 @@ columns of an event are those of the path file. --expect-crit-before checks the 
 import argparse
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
 
 
 def read_table(path):
-    """Column names and rows (lists of floats) of a uniarc table file."""
+    """Column names and rows (lists of floats) of a uniarc table file: the names on the first line,
+    then `#` comment lines (the provenance) and rows (docs/contracts.md)."""
     with open(path) as handle:
         lines = handle.read().splitlines()
-    if not lines or not lines[0].startswith('#'):
-        raise SystemExit(f'{path}: no header line')
-    names = lines[0][1:].split()
+    if not lines or not lines[0].strip() or lines[0].startswith('#'):
+        raise SystemExit(f'{path}: no header line of column names')
+    names = lines[0].split()
     rows = []
     for number, line in enumerate(lines[1:], start=2):
-        if not line.strip():
+        if not line.strip() or line.startswith('#'):
             continue
         fields = line.split()
         try:
@@ -121,13 +123,13 @@ def read_events(path):
     """Column names (after `kind`) and the events of a STEM.crit file as (kind, [numbers])."""
     with open(path) as handle:
         lines = handle.read().splitlines()
-    if not lines or not lines[0].startswith('#'):
-        raise SystemExit(f'{path}: no header line')
-    names = lines[0][1:].split()[1:]
+    if not lines or not lines[0].strip() or lines[0].startswith('#'):
+        raise SystemExit(f'{path}: no header line of column names')
+    names = lines[0].split()[1:]
     events = []
     for number, line in enumerate(lines[1:], start=2):
         fields = line.split()
-        if not fields:
+        if not fields or line.startswith('#'):
             continue
         if len(fields) != len(names) + 1:
             raise SystemExit(f'{path}:{number}: {len(fields)} fields, header has {len(names) + 1}')
@@ -355,15 +357,51 @@ def main():
     crit_file = os.path.join(args.out, stem + '.crit')
     if args.expect_exit == 0 and os.path.exists(crit_file) and os.path.exists(path_file):
         failures += check_limits_bracketed(path_file, crit_file)
-    # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0').
+    # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0'), and
+    # every table has its provenance lines and its counts written as integers.
     for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
-        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape'):
+        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface'):
             with open(os.path.join(args.out, name)) as f:
-                if '-0.000000000000E+000' in f.read():
-                    failures.append('%s has a negative zero' % name)
+                text = f.read()
+            if '-0.000000000000E+000' in text:
+                failures.append('%s has a negative zero' % name)
+            failures += check_table_format(os.path.join(args.out, name), text, args.deck, args.define)
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
+
+
+INTEGER_COLUMNS = ('step', 'node', 'n_contact', 'contact_regions', 'lcp_pivots', 'iterations', 'neg_pivots',
+                   'candidate', 'rigid')
+
+
+def check_table_format(path, text, deck, defines):
+    """docs/contracts.md: the column names on line 1, then the four provenance lines (`# uniarc
+    VERSION`, `# deck: DECK`, `# defines: NAME=VALUE ...` or `none`, `# utc: ISO 8601 Z`), then rows
+    whose count columns are integers (STEM.crit's step is fractional: events lie between steps)."""
+    failures = []
+    lines = text.splitlines()
+    name = os.path.basename(path)
+    if len(lines) < 5:
+        return [f'{name}: fewer than 5 lines']
+    names = lines[0].split()
+    expected = [r'# uniarc \d+\.\d+\.\d+', '# deck: ' + re.escape(deck),
+                '# defines: ' + (re.escape(' '.join(d.replace(' ', '') for d in defines)) if defines else 'none'),
+                r'# utc: \d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ']
+    for number, pattern in enumerate(expected, start=2):
+        if not re.fullmatch(pattern, lines[number - 1]):
+            failures.append(f'{name}:{number}: {lines[number - 1]!r} is not the provenance line {pattern!r}')
+    counts = [i for i, column in enumerate(names) if column in INTEGER_COLUMNS
+              and not (column == 'step' and name.endswith('.crit'))]
+    for number, line in enumerate(lines[5:], start=6):
+        fields = line.split()
+        if line.startswith('#') or not fields:
+            continue
+        bad = [names[i] for i in counts if i < len(fields) and not re.fullmatch(r'-?\d+', fields[i])]
+        if bad:
+            failures.append(f'{name}:{number}: the counts {bad} are not integers: {line!r}')
+            break
+    return failures
 
 
 def check_limits_bracketed(path_file, crit_file):

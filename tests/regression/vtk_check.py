@@ -1,56 +1,72 @@
 #!/usr/bin/env python3
-"""Run uniarc on a deck with `*OUTPUT, VTK` and check the ParaView files it writes.
+"""Run uniarc on a deck with `*OUTPUT, VTK` and read every ParaView file it writes with VTK's own readers.
 
-A snapshot is written twice, as legacy `STEM_NNNN.vtk` and as XML `STEM_NNNN.vtu`; `STEM.pvd` lists
-the `.vtu` files (ParaView's pvd reader reads XML files only).
+A snapshot is written twice, as XML PolyData `STEM_NNNN.vtp` and as legacy `STEM_NNNN.vtk` (DATASET
+POLYDATA); `STEM.pvd` lists the `.vtp` files with the step number as timestep.
 
 Usage (one CTest per call):
   vtk_check.py --uniarc BIN --deck DECK --out DIR [--define NAME=VALUE]...
-               --every N                         # the snapshot interval the deck asks for
-               [--timestep lambda|step]          # what the pvd must use as its timestep
+               --every N                           # the snapshot interval the deck asks for
+               [--linear]                          # a linear analysis (forces on the initial chord)
                [--expect-cell NAME=VALUE:ATOL]...  # every cell of array NAME equals lambda*VALUE
-               [--expect-contact]                # some snapshot has a positive contact reaction
-               [--no-vtk]                        # the deck has no *OUTPUT: no .vtk and no .pvd
+               [--expect-contact]                  # some snapshot has a positive contact reaction
+               [--load LABEL:FX,FY,MZ]...          # the deck's reference load on node LABEL (all of
+                                                   # it: with --load the nodal equilibrium is checked)
+               [--force-tolerance TOL]             # the deck's force_tolerance (default 1e-8)
+               [--no-vtk]                          # the deck has no *OUTPUT: no VTK file at all
 
-What is checked, from the files alone:
-- the snapshots are those of the shape file's rule with EVERY: the first step, every N-th step, the
-  last step of the path file, no more and no fewer, and no `.part` file is left;
-- STEM.pvd is well-formed XML (xml.etree): a VTKFile of type Collection whose DataSets reference
-  the existing .vtu files, with strictly increasing timesteps that are lambda when lambda increases strictly
-  over the snapshots and the step numbers otherwise (and --timestep says which this deck must give);
-- every STEM_NNNN.vtk is a legacy ASCII UNSTRUCTURED_GRID: header, POINTS n with 3n finite numbers,
-  CELLS m 3m of two-point lines with valid point indices, CELL_TYPES m all 3 (VTK_LINE), POINT_DATA n
-  with displacement (3-vector), rotation, contact_reaction, node_label, CELL_DATA m with axial_force,
-  bending_moment, bending_moment_start, bending_moment_end, element_label, all finite; its field data
-  lambda and step match the path file;
-- every STEM_NNNN.vtu is well-formed XML (xml.etree), a VTKFile of type UnstructuredGrid with one
-  Piece of the same numbers of points and cells, whose Points, Cells (connectivity, offsets, types),
-  FieldData, PointData and CellData arrays hold the same numbers as the legacy file;
-- the points are the deformed geometry x0 + u of the shape file's snapshot of the same step (for
-  the steps the shape file has: always the first and the last), and the point arrays are the shape file's u_x, u_y, rz and reaction; the sum of contact_reaction is the path
-  file's reaction_sum; bending_moment is the mean of the two end moments.
-If the `vtk` Python module can be imported, each file is also read with vtkUnstructuredGridReader and
-its point count, cell count and arrays compared; the script says whether it did.
+The `vtk` Python module (Debian: python3-vtk9, installed by scripts/install_deps.sh) is required: without
+it the check fails. What is checked:
+- the snapshots are those of the shape file's rule with EVERY: the first step, every N-th step, the last
+  step of the path file, no more and no fewer, each as .vtp and .vtk; no .vtu and no .part file;
+- STEM.pvd is XML (parsed as ParaView's collection reader does: a VTKFile of type Collection whose
+  DataSet elements give a timestep and a file): it lists the .vtp snapshots in order, with the step
+  number as timestep (strictly increasing);
+- every .vtp read by vtkXMLPolyDataReader and every .vtk by vtkPolyDataReader (told to read all scalar,
+  vector and field arrays), without an error or warning of VTK: PolyData of n points (the shape file's
+  nodes) and m line cells of two distinct points, no verts, polys or strips, every point on a line;
+  exactly the arrays of POINT_ARRAYS, CELL_ARRAYS and FIELD_ARRAYS below, of the stated type, number of
+  components and of tuples (field data: one tuple), every number finite; the two files hold the same
+  numbers;
+- field data: `step` is the step of the pvd and the file name, `lambda` the path file's lambda of it;
+- point data against the shape file where it has the step (always the first and the last): the points
+  are x0 + u (z = 0), `displacement` (u_x, u_y, 0), `rotation` rz, `contact_reaction` the reaction
+  column, `node_label` the node column; the sum of contact_reaction is the path file's reaction_sum;
+- cell data: `bending_moment` is the mean of the end moments, `shear_force` V = dM/ds times the chord
+  length (the current one; the initial one, x - u, for --linear) is bending_moment_end - bending_moment_start,
+  `element_label` positive and distinct; --expect-cell closed forms;
+- with --load: nodal equilibrium of N, V and M with lambda times the --load values, at every node
+  without a contact reaction, in every free direction (see check_equilibrium);
+- vtkTubeFilter (ParaView's Tube) applied to every snapshot, .vtp and .vtk, gives one triangle strip per
+  side and line, carrying the cell arrays (colouring the tubes by N or M works).
 """
 import argparse
 import glob
 import math
 import os
-import re
 import sys
 import xml.etree.ElementTree as ElementTree
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from uniarc_check import run_uniarc  # noqa: E402
+from uniarc_check import read_table, run_uniarc  # noqa: E402
 
-POINT_ARRAYS = {'displacement': 3, 'rotation': 1, 'contact_reaction': 1, 'node_label': 1}
-CELL_ARRAYS = {'axial_force': 1, 'bending_moment': 1, 'bending_moment_start': 1, 'bending_moment_end': 1,
-               'element_label': 1}
+# name: (components, integer type)
+POINT_ARRAYS = {'displacement': (3, False), 'rotation': (1, False), 'contact_reaction': (1, False),
+                'node_label': (1, True)}
+CELL_ARRAYS = {'axial_force': (1, False), 'shear_force': (1, False), 'bending_moment': (1, False),
+               'bending_moment_start': (1, False), 'bending_moment_end': (1, False),
+               'element_label': (1, True)}
+FIELD_ARRAYS = {'lambda': (1, False), 'step': (1, True)}
 
 # Every real is written with 13 significant digits (format es21.12e3), so two numbers that are the
-# same quantity written by two files (or a sum of two written numbers) agree to a few units of 1e-12
-# of the largest magnitude involved.
+# same quantity written by two files (or a sum or product of written numbers) agree to a few units of
+# 1e-12 of the largest magnitude involved.
 ROUND_OFF = 1e-11
+
+# Sides of the tubes of the Tube filter check (any number >= 3).
+TUBE_SIDES = 6
+
+INSTALL_HINT = 'the vtk Python module is required (Debian: python3-vtk9, installed by scripts/install_deps.sh)'
 
 
 class Problems(list):
@@ -60,224 +76,266 @@ class Problems(list):
         return condition
 
 
-def read_table(path):
-    """Column names and rows (lists of floats) of a uniarc table file; blank lines are skipped."""
-    with open(path) as handle:
-        lines = handle.read().splitlines()
-    names = lines[0][1:].split()
-    rows = [[float(x) for x in line.split()] for line in lines[1:] if line.strip()]
-    return names, rows
+class Vtk:
+    """The VTK classes the check uses, and VTK's messages captured instead of printed."""
+
+    def __init__(self):
+        from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow, VTK_INT, VTK_DOUBLE
+        from vtkmodules.vtkCommonDataModel import vtkPolyData, VTK_LINE
+        from vtkmodules.vtkIOLegacy import vtkPolyDataReader
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+        from vtkmodules.vtkFiltersCore import vtkTubeFilter
+        from vtkmodules.vtkCommonCore import vtkVersion
+        self.version = vtkVersion.GetVTKVersion()
+        self.messages = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self.messages)
+        self.seen = 0   # characters of the window's text already taken
+        self.int_type, self.double_type, self.line_type = VTK_INT, VTK_DOUBLE, VTK_LINE
+        self.PolyData, self.LegacyReader, self.XmlReader, self.Tube = (vtkPolyData, vtkPolyDataReader,
+                                                                       vtkXMLPolyDataReader, vtkTubeFilter)
+
+    def take_messages(self):
+        text = self.messages.GetOutput()
+        new, self.seen = text[self.seen:], len(text)
+        return new.strip()
 
 
-def read_legacy_vtk(path, problems):
-    """The sections of a legacy ASCII VTK unstructured grid as a dict; structure errors go to problems."""
-    with open(path) as handle:
-        lines = handle.read().splitlines()
+def read_snapshot(vtk, path, problems):
+    """Read one .vtp or .vtk file with VTK's reader; return the vtkPolyData, or None."""
     where = os.path.basename(path)
-    data = {'point_data': {}, 'cell_data': {}, 'field': {}}
-    if not problems.check(len(lines) >= 5, f'{where}: fewer than 5 lines'):
-        return None
-    problems.check(re.fullmatch(r'# vtk DataFile Version \d\.\d', lines[0]) is not None,
-                   f'{where}: first line {lines[0]!r} is not a legacy VTK header')
-    problems.check(0 < len(lines[1]) <= 256, f'{where}: title line empty or longer than 256 characters')
-    problems.check(lines[2] == 'ASCII', f'{where}: third line {lines[2]!r}, expected ASCII')
-    problems.check(lines[3] == 'DATASET UNSTRUCTURED_GRID', f'{where}: fourth line {lines[3]!r}')
-    tokens = ' '.join(lines[4:]).split()
-    position = 0
-
-    def take(count, kind=float):
-        nonlocal position
-        if position + count > len(tokens):
-            raise ValueError(f'{where}: file ends inside a section')
-        values = [kind(x) for x in tokens[position:position + count]]
-        position += count
-        return values
-
-    attributes = None   # 'point_data' or 'cell_data' once POINT_DATA / CELL_DATA is seen
-    sizes = {}
-    try:
-        while position < len(tokens):
-            keyword = tokens[position]
-            position += 1
-            if keyword == 'FIELD':
-                _, count = tokens[position], int(tokens[position + 1])
-                position += 2
-                for _ in range(count):
-                    name, components, tuples, kind = tokens[position:position + 4]
-                    position += 4
-                    data['field'][name] = take(int(components) * int(tuples), int if kind == 'int' else float)
-            elif keyword == 'POINTS':
-                n, kind = int(tokens[position]), tokens[position + 1]
-                position += 2
-                problems.check(kind == 'double', f'{where}: POINTS of {kind}, expected double')
-                data['points'] = take(3 * n)
-                sizes['points'] = n
-            elif keyword == 'CELLS':
-                m, size = int(tokens[position]), int(tokens[position + 1])
-                position += 2
-                problems.check(size == 3 * m, f'{where}: CELLS {m} {size}, expected size {3 * m} (lines)')
-                data['cells'] = take(size, int)
-                sizes['cells'] = m
-            elif keyword == 'CELL_TYPES':
-                m = int(tokens[position])
-                position += 1
-                data['cell_types'] = take(m, int)
-            elif keyword in ('POINT_DATA', 'CELL_DATA'):
-                attributes = 'point_data' if keyword == 'POINT_DATA' else 'cell_data'
-                data[keyword.lower() + '_size'] = int(tokens[position])
-                position += 1
-            elif keyword in ('SCALARS', 'VECTORS'):
-                if attributes is None:
-                    raise ValueError(f'{where}: {keyword} before POINT_DATA or CELL_DATA')
-                name, kind = tokens[position], tokens[position + 1]
-                position += 2
-                components = 3
-                if keyword == 'SCALARS':
-                    components = int(tokens[position])
-                    position += 1
-                    if tokens[position] != 'LOOKUP_TABLE':
-                        raise ValueError(f'{where}: SCALARS {name} without LOOKUP_TABLE')
-                    position += 2
-                count = data[attributes + '_size']
-                data[attributes][name] = take(components * count, int if kind == 'int' else float)
-            else:
-                raise ValueError(f'{where}: unexpected keyword {keyword!r}')
-    except (ValueError, IndexError) as failure:
-        problems.append(str(failure))
+    if path.endswith('.vtp'):
+        reader = vtk.XmlReader()
+    else:
+        reader = vtk.LegacyReader()
+        # The legacy reader keeps only the first SCALARS (and VECTORS, ...) array of each attribute
+        # set unless told to read them all.
+        for switch in ('Scalars', 'Vectors', 'Normals', 'Tensors', 'ColorScalars', 'TCoords', 'Fields'):
+            getattr(reader, f'ReadAll{switch}On')()
+    reader.SetFileName(path)
+    reader.Update()
+    messages = vtk.take_messages()
+    problems.check(not messages, f'{where}: VTK reports: {messages[:300]}')
+    problems.check(reader.GetErrorCode() == 0, f'{where}: reader error code {reader.GetErrorCode()}')
+    data = reader.GetOutput()
+    if not problems.check(isinstance(data, vtk.PolyData) and data.GetNumberOfPoints() > 0,
+                          f'{where}: VTK reads no PolyData with points'):
         return None
     return data
 
 
-def check_snapshot(path, data, n, shape_rows, path_row, path_names, problems):
-    """Structure, finiteness and agreement with the shape and path files of one snapshot of n nodes;
-    shape_rows is None when the shape file has no snapshot of this step."""
-    where = os.path.basename(path)
-    points = data.get('points', [])
-    cells = data.get('cells', [])
-    m = len(data.get('cell_types', []))
-    problems.check(len(points) == 3 * n, f'{where}: {len(points) // 3} points, the shape file has {n} nodes')
-    problems.check(len(cells) == 3 * m, f'{where}: CELLS and CELL_TYPES disagree on the number of cells')
-    problems.check(all(t == 3 for t in data.get('cell_types', [])), f'{where}: a cell type other than 3')
-    for c in range(len(cells) // 3):
-        count, i, j = cells[3 * c:3 * c + 3]
-        problems.check(count == 2 and 0 <= i < n and 0 <= j < n and i != j,
-                       f'{where}: cell {c} is not a line of two distinct points: {cells[3 * c:3 * c + 3]}')
-    problems.check(data.get('point_data_size') == n, f'{where}: POINT_DATA {data.get("point_data_size")}, expected {n}')
-    problems.check(data.get('cell_data_size') == m, f'{where}: CELL_DATA {data.get("cell_data_size")}, expected {m}')
-    for arrays, group, size in ((POINT_ARRAYS, 'point_data', n), (CELL_ARRAYS, 'cell_data', m)):
-        for name, components in arrays.items():
-            values = data[group].get(name)
-            if problems.check(values is not None, f'{where}: no {group} array {name}'):
-                problems.check(len(values) == components * size, f'{where}: {name} has {len(values)} values')
-    every_number = points + [x for group in ('point_data', 'cell_data') for a in data[group].values() for x in a]
-    problems.check(all(math.isfinite(x) for x in every_number), f'{where}: a number is not finite')
-    if problems:
-        return
+def arrays_of(attributes):
+    """{name: (vtk data type, components, [tuples])} of a vtkPointData, vtkCellData or vtkFieldData."""
+    arrays = {}
+    for k in range(attributes.GetNumberOfArrays()):
+        array = attributes.GetAbstractArray(k)
+        arrays[array.GetName()] = (array.GetDataType(), array.GetNumberOfComponents(),
+                                   [array.GetTuple(i) for i in range(array.GetNumberOfTuples())])
+    return arrays
 
-    # Field data against the path file.
-    lambda_ = path_row[path_names.index('lambda')]
-    step = int(path_row[path_names.index('step')])
-    problems.check(data['field'].get('step') == [step], f'{where}: field step {data["field"].get("step")}, expected {step}')
-    got_lambda = data['field'].get('lambda', [math.nan])[0]
-    problems.check(abs(got_lambda - lambda_) <= ROUND_OFF * max(abs(lambda_), 1.0),
-                   f'{where}: field lambda {got_lambda!r}, path file {lambda_!r}')
 
-    cell = data['cell_data']
+def contents(vtk, data, where, problems):
+    """Points, lines and arrays of a snapshot as plain Python values, with their structure checked."""
+    n, m = data.GetNumberOfPoints(), data.GetNumberOfCells()
+    problems.check(data.GetNumberOfLines() == m and m > 0, f'{where}: {m} cells, of them {data.GetNumberOfLines()} lines')
+    problems.check(data.GetNumberOfVerts() == data.GetNumberOfPolys() == data.GetNumberOfStrips() == 0,
+                   f'{where}: verts, polys or strips besides the lines')
+    points = [data.GetPoint(i) for i in range(n)]
+    lines = []
     for c in range(m):
-        mean = 0.5 * (cell['bending_moment_start'][c] + cell['bending_moment_end'][c])
-        size = max(abs(cell['bending_moment_start'][c]), abs(cell['bending_moment_end'][c]), 1e-300)
-        problems.check(abs(cell['bending_moment'][c] - mean) <= ROUND_OFF * size,
-                       f'{where}: cell {c}: bending_moment is not the mean of the end moments')
+        cell = data.GetCell(c)
+        ids = [cell.GetPointId(k) for k in range(cell.GetNumberOfPoints())]
+        problems.check(cell.GetCellType() == vtk.line_type and len(ids) == 2 and ids[0] != ids[1]
+                       and all(0 <= i < n for i in ids), f'{where}: cell {c} is not a line of two distinct points: {ids}')
+        lines.append(tuple(ids))
+    problems.check({i for line in lines for i in line} == set(range(n)), f'{where}: a point on no line')
+    result = {'points': points, 'lines': lines}
+    for group, attributes, expected, size in (('point', data.GetPointData(), POINT_ARRAYS, n),
+                                              ('cell', data.GetCellData(), CELL_ARRAYS, m),
+                                              ('field', data.GetFieldData(), FIELD_ARRAYS, 1)):
+        arrays = arrays_of(attributes)
+        problems.check(set(arrays) == set(expected), f'{where}: {group} arrays {sorted(arrays)}, expected {sorted(expected)}')
+        result[group] = {}
+        for name, (components, integer) in expected.items():
+            if name not in arrays:
+                continue
+            kind, got_components, tuples = arrays[name]
+            problems.check(kind == (vtk.int_type if integer else vtk.double_type),
+                           f'{where}: {group} array {name} of VTK type {kind}')
+            problems.check(got_components == components, f'{where}: {name} has {got_components} components, expected {components}')
+            problems.check(len(tuples) == size, f'{where}: {group} array {name} has {len(tuples)} tuples, expected {size}')
+            result[group][name] = [x[0] for x in tuples] if components == 1 else tuples
+    every_number = [x for p in points for x in p] + [
+        x for group in ('point', 'cell', 'field') for values in result[group].values()
+        for v in values for x in (v if isinstance(v, tuple) else (v,))]
+    problems.check(all(math.isfinite(x) for x in every_number), f'{where}: a number is not finite')
+    return result
+
+
+def close(a, b, scale):
+    return abs(a - b) <= ROUND_OFF * max(scale, 1e-300)
+
+
+def check_against_tables(where, snapshot, step, path_row, shape_rows, problems):
+    """Field data against the path file; points and point data against the shape file's rows of the
+    step (None when the shape file does not have it)."""
+    problems.check(snapshot['field']['step'] == [step], f'{where}: field step {snapshot["field"]["step"]}, expected {step}')
+    got_lambda = snapshot['field']['lambda'][0]
+    problems.check(close(got_lambda, path_row['lambda'], max(abs(path_row['lambda']), 1.0)),
+                   f'{where}: field lambda {got_lambda!r}, the path file has {path_row["lambda"]!r}')
+    point = snapshot['point']
+    reactions = point['contact_reaction']
+    largest = max([abs(r) for r in reactions] + [abs(path_row['reaction_sum'])])
+    problems.check(close(sum(reactions), path_row['reaction_sum'], len(reactions) * largest),
+                   f'{where}: sum of contact_reaction {sum(reactions)!r}, path reaction_sum {path_row["reaction_sum"]!r}')
     if shape_rows is None:
         return
-
-    # Deformed geometry and point arrays against the shape file (columns: step lambda node x0 y0 ux uy
-    # rz x y reaction).
-    scale = max(max(abs(v) for row in shape_rows for v in row[3:10]), 1.0)
-    displacement = data['point_data']['displacement']
+    if not problems.check(len(shape_rows) == len(snapshot['points']),
+                          f'{where}: {len(snapshot["points"])} points, the shape file has {len(shape_rows)} nodes'):
+        return
+    scale = max([abs(row[c]) for row in shape_rows for c in ('x0', 'y0', 'ux', 'uy')] + [1.0])
     for i, row in enumerate(shape_rows):
-        node, x0, y0, ux, uy, rz, reaction = row[2], row[3], row[4], row[5], row[6], row[7], row[10]
-        expected = {'x': x0 + ux, 'y': y0 + uy, 'z': 0.0}
-        for k, axis in enumerate('xyz'):
-            problems.check(abs(points[3 * i + k] - expected[axis]) <= ROUND_OFF * scale,
-                           f'{where}: node {node:g} {axis} = {points[3 * i + k]!r}, x0 + u = {expected[axis]!r}')
-        for k, value in enumerate((ux, uy, 0.0)):
-            problems.check(abs(displacement[3 * i + k] - value) <= ROUND_OFF * scale,
-                           f'{where}: node {node:g} displacement[{k}] = {displacement[3 * i + k]!r}, shape {value!r}')
-        problems.check(abs(data['point_data']['rotation'][i] - rz) <= ROUND_OFF * max(abs(rz), 1.0),
-                       f'{where}: node {node:g} rotation differs from the shape file')
-        problems.check(data['point_data']['node_label'][i] == int(node), f'{where}: node label {i} differs')
-        problems.check(abs(data['point_data']['contact_reaction'][i] - reaction) <= ROUND_OFF * max(abs(reaction), 1e-300),
-                       f'{where}: node {node:g} contact_reaction differs from the shape file')
-    reactions = data['point_data']['contact_reaction']
-    reaction_sum = path_row[path_names.index('reaction_sum')]
-    largest = max([abs(r) for r in reactions] + [abs(reaction_sum)])
-    problems.check(abs(sum(reactions) - reaction_sum) <= ROUND_OFF * n * max(largest, 1e-300),
-                   f'{where}: sum of contact_reaction {sum(reactions)!r}, path reaction_sum {reaction_sum!r}')
+        node = int(row['node'])
+        expected_point = (row['x0'] + row['ux'], row['y0'] + row['uy'], 0.0)
+        problems.check(all(close(a, b, scale) for a, b in zip(snapshot['points'][i], expected_point)),
+                       f'{where}: node {node} at {snapshot["points"][i]}, x0 + u = {expected_point}')
+        problems.check(all(close(a, b, scale) for a, b in zip(point['displacement'][i], (row['ux'], row['uy'], 0.0))),
+                       f'{where}: node {node} displacement {point["displacement"][i]}, shape ({row["ux"]}, {row["uy"]})')
+        problems.check(close(point['rotation'][i], row['rz'], max(abs(row['rz']), 1.0)),
+                       f'{where}: node {node} rotation {point["rotation"][i]!r}, shape {row["rz"]!r}')
+        problems.check(close(point['contact_reaction'][i], row['reaction'], abs(row['reaction'])),
+                       f'{where}: node {node} contact_reaction {point["contact_reaction"][i]!r}, shape {row["reaction"]!r}')
+        problems.check(point['node_label'][i] == node, f'{where}: point {i} node_label {point["node_label"][i]}, shape node {node}')
 
 
-def check_xml_twin(path, data, problems):
-    """The .vtu of a snapshot holds the grid and arrays of its legacy file (`data`)."""
-    where = os.path.basename(path)
+def check_cells(where, snapshot, linear, problems):
+    """Relations between the cell arrays: the mean moment, V = dM/ds over the chord, the labels."""
+    cell = snapshot['cell']
+    labels = cell['element_label']
+    problems.check(all(label > 0 for label in labels) and len(set(labels)) == len(labels),
+                   f'{where}: element labels not positive and distinct')
+    for c, (i, j) in enumerate(snapshot['lines']):
+        start, end = cell['bending_moment_start'][c], cell['bending_moment_end'][c]
+        problems.check(close(cell['bending_moment'][c], 0.5 * (start + end), max(abs(start), abs(end))),
+                       f'{where}: cell {c}: bending_moment is not the mean of the end moments')
+        length, _ = chord(snapshot, i, j, linear)
+        shear = cell['shear_force'][c]
+        problems.check(close(shear * length, end - start, max(abs(start), abs(end), abs(shear * length))),
+                       f'{where}: cell {c}: shear_force * L = {shear * length!r}, M_end - M_start = {end - start!r}')
+
+
+def chord(snapshot, i, j, linear):
+    """Length and unit vector of the chord from point i to point j: the deformed one, or for a linear
+    analysis the initial one (x - u), on which its forces act."""
+    a, b = snapshot['points'][i], snapshot['points'][j]
+    if linear:
+        ua, ub = snapshot['point']['displacement'][i], snapshot['point']['displacement'][j]
+        a, b = [x - u for x, u in zip(a, ua)], [x - u for x, u in zip(b, ub)]
+    length = math.dist(a, b)
+    return length, ((b[0] - a[0]) / length, (b[1] - a[1]) / length)
+
+
+def check_equilibrium(where, snapshot, loads, linear, force_tolerance, problems):
+    """The written N, V and M are in equilibrium with the load lambda * P at every node without a contact
+    reaction, in every direction that is free.
+
+    The end forces of a line element (corotational or linear beam-column, Crisfield 1991, vol. 1,
+    ch. 7: f = B^T q) are, with e the unit chord from node 1 to node 2 and n = e turned by +90 degrees:
+    node 1 (-N e + V n, -M_start), node 2 (N e - V n, M_end) (uniarc_transformation, V = dM/ds). A
+    constrained direction has a displacement of exactly 0 and is left out, as are nodes in contact
+    (their reaction's direction is not in the files). The run converged with a residual of at most
+    force_tolerance times its force scale, max(|P|, |lambda P|, sqrt(sum_e |f_e|^2)) (uniarc_path_newton);
+    the written numbers add ROUND_OFF of that scale.
+    """
+    lambda_ = snapshot['field']['lambda'][0]
+    labels = snapshot['point']['node_label']
+    residual = [[0.0, 0.0, 0.0] for _ in labels]
+    cell = snapshot['cell']
+    element_size = 0.0
+    for c, (i, j) in enumerate(snapshot['lines']):
+        _, (ex, ey) = chord(snapshot, i, j, linear)
+        nx, ny = -ey, ex
+        axial, shear = cell['axial_force'][c], cell['shear_force'][c]
+        fx, fy = axial * ex - shear * nx, axial * ey - shear * ny
+        forces = ((i, (-fx, -fy, -cell['bending_moment_start'][c])), (j, (fx, fy, cell['bending_moment_end'][c])))
+        for node, force in forces:
+            for k in range(3):
+                residual[node][k] += force[k]
+            element_size += sum(f * f for f in force)
+    load_size = 0.0
+    for i, label in enumerate(labels):
+        for k, value in enumerate(loads.get(label, (0.0, 0.0, 0.0))):
+            residual[i][k] -= lambda_ * value
+            load_size += value * value
+    scale = max(math.sqrt(load_size), abs(lambda_) * math.sqrt(load_size), math.sqrt(element_size))
+    free = []
+    for i, label in enumerate(labels):
+        if snapshot['point']['contact_reaction'][i] != 0.0:
+            continue
+        motion = (*snapshot['point']['displacement'][i][:2], snapshot['point']['rotation'][i])
+        free += [residual[i][k] for k in range(3) if motion[k] != 0.0]
+    if not free:
+        return 0
+    norm = math.sqrt(sum(r * r for r in free))
+    problems.check(norm <= (force_tolerance + ROUND_OFF) * scale,
+                   f'{where}: the element forces leave a nodal residual of {norm:.3e} against lambda*P, more than '
+                   f'{force_tolerance + ROUND_OFF:.1e} of the force scale {scale:.3e}')
+    return len(free)
+
+
+def check_same(where, legacy, xml, problems):
+    """The legacy and the XML file of a snapshot hold the same numbers."""
+    problems.check(legacy['points'] == xml['points'], f'{where}: .vtk and .vtp points differ')
+    problems.check(legacy['lines'] == xml['lines'], f'{where}: .vtk and .vtp lines differ')
+    for group in ('point', 'cell', 'field'):
+        for name in xml[group]:
+            problems.check(legacy[group].get(name) == xml[group][name], f'{where}: {group} array {name} differs between .vtk and .vtp')
+
+
+def check_tube(vtk, where, data, problems):
+    """ParaView's Tube filter (vtkTubeFilter) on the snapshot: a strip per side and line, with the cell
+    arrays carried to the tubes."""
+    bounds = data.GetBounds()
+    diagonal = math.dist(bounds[0::2], bounds[1::2])
+    tube = vtk.Tube()
+    tube.SetInputData(data)
+    tube.SetRadius(0.01 * diagonal)
+    tube.SetNumberOfSides(TUBE_SIDES)
+    tube.Update()
+    messages = vtk.take_messages()
+    problems.check(not messages, f'{where}: the Tube filter reports: {messages[:300]}')
+    output = tube.GetOutput()
+    lines = data.GetNumberOfLines()
+    problems.check(output.GetNumberOfStrips() == TUBE_SIDES * lines and output.GetNumberOfCells() == TUBE_SIDES * lines,
+                   f'{where}: the Tube filter made {output.GetNumberOfCells()} cells ({output.GetNumberOfStrips()} strips) '
+                   f'of {lines} lines, expected {TUBE_SIDES * lines} strips')
+    for name in ('axial_force', 'bending_moment'):
+        array = output.GetCellData().GetArray(name)
+        if problems.check(array is not None, f'{where}: the tubes have no cell array {name}'):
+            source = data.GetCellData().GetArray(name)
+            problems.check(sorted({array.GetValue(k) for k in range(array.GetNumberOfTuples())}) ==
+                           sorted({source.GetValue(k) for k in range(source.GetNumberOfTuples())}),
+                           f'{where}: the tubes carry other {name} values than the lines')
+
+
+def check_collection(pvd_file, stem, wanted, problems):
+    """STEM.pvd lists the .vtp snapshots of the wanted steps, the step number as timestep."""
     try:
-        root = ElementTree.parse(path).getroot()
+        root = ElementTree.parse(pvd_file).getroot()
     except (OSError, ElementTree.ParseError) as failure:
-        problems.append(f'{where}: {failure}')
+        problems.append(f'{stem}.pvd: {failure}')
         return
-    if not problems.check(root.tag == 'VTKFile' and root.get('type') == 'UnstructuredGrid',
-                          f'{where}: root is not an UnstructuredGrid VTKFile'):
+    problems.check(root.tag == 'VTKFile' and root.get('type') == 'Collection', f'{stem}.pvd: root is not a Collection VTKFile')
+    datasets = root.findall('./Collection/DataSet')
+    files = [d.get('file') for d in datasets]
+    expected_files = [f'{stem}_{s:04d}.vtp' for s in wanted]
+    problems.check(files == expected_files, f'{stem}.pvd lists {files}, expected {expected_files}')
+    try:
+        times = [float(d.get('timestep')) for d in datasets]
+    except (TypeError, ValueError):
+        problems.append(f'{stem}.pvd: a DataSet without a numeric timestep')
         return
-    pieces = root.findall('./UnstructuredGrid/Piece')
-    if not problems.check(len(pieces) == 1, f'{where}: {len(pieces)} Pieces, expected 1'):
-        return
-    piece = pieces[0]
-    n = len(data['points']) // 3
-    m = len(data['cell_types'])
-    problems.check(piece.get('NumberOfPoints') == str(n) and piece.get('NumberOfCells') == str(m),
-                   f'{where}: Piece of {piece.get("NumberOfPoints")} points and {piece.get("NumberOfCells")} cells, '
-                   f'the legacy file has {n} and {m}')
-
-    def array(parent, name, components=1):
-        found = [a for a in root.findall(f'./UnstructuredGrid/{parent}/DataArray') if a.get('Name') == name]
-        if not problems.check(len(found) == 1, f'{where}: {parent} has {len(found)} arrays {name}'):
-            return None
-        element = found[0]
-        problems.check(element.get('format') == 'ascii', f'{where}: {name} is not ascii')
-        problems.check(int(element.get('NumberOfComponents', '1')) == components,
-                       f'{where}: {name} has {element.get("NumberOfComponents")} components, expected {components}')
-        kind = int if element.get('type', '').startswith(('Int', 'UInt')) else float
-        return [kind(x) for x in (element.text or '').split()]
-
-    expected = {('Piece/Points', 'points', 3): data['points'],
-                ('FieldData', 'lambda', 1): data['field'].get('lambda'),
-                ('FieldData', 'step', 1): data['field'].get('step')}
-    for name, components in POINT_ARRAYS.items():
-        expected[('Piece/PointData', name, components)] = data['point_data'][name]
-    for name, components in CELL_ARRAYS.items():
-        expected[('Piece/CellData', name, components)] = data['cell_data'][name]
-    legacy_cells = data['cells']
-    expected[('Piece/Cells', 'connectivity', 1)] = [x for c in range(m) for x in legacy_cells[3 * c + 1:3 * c + 3]]
-    expected[('Piece/Cells', 'offsets', 1)] = [2 * (c + 1) for c in range(m)]
-    expected[('Piece/Cells', 'types', 1)] = data['cell_types']
-    for (parent, name, components), values in expected.items():
-        got = array(parent, name, components)
-        if got is not None:
-            problems.check(got == values, f'{where}: {parent} {name} differs from the legacy file')
-
-
-def read_with_vtk(vtk_module, path, data, problems):
-    """Read one file with VTK's own legacy reader and compare counts and arrays."""
-    reader = vtk_module.vtkUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    where = os.path.basename(path)
-    problems.check(grid.GetNumberOfPoints() == len(data['points']) // 3, f'{where}: VTK reads another point count')
-    problems.check(grid.GetNumberOfCells() == len(data['cell_types']), f'{where}: VTK reads another cell count')
-    for name in POINT_ARRAYS:
-        problems.check(grid.GetPointData().GetArray(name) is not None, f'{where}: VTK finds no point array {name}')
-    for name in CELL_ARRAYS:
-        problems.check(grid.GetCellData().GetArray(name) is not None, f'{where}: VTK finds no cell array {name}')
+    problems.check(times == [float(s) for s in wanted], f'{stem}.pvd: timesteps {times}, expected the steps {wanted}')
+    problems.check(all(b > a for a, b in zip(times, times[1:])), f'{stem}.pvd: timesteps not strictly increasing')
 
 
 def main():
@@ -287,100 +345,95 @@ def main():
     parser.add_argument('--out', required=True)
     parser.add_argument('--define', action='append', default=[])
     parser.add_argument('--every', type=int, default=10)
-    parser.add_argument('--timestep', choices=('lambda', 'step'))
+    parser.add_argument('--linear', action='store_true')
     parser.add_argument('--expect-cell', action='append', default=[])
     parser.add_argument('--expect-contact', action='store_true')
+    parser.add_argument('--load', action='append', default=[])
+    parser.add_argument('--force-tolerance', type=float, default=1e-8)
     parser.add_argument('--no-vtk', action='store_true')
     args = parser.parse_args()
+
+    vtk = None
+    if not args.no_vtk:
+        try:
+            vtk = Vtk()
+        except ImportError as failure:
+            print(f'FAIL: {INSTALL_HINT}; {sys.executable}: {failure}')
+            return 1
 
     command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
     if run.returncode != 0:
         print(f'FAIL: exit code {run.returncode}: {" ".join(command)}')
         return 1
     stem = os.path.splitext(os.path.basename(args.deck))[0]
-    vtk_files = sorted(glob.glob(os.path.join(args.out, '*.vtk')))
-    vtu_files = sorted(glob.glob(os.path.join(args.out, '*.vtu')))
-    pvd_file = os.path.join(args.out, stem + '.pvd')
+    found = {extension: sorted(glob.glob(os.path.join(args.out, '*.' + extension)))
+             for extension in ('vtk', 'vtp', 'vtu', 'pvd', 'part')}
     problems = Problems()
-    problems.check(not glob.glob(os.path.join(args.out, '*.part')), 'a .part file is left in the output directory')
+    problems.check(not found['part'], 'a .part file is left in the output directory')
+    problems.check(not found['vtu'], f'.vtu files written: {found["vtu"]}')
     if args.no_vtk:
-        problems.check(not vtk_files and not vtu_files and not os.path.exists(pvd_file),
-                       'VTK files written without *OUTPUT, VTK')
+        problems.check(not any(found.values()), f'VTK files written without *OUTPUT, VTK: {found}')
         return report(problems)
 
     path_names, path_rows = read_table(os.path.join(args.out, stem + '.path'))
-    path_by_step = {int(row[0]): row for row in path_rows}
-    _, shape_rows = read_table(os.path.join(args.out, stem + '.shape'))
+    path_by_step = {int(row[0]): dict(zip(path_names, row)) for row in path_rows}
+    shape_names, shape_rows = read_table(os.path.join(args.out, stem + '.shape'))
     shape_by_step = {}
     for row in shape_rows:
-        shape_by_step.setdefault(int(row[0]), []).append(row)
-    steps = [int(row[0]) for row in path_rows]
+        named = dict(zip(shape_names, row))
+        shape_by_step.setdefault(int(named['step']), []).append(named)
+    steps = sorted(path_by_step)
     wanted = sorted({steps[0], steps[-1]} | {s for s in steps if s % args.every == 0})
 
-    # The collection.
-    try:
-        root = ElementTree.parse(pvd_file).getroot()
-    except (OSError, ElementTree.ParseError) as failure:
-        problems.append(f'{stem}.pvd: {failure}')
-        return report(problems)
-    problems.check(root.tag == 'VTKFile' and root.get('type') == 'Collection', f'{stem}.pvd: root is not a Collection VTKFile')
-    datasets = root.findall('./Collection/DataSet')
-    files = [d.get('file') for d in datasets]
-    times = [float(d.get('timestep')) for d in datasets]
-    problems.check(all(b > a for a, b in zip(times, times[1:])), f'{stem}.pvd: timesteps not strictly increasing: {times}')
-    referenced = [os.path.join(args.out, f) for f in files]
-    problems.check(all(os.path.isfile(f) for f in referenced), f'{stem}.pvd: references missing files')
-    problems.check(sorted(referenced) == vtu_files, f'{stem}.pvd lists {files}, the directory has {vtu_files}')
-    expected_files = [f'{stem}_{s:04d}.vtu' for s in wanted]
-    problems.check(files == expected_files, f'snapshots {files}, expected {expected_files} (every {args.every})')
-    legacy = [os.path.join(args.out, f'{stem}_{s:04d}.vtk') for s in wanted]
-    problems.check(legacy == vtk_files, f'legacy snapshots {vtk_files}, expected {legacy}')
+    pvd_file = os.path.join(args.out, stem + '.pvd')
+    problems.check(found['pvd'] == [pvd_file], f'pvd files {found["pvd"]}, expected {pvd_file}')
+    for extension in ('vtp', 'vtk'):
+        expected = [os.path.join(args.out, f'{stem}_{s:04d}.{extension}') for s in wanted]
+        problems.check(found[extension] == expected, f'.{extension} snapshots {found[extension]}, expected {expected} '
+                       f'(every {args.every})')
+    check_collection(pvd_file, stem, wanted, problems)
     if problems:
         return report(problems)
-    lambdas = [path_by_step[s][1] for s in wanted]
-    by_lambda = all(b > a for a, b in zip(lambdas, lambdas[1:]))
-    expected_times = lambdas if by_lambda else [float(s) for s in wanted]
-    problems.check(all(abs(t - e) <= ROUND_OFF * max(abs(e), 1.0) for t, e in zip(times, expected_times)),
-                   f'{stem}.pvd: timesteps {times}, expected {expected_times}')
-    if args.timestep:
-        problems.check(args.timestep == ('lambda' if by_lambda else 'step'),
-                       f'{stem}.pvd: timestep is the {"lambda" if by_lambda else "step"}, the test expects {args.timestep}')
+    print(f'VTK {vtk.version}: vtkXMLPolyDataReader, vtkPolyDataReader and vtkTubeFilter')
 
-    try:
-        import vtk as vtk_module
-    except ImportError:
-        vtk_module = None
-    print('files parsed by this script' + (' and by vtkUnstructuredGridReader' if vtk_module else
-                                           '; the vtk Python module is not available'))
-
-    # The shape file always has the first and the last step; the other snapshots are compared with it
-    # where both files have the step (EVERY may differ from the shape file's shape_every).
-    n_nodes = len(shape_by_step[steps[0]])
+    loads = {}
+    for text in args.load:
+        label, values = text.split(':')
+        loads[int(label)] = tuple(float(x) for x in values.split(','))
     any_contact = False
     compared = 0
-    for step, name, twin in zip(wanted, legacy, referenced):
-        data = read_legacy_vtk(name, problems)
-        if data is None:
+    equations = 0
+    for step in wanted:
+        where = f'{stem}_{step:04d}'
+        read = {}
+        for extension in ('vtp', 'vtk'):
+            data = read_snapshot(vtk, os.path.join(args.out, f'{where}.{extension}'), problems)
+            if data is not None:
+                read[extension] = (data, contents(vtk, data, f'{where}.{extension}', problems))
+        if len(read) < 2 or problems:
             continue
-        check_snapshot(name, data, n_nodes, shape_by_step.get(step), path_by_step[step], path_names, problems)
+        snapshot = read['vtp'][1]
+        check_same(where, read['vtk'][1], snapshot, problems)
+        check_against_tables(where + '.vtp', snapshot, step, path_by_step[step], shape_by_step.get(step), problems)
         compared += step in shape_by_step
-        if not problems:
-            check_xml_twin(twin, data, problems)
-        if problems:
-            continue
-        any_contact = any_contact or max(data['point_data']['contact_reaction']) > 0.0
-        lambda_ = path_by_step[step][1]
+        check_cells(where + '.vtp', snapshot, args.linear, problems)
+        if loads:
+            equations += check_equilibrium(where + '.vtp', snapshot, loads, args.linear, args.force_tolerance,
+                                           problems)
+        for extension, (data, _) in read.items():
+            check_tube(vtk, f'{where}.{extension}', data, problems)
+        any_contact = any_contact or max(snapshot['point']['contact_reaction']) > 0.0
+        lambda_ = snapshot['field']['lambda'][0]
         for expectation in args.expect_cell:
             array, rest = expectation.split('=', 1)
             value, tolerance = (float(x) for x in rest.split(':'))
-            worst = max(abs(x - lambda_ * value) for x in data['cell_data'][array])
-            problems.check(worst <= tolerance, f'{os.path.basename(name)}: {array} differs from '
-                           f'lambda*{value!r} = {lambda_ * value!r} by up to {worst:.3e} > {tolerance:.1e}')
-        if vtk_module:
-            read_with_vtk(vtk_module, name, data, problems)
+            worst = max(abs(x - lambda_ * value) for x in snapshot['cell'][array])
+            problems.check(worst <= tolerance, f'{where}: {array} differs from lambda*{value!r} = {lambda_ * value!r} '
+                           f'by up to {worst:.3e} > {tolerance:.1e}')
     if args.expect_contact:
         problems.check(any_contact, 'no snapshot has a positive contact reaction')
-    print(f'{len(wanted)} snapshots checked, {compared} of them against the shape file, timestep = {"lambda" if by_lambda else "step"}')
+    print(f'{len(wanted)} snapshots (.vtp and .vtk) read, {compared} of them compared with the shape file; '
+          f'{equations} nodal equilibrium equations checked; pvd timesteps = steps {wanted}')
     return report(problems)
 
 

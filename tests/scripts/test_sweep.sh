@@ -2,7 +2,9 @@
 # Test of scripts/sweep.sh: a two-value sweep of ex. 1 (-D n=20, coarse on purpose: this checks the
 # tooling, not the mechanics) with k = 0 (rigid cavity) and k = bad, which uniarc must refuse (exit 2).
 # sweep.tsv must have one row per value in the given order, the failed one included, and the numbers
-# of the good row must be those of its own STEM.crit and STEM.path.
+# of the good row must be those of its own STEM.crit and STEM.path. A second sweep into the same
+# folder must be refused (exit 2, nothing changed), and with --replace leave no value folder of the
+# first one behind.
 #   test_sweep.sh UNIARC WORKDIR
 set -euo pipefail
 uniarc=$1 work=$2
@@ -32,11 +34,13 @@ grep -q "k=bad" "$dir/bad/uniarc.log" || fail "bad/uniarc.log does not hold unia
 python3 - "$dir/0" "$load" "$crown" "$s1" "$s2" <<'PYTHON'
 import sys
 run, load, crown, s1, s2 = sys.argv[1], *map(float, sys.argv[2:])
-crit = [l.split() for l in open(f'{run}/ring_rigid_cavity.crit').read().splitlines()[1:] if l.strip()]
-first = next(r for r in crit if r[0] == 'limit_max')
+def data(name):
+    """Rows of a uniarc table: after the header line, without the `#` provenance lines."""
+    return [l.split() for l in open(f'{run}/{name}').read().splitlines()[1:] if l.strip() and l[0] != '#']
+first = next(r for r in data('ring_rigid_cavity.crit') if r[0] == 'limit_max')
 step, lam, v = map(float, first[1:4])
-names = open(f'{run}/ring_rigid_cavity.path').readline()[1:].split()
-rows = [list(map(float, l.split())) for l in open(f'{run}/ring_rigid_cavity.path').read().splitlines()[1:]]
+names = open(f'{run}/ring_rigid_cavity.path').readline().split()
+rows = [list(map(float, r)) for r in data('ring_rigid_cavity.path')]
 before = max(r for r in rows if r[0] <= step)
 after = min(r for r in rows if r[0] >= step)
 t = (step - before[0]) / (after[0] - before[0]) if after[0] > before[0] else 0.0
@@ -52,4 +56,25 @@ print('sweep.tsv vs STEM.crit/STEM.path:', {k: (got[k], expected[k]) for k in go
 if bad or not 0.0 < load < 120.0:
     sys.exit(f'FAIL: {bad or "limit load out of range"}')
 PYTHON
+
+# the folder exists: refused, untouched
+code=0
+bash "$source_dir/scripts/sweep.sh" "$source_dir/input/ring_rigid_cavity.inp" k 1e4 -D n=20 \
+  --uniarc "$uniarc" --no-plot 2>refused.txt || code=$?
+cat refused.txt
+[ "$code" = 2 ] || fail "a sweep into an existing sweep folder: exit $code, expected 2"
+grep -q -- "--replace" refused.txt || fail "the refusal does not name --replace"
+[ -d "$dir/bad" ] && [ "$(cat "$dir/values.txt")" = "$(printf '0\nbad')" ] || fail "the refused sweep changed $dir"
+# --replace: the earlier value folders go; --label is kept for the plots
+bash "$source_dir/scripts/sweep.sh" "$source_dir/input/ring_rigid_cavity.inp" k 0 -D n=20 \
+  --uniarc "$uniarc" --no-plot --replace --label 0=rigid
+[ ! -e "$dir/bad" ] || fail "--replace left the value folder bad of the earlier sweep"
+[ "$(cut -f1,6 "$dir/sweep.tsv" | tr '\t\n' ' ')" = "value status 0 ok " ] || fail "sweep.tsv after --replace: $(cat "$dir/sweep.tsv")"
+[ "$(cat "$dir/labels.txt")" = "0=rigid" ] || fail "labels.txt: $(cat "$dir/labels.txt")"
+# a folder that is not a sweep's is never deleted
+mkdir -p other/sweep_ring_rigid_cavity_k && touch other/sweep_ring_rigid_cavity_k/keep
+code=0
+bash "$source_dir/scripts/sweep.sh" "$source_dir/input/ring_rigid_cavity.inp" k 0 -D n=20 -o other \
+  --uniarc "$uniarc" --no-plot --replace || code=$?
+[ "$code" = 2 ] && [ -f other/sweep_ring_rigid_cavity_k/keep ] || fail "--replace on a folder without sweep.conf: exit $code"
 echo ok

@@ -14,11 +14,14 @@
 !> docs/theory.md §1 and §1.8 give the equations.
 module uniarc_element
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, dofs_per_node, element_kind_of, element_truss, analysis_linear
+   use uniarc_model, only: model_t, dofs_per_node, element_kind_of, element_truss, analysis_linear, &
+                           element_timoshenko, end_joint_t, end_joints_of
    use uniarc_transformation, only: chord_t, transformation_linear, transformation_corotational, &
                                     transform_deformations, transform_to_global, transform_end_forces
    use uniarc_basic_beam, only: beam_basic_response
    use uniarc_basic_truss, only: truss_basic_response
+   use uniarc_basic_timoshenko, only: timoshenko_basic_response, beam_bending_flexibility
+   use uniarc_end_joints, only: jointed_basic_response, has_joints
    implicit none
    private
    public :: element_response_t, element_response, analysis_transformation, element_stiffness_scale
@@ -46,9 +49,12 @@ contains
    !> transformation_corotational, see analysis_transformation).
    !>
    !> Dispatch: the basic element is the element's kind (element_kind_of: the Euler–Bernoulli
-   !> beam-column by default, or the truss); its section gives EA (and EI for the beam). The basic law
-   !> is referred to the initial length L0 (small strains). No errors: the deck guarantees a section
-   !> and a nonzero length for every element.
+   !> beam-column by default, the truss, or the Timoshenko beam of uniarc_basic_timoshenko); its section
+   !> gives EA (and EI for a beam, κGA for the Timoshenko beam). A beam with a hinge or a rotational
+   !> spring at an end (end_joints_of) takes its bending law from uniarc_end_joints, the joints in
+   !> series with the member's flexibility. The basic law is referred to the initial length L0 (small
+   !> strains). No errors: the deck guarantees a section (with κGA > 0 for a Timoshenko beam) and a
+   !> nonzero length for every element.
    pure subroutine element_response(model, e, u, transformation, response)
       type(model_t), intent(in) :: model
       integer, intent(in) :: e
@@ -57,16 +63,33 @@ contains
       type(element_response_t), intent(out) :: response
       type(chord_t) :: chord
       real(dp) :: deformation(3), basic_stiffness(3, 3), end_forces(4)
+      type(end_joint_t) :: joints(2)
 
       call transform_deformations(transformation, element_coordinates(model, e), u, chord, deformation)
+      joints = end_joints_of(model, e)
       associate (section => model%sections(model%element_section(e)))
          select case (element_kind_of(model, e))
          case (element_truss)
             call truss_basic_response(chord%initial_length, section%ea, deformation, response%basic_force, &
                                       basic_stiffness)
+         case (element_timoshenko)
+            if (has_joints(joints)) then
+               call jointed_basic_response(section%ea/chord%initial_length, &
+                                           beam_bending_flexibility(chord%initial_length, section%ei, section%gas), &
+                                           joints, deformation, response%basic_force, basic_stiffness)
+            else
+               call timoshenko_basic_response(chord%initial_length, section%ea, section%ei, section%gas, &
+                                              deformation, response%basic_force, basic_stiffness)
+            end if
          case default
-            call beam_basic_response(chord%initial_length, section%ea, section%ei, deformation, &
-                                     response%basic_force, basic_stiffness)
+            if (has_joints(joints)) then
+               call jointed_basic_response(section%ea/chord%initial_length, &
+                                           beam_bending_flexibility(chord%initial_length, section%ei, 0.0_dp), &
+                                           joints, deformation, response%basic_force, basic_stiffness)
+            else
+               call beam_basic_response(chord%initial_length, section%ea, section%ei, deformation, &
+                                        response%basic_force, basic_stiffness)
+            end if
          end select
       end associate
       call transform_to_global(transformation, chord, response%basic_force, basic_stiffness, &

@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""Run uniarc on two decks and check that chosen columns of the last rows of their path files agree.
+
+Usage (one CTest per call):
+  agree_check.py --uniarc BIN --deck A --deck B --out DIR --column NAME:RTOL [--column ...]
+                 [--define NAME=VALUE]...
+
+Used where two analyses must land on the same state: a *STATIC deck with contact (the linear contact
+LCP) and the same structure under a load-controlled *PATH to lambda = 1 at a load so small that the
+geometric nonlinearity is below the tolerance (docs/testing.md). The check fails when either run does
+not exit 0, when a column is missing, or when |a - b| > RTOL * max(|a|, |b|).
+"""
+import argparse
+import os
+import sys
+
+from uniarc_check import read_table, run_uniarc
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--uniarc', required=True)
+    parser.add_argument('--deck', action='append', required=True)
+    parser.add_argument('--out', required=True)
+    parser.add_argument('--column', action='append', required=True)
+    parser.add_argument('--define', action='append', default=[])
+    args = parser.parse_args()
+    if len(args.deck) != 2:
+        raise SystemExit('agree_check.py: give exactly two --deck')
+    last_rows = []
+    for index, deck in enumerate(args.deck):
+        out = os.path.join(args.out, str(index))
+        command, run = run_uniarc(args.uniarc, deck, out, args.define)
+        if run.returncode != 0:
+            raise SystemExit(f'FAIL: {" ".join(command)} exited {run.returncode}')
+        stem = os.path.splitext(os.path.basename(deck))[0]
+        names, rows = read_table(os.path.join(out, stem + '.path'))
+        last_rows.append(dict(zip(names, rows[-1])))
+    problems = []
+    for spec in args.column:
+        name, rtol = spec.split(':')
+        if name not in last_rows[0] or name not in last_rows[1]:
+            problems.append(f'column {name} missing')
+            continue
+        a, b = last_rows[0][name], last_rows[1][name]
+        scale = max(abs(a), abs(b))
+        ok = abs(a - b) <= float(rtol) * scale
+        print(f'{name}: {a!r} vs {b!r} (relative {abs(a - b) / scale if scale else 0.0:.3g}, allowed {rtol})')
+        if not ok:
+            problems.append(f'{name} differs: {a!r} vs {b!r}')
+    if problems:
+        print('FAIL: ' + '; '.join(problems))
+        sys.exit(1)
+    print('ok')
+
+
+if __name__ == '__main__':
+    main()
