@@ -13,6 +13,9 @@
 !>     [ 0                      1   ]        [ −r_c               ]   for c ∉ S (r_c = 0)
 !> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
 !>
+!> A foundation's tangential spring that follows its radial partner (contact_candidate_t%partner) is in
+!> the set only with it (`in_set`): never a variable of the LCP, it is switched with its partner.
+!>
 !> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
 !> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
@@ -27,6 +30,7 @@ module uniarc_contact
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership, contact_summary_t, summarize_contact
+   public :: in_set
 
    !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
    type :: contact_summary_t
@@ -56,7 +60,7 @@ contains
       do c = 1, size(map%candidate_equation)
          row = map%candidate_equation(c)
          if (map%condensed(c)) then
-            if (active(c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
+            if (in_set(model, active, c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
                                                      displacement(1:2, model%contacts(c)%node), &
                                                      map%equation(1:2, model%contacts(c)%node), tangent, internal)
             cycle
@@ -76,7 +80,7 @@ contains
                   if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), -reactions(c)*hessian(i, j))
                end do
             end do
-            if (active(c)) then
+            if (in_set(model, active, c)) then
                internal(row) = -(gap + candidate%flexibility*reactions(c))
                do i = 1, 2
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
@@ -92,7 +96,7 @@ contains
 
    !> Move the candidates `flip` in or out of the working set in an assembled augmented tangent and
    !> its residual λR − F_aug (n) at nodal displacements (3, n_nodes) and reactions (one per
-   !> candidate); `active` is the new set. The same result as assembling again with the new set
+   !> candidate); `active` is the new set. Tangential springs whose radial partner flips move with it. The same result as assembling again with the new set
    !> (assemble_contact; round-off apart), at the cost of the flipped candidates only.
    subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual)
       type(model_t), intent(in) :: model
@@ -102,18 +106,34 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
+      logical, allocatable :: before(:)
+      logical :: entering
       integer :: c, row, node
+      before = active .neqv. flip
       do c = 1, size(flip)
-         if (.not. flip(c)) cycle
+         ! a tangential spring moves with its radial partner (in_set)
+         entering = in_set(model, active, c)
+         if (entering .eqv. in_set(model, before, c)) cycle
          row = map%candidate_equation(c)
          if (row == 0 .and. .not. map%condensed(c)) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
                             gradient, hessian)
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
-                             reactions(c), active(c), tangent, residual)
+                             reactions(c), entering, tangent, residual)
       end do
    end subroutine toggle_contacts
+
+   !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag, and
+   !> for a tangential spring that follows a radial partner (contact_candidate_t%partner) the partner's
+   !> too, so that it acts only where the radial contact is closed.
+   pure logical function in_set(model, active, c)
+      type(model_t), intent(in) :: model
+      logical, intent(in) :: active(:)
+      integer, intent(in) :: c
+      in_set = active(c)
+      if (model%contacts(c)%partner > 0) in_set = in_set .and. active(model%contacts(c)%partner)
+   end function in_set
 
    !> One candidate entering (`entering`) or leaving the working set, in an assembled augmented tangent
    !> and its residual λR − F_aug: the one place that knows what membership means (module header).
@@ -182,7 +202,8 @@ contains
    end subroutine add_condensed_spring
 
    !> Contact columns of the path file: candidates in contact (r > 0), contiguous regions along each
-   !> group, the ends of the first region (smallest coordinate), largest and total reaction.
+   !> group, the ends of the first region (smallest coordinate), largest and total reaction. A
+   !> foundation's tangential springs (candidate%tangential) are not contacts and are left out.
    pure function summarize_contact(model, reactions, active) result(summary)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: reactions(:)
@@ -199,6 +220,8 @@ contains
          region_start = 0.0_dp
          do k = 1, size(model%contact_groups(g)%candidates)
             c = model%contact_groups(g)%candidates(k)
+            ! a foundation's tangential springs carry shear, not contact: they are not in the summary
+            if (model%contacts(c)%tangential) cycle
             if (active(c) .and. reactions(c) > 0.0_dp) then
                summary%n_contact = summary%n_contact + 1
                summary%reaction_max = max(summary%reaction_max, reactions(c))

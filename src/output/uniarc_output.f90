@@ -101,6 +101,7 @@ contains
                       csv, error)
       if (allocated(error)) return
       do c = 1, size(model%contacts)
+         if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring: no surface of its own
          point = surface_point(model, c)
          rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp)
          call put_row(surface, medium_name(model, model%contacts(c)%group)//' '//integer_to_string(c)//' '// &
@@ -226,7 +227,8 @@ contains
       call flush_table(files%shape, error)
    end subroutine write_shape
 
-   !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
+   !> Sum of the contact reactions at each node (a node may carry candidates of several groups); the
+   !> tangential springs of a foundation are not contact reactions and are left out.
    pure function nodal_reactions(model, reactions) result(nodal)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(in) :: reactions(:)
@@ -235,6 +237,7 @@ contains
       nodal = 0.0_dp
       if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
       do c = 1, min(size(reactions), size(model%contacts))
+         if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring, not a contact reaction
          nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
       end do
    end function nodal_reactions
