@@ -20,7 +20,7 @@ module uniarc_linear_static
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
-   use uniarc_contact, only: candidate_gap, assemble_contact
+   use uniarc_contact, only: candidate_gap, assemble_contact, in_set
    use uniarc_path_mechanism, only: find_mechanism
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
@@ -223,7 +223,7 @@ contains
          do i = 1, 2
             if (map%equation(i, node) > 0) g(c) = g(c) + gradient(i)*x(map%equation(i, node))
          end do
-         if (.not. set(c)) cycle
+         if (.not. in_set(model, set, c)) cycle   ! a tangential spring acts with its partner
          if (map%candidate_equation(c) > 0) then
             r(c) = x(map%candidate_equation(c))
          else
