@@ -3,11 +3,13 @@ module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_internal
+   use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: candidate_reactions
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
-                                 stop_load_limit, stop_track_limit, stop_step_limit
+                                 stop_load_limit, stop_track_limit, stop_step_limit, driver_next_analysis_step
+   use uniarc_model_steps, only: n_analysis_steps, step_model
    use uniarc_contact, only: contact_summary_t, summarize_contact
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number
@@ -56,6 +58,8 @@ contains
       call abandon_results(results)
    end subroutine run_model
 
+   !> The linear static analysis (with contact: one LCP, uniarc_linear_static); one row per analysis
+   !> step, each solved under the loads of every step so far (uniarc_model_steps).
    subroutine run_linear(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
@@ -63,36 +67,57 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
-      type(step_record_t) :: record
+      type(step_record_t), allocatable :: records(:)
       type(error_t), allocatable :: io_error
       type(contact_summary_t) :: summary
       logical, allocatable :: active(:)
-      call solve_linear_static(model, record%displacement, record%neg_pivots, error, record%reactions, active, &
-                               record%lcp_pivots, record%lcp_residual)
-      if (allocated(error)) return
-      summary = summarize_contact(model, record%reactions, active)
-      record%n_contact = summary%n_contact
-      record%contact_regions = summary%regions
-      record%s_contact = summary%s_contact
-      record%reaction_max = summary%reaction_max
-      record%reaction_sum = summary%reaction_sum
-      record%step = 1
-      record%lambda = 1.0_dp
-      record%iterations = 1
+      real(dp), allocatable :: end_lambda(:)
+      integer :: k, n_steps
+      n_steps = n_analysis_steps(model)
+      allocate (records(n_steps))
+      allocate (end_lambda(n_steps), source=1.0_dp)
+      do k = 1, n_steps
+         associate (record => records(k))
+            call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
+                                     error, record%reactions, active, record%lcp_pivots, record%lcp_residual)
+            if (allocated(error)) then
+               if (allocated(model%steps)) error%message = 'analysis step '//integer_to_string(k)//' ('// &
+                                                           model%steps(k)%name//'): '//error%message
+               return
+            end if
+            summary = summarize_contact(model, record%reactions, active)
+            record%n_contact = summary%n_contact
+            record%contact_regions = summary%regions
+            record%s_contact = summary%s_contact
+            record%reaction_max = summary%reaction_max
+            record%reaction_sum = summary%reaction_sum
+            record%step = k
+            record%lambda = 1.0_dp
+            record%iterations = 1
+            record%analysis_step = k
+         end associate
+      end do
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
-      if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
-      if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      do k = 1, n_steps
+         if (.not. allocated(io_error)) call write_path_row(files, model, records(k), io_error)
+         if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
+         if (k < n_steps .and. .not. allocated(io_error)) &
+            call write_vtk_snapshot(vtk, results, model, records(k), io_error)
+      end do
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
-      if (.not. options%quiet) call print_tracks(model, record)
+      if (.not. options%quiet) call print_tracks(model, records(n_steps))
    end subroutine run_linear
 
    !> Follow the equilibrium path with the path driver (uniarc_path_driver: the steps, the stop rules,
    !> the critical points between steps), writing each converged step, its critical points and the
-   !> progress messages. An error of the analysis ends the path with the files of the steps so far; an
-   !> error of the result files ends it at once.
+   !> progress messages. A deck with analysis steps (*STEP) traces them in turn, each from the state
+   !> where the previous one stopped (driver_next_analysis_step) on the model of the step
+   !> (uniarc_model_steps: the earlier steps' loads held at their final λ); each later step starts with
+   !> a row of that state at its λ = 0. An error of the analysis ends the path with the files of the
+   !> steps so far; an error of the result files ends it at once.
    subroutine run_path(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
@@ -104,70 +129,131 @@ contains
       type(step_outcome_t) :: outcome
       type(step_record_t) :: record
       type(error_t), allocatable :: io_error
+      type(model_t) :: stepped
+      real(dp), allocatable :: end_lambda(:)
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
-      integer :: k, n_events
+      integer :: k, n_events, k_step, n_steps
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
-      call driver_start(model, driver, error)
-      if (allocated(error)) return
+      n_steps = n_analysis_steps(model)
+      allocate (end_lambda(n_steps), source=0.0_dp)
+      k_step = 1
+      stepped = step_model(model, k_step, end_lambda)
+      call driver_start(stepped, driver, error)
+      if (allocated(error)) then
+         call name_analysis_step(model, k_step, error)
+         return
+      end if
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       call record_state(model, driver, record)
+      record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
       n_events = 0
-      done = allocated(io_error)
-      do while (.not. done)
-         call driver_step(model, driver, outcome, error)
-         if (allocated(error)) exit
-         call record_state(model, driver, record)
-         call write_path_row(files, model, record, io_error)
-         if (allocated(io_error)) exit
-         do k = 1, size(outcome%events)
-            call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
-                                outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
+      do
+         done = allocated(io_error)
+         do while (.not. done)
+            call driver_step(stepped, driver, outcome, error)
+            if (allocated(error)) exit
+            call record_state(model, driver, record)
+            record%analysis_step = k_step
+            call write_path_row(files, model, record, io_error)
             if (allocated(io_error)) exit
-            n_events = n_events + 1
-            if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a)') '  ', outcome%events(k)%kind, &
-               ' at step ', trim(format_number(outcome%events(k)%position)), ': lambda = ', &
-               trim(format_number(outcome%events(k)%lambda))
+            do k = 1, size(outcome%events)
+               if (allocated(model%steps)) then
+                  call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
+                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error, k_step)
+               else
+                  call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
+                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
+               end if
+               if (allocated(io_error)) exit
+               n_events = n_events + 1
+               if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a,a)') '  ', outcome%events(k)%kind, &
+                  ' at step ', trim(format_number(outcome%events(k)%position)), ': lambda = ', &
+                  trim(format_number(outcome%events(k)%lambda)), step_label(model, k_step)
+            end do
+            if (allocated(io_error)) exit
+            if (mod(record%step, stepped%analysis%shape_every) == 0) then
+               call write_shape(files, model, record, io_error)
+               if (allocated(io_error)) exit
+            end if
+            if (vtk_snapshot_due(vtk, record%step)) then
+               call write_vtk_snapshot(vtk, results, model, record, io_error)
+               if (allocated(io_error)) exit
+            end if
+            done = driver%stop /= stop_none
+            call system_clock(clock_now)
+            if (.not. options%quiet .and. (options%verbose .or. &
+                (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
+               write (error_unit, '(a,i0,a,a,a,i0,a,i0,a,i0,a,f0.1,a)') 'step ', record%step, '  lambda ', &
+                  trim(format_number(record%lambda)), '  iterations ', record%iterations, &
+                  '  contacts ', record%n_contact, '  neg_pivots ', record%neg_pivots, '  (', &
+                  real(record%step, dp)/max(real(clock_now - clock_start, dp)/real(clock_rate, dp), 1.0e-3_dp), &
+                  ' steps/s)'
+               ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
+               flush (error_unit)
+               clock_last = clock_now
+            end if
          end do
-         if (allocated(io_error)) exit
-         if (mod(record%step, model%analysis%shape_every) == 0) then
+         if (allocated(error)) call name_analysis_step(model, k_step, error)
+         if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps) exit
+         ! The next analysis step, from the state where this one stopped (its shape written first).
+         end_lambda(k_step) = driver%state%lambda
+         if (.not. options%quiet) write (output_unit, '(a,i0,a,a,a,i0,a,a,a,a)') 'analysis step ', k_step, &
+            ' (', model%steps(k_step)%name, ') ended at step ', record%step, ', lambda = ', &
+            trim(format_number(record%lambda)), '; stopped by ', stop_message(model, driver)
+         if (mod(record%step, stepped%analysis%shape_every) /= 0) then
             call write_shape(files, model, record, io_error)
             if (allocated(io_error)) exit
          end if
-         if (vtk_snapshot_due(vtk, record%step)) then
-            call write_vtk_snapshot(vtk, results, model, record, io_error)
-            if (allocated(io_error)) exit
+         k_step = k_step + 1
+         stepped = step_model(model, k_step, end_lambda)
+         call driver_next_analysis_step(stepped, driver, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k_step, error)
+            exit
          end if
-         done = driver%stop /= stop_none
-         call system_clock(clock_now)
-         if (.not. options%quiet .and. (options%verbose .or. &
-             (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
-            write (error_unit, '(a,i0,a,a,a,i0,a,i0,a,i0,a,f0.1,a)') 'step ', record%step, '  lambda ', &
-               trim(format_number(record%lambda)), '  iterations ', record%iterations, &
-               '  contacts ', record%n_contact, '  neg_pivots ', record%neg_pivots, '  (', &
-               real(record%step, dp)/max(real(clock_now - clock_start, dp)/real(clock_rate, dp), 1.0e-3_dp), ' steps/s)'
-            ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
-            flush (error_unit)
-            clock_last = clock_now
-         end if
+         call record_state(model, driver, record)
+         record%analysis_step = k_step
+         call write_path_row(files, model, record, io_error)
       end do
-      if (.not. allocated(io_error) .and. mod(record%step, model%analysis%shape_every) /= 0) &
+      if (.not. allocated(io_error) .and. mod(record%step, stepped%analysis%shape_every) /= 0) &
          call write_shape(files, model, record, io_error)
       ! The last converged step closes the VTK series, also when the path failed after it.
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (.not. options%quiet) then
+         if (allocated(model%steps)) write (output_unit, '(a,i0,a,a,a,a,a,a)') 'analysis step ', k_step, &
+            ' (', model%steps(k_step)%name, ') ended at lambda = ', trim(format_number(record%lambda)), &
+            '; stopped by ', stop_message(model, driver)
          write (output_unit, '(a,i0,a,a,a,a)') 'path traced: ', record%step, ' steps, lambda = ', &
             trim(format_number(record%lambda)), '; stopped by ', stop_message(model, driver)
          write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
       end if
    end subroutine run_path
+
+   !> ' (analysis step K NAME)' for the messages of a deck with steps; '' without.
+   function step_label(model, k) result(label)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      character(len=:), allocatable :: label
+      label = ''
+      if (allocated(model%steps)) label = ' (analysis step '//integer_to_string(k)//' '//model%steps(k)%name//')'
+   end function step_label
+
+   !> Prefix an error of the analysis with the analysis step it happened in (decks with steps).
+   subroutine name_analysis_step(model, k, error)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      type(error_t), intent(inout) :: error
+      if (allocated(model%steps)) error%message = 'analysis step '//integer_to_string(k)//' ('// &
+                                                  model%steps(k)%name//'): '//error%message
+   end subroutine name_analysis_step
 
    !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
    !> their final names together, and `error` (the analysis' error, if any) is left as it is. After an

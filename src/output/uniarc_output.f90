@@ -42,6 +42,7 @@ module uniarc_output
       integer :: lcp_pivots = 0
       integer :: iterations = 0
       integer :: neg_pivots = 0
+      integer :: analysis_step = 0        !< the analysis step (*STEP) of the row; written when the deck has steps
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -74,7 +75,8 @@ contains
       comments = provenance_lines(provenance)
       call open_table(results, files%path, results%stem//'.path', path_header(model), comments, csv, error)
       if (allocated(error)) return
-      call open_table(results, files%crit, results%stem//'.crit', 'kind step lambda'//track_names(model), &
+      call open_table(results, files%crit, results%stem//'.crit', 'kind step lambda'//track_names(model)// &
+                      step_column(model), &
                       comments, csv, error)
       if (allocated(error)) return
       call open_table(results, files%shape, results%stem//'.shape', &
@@ -150,8 +152,16 @@ contains
       character(len=:), allocatable :: header
       header = 'step lambda'//track_names(model)// &
                ' n_contact contact_regions s_contact_1 s_contact_2 reaction_max reaction_sum'// &
-               ' lcp_residual lcp_pivots iterations neg_pivots'
+               ' lcp_residual lcp_pivots iterations neg_pivots'//step_column(model)
    end function path_header
+
+   !> The last column of the path and crit files of a deck with analysis steps (*STEP): ' analysis_step'.
+   pure function step_column(model) result(name)
+      type(model_t), intent(in) :: model
+      character(len=:), allocatable :: name
+      name = ''
+      if (allocated(model%steps)) name = ' analysis_step'
+   end function step_column
 
    pure function track_names(model) result(names)
       type(model_t), intent(in) :: model
@@ -178,21 +188,27 @@ contains
              numbers_text([record%s_contact, record%reaction_max, record%reaction_sum, record%lcp_residual])// &
              ' '//integer_to_string(record%lcp_pivots)//' '//integer_to_string(record%iterations)//' '// &
              integer_to_string(record%neg_pivots)
+      if (allocated(model%steps)) line = line//' '//integer_to_string(record%analysis_step)
       call put_row(files%path, line)
       call flush_table(files%path, error)
    end subroutine write_path_row
 
    !> One event of the critical-point file: kind, where it lies (a step number, fractional when the
-   !> event was located between two steps), λ and the tracked values at the event. Flushed.
-   subroutine write_crit_row(files, kind, position, lambda, tracked, error)
+   !> event was located between two steps), λ and the tracked values at the event; `analysis_step`
+   !> (given for a deck with *STEP cards only) the analysis step it happened in. Flushed.
+   subroutine write_crit_row(files, kind, position, lambda, tracked, error, analysis_step)
       type(output_files_t), intent(inout) :: files
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position
       real(dp), intent(in) :: lambda
       real(dp), intent(in) :: tracked(:)
       type(error_t), allocatable, intent(out) :: error
+      integer, intent(in), optional :: analysis_step
+      character(len=:), allocatable :: step_text
+      step_text = ''
+      if (present(analysis_step)) step_text = ' '//integer_to_string(analysis_step)
       call put_row(files%crit, kind//' '//trim(format_number(position))//' '//trim(format_number(lambda))// &
-                   numbers_text(tracked))
+                   numbers_text(tracked)//step_text)
       call flush_table(files%crit, error)
    end subroutine write_crit_row
 
