@@ -7,7 +7,7 @@
 !>     F_held + λ F_k,   F_held = Σ_{j<k} λ_j F_j,
 !>
 !> λ_j the load factor at which step j ended (as Abaqus and CalculiX keep the loads of earlier steps,
-!> Abaqus Analysis User's Guide §6.1.2 "Defining an analysis"; CalculiX CrunchiX User's Manual, *STEP).
+!> Abaqus Analysis User's Guide, "Defining an analysis"; CalculiX CrunchiX User's Manual, *STEP).
 !> A deck without *STEP is one step, the model itself.
 module uniarc_model_steps
    use uniarc_kinds, only: dp
