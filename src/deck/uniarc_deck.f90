@@ -250,6 +250,7 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, bad
+      real(dp), allocatable :: loads(:, :)
 
       do i = 1, size(deck%overrides)
          if (.not. deck%override_used(i)) then
@@ -286,10 +287,15 @@ contains
          return
       end if
       associate (model => deck%model)
+         ! The nodal loads of every analysis step count as the model's (a moment on a truss node).
+         loads = abs(model%nodal_load(:, 1:model%n_nodes))
+         do i = 1, deck%n_steps
+            loads = loads + abs(deck%steps(i)%loads%nodal_load)
+         end do
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
                                    element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
                                    deck%node_line(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
-                                   model%fixed(:, 1:model%n_nodes), model%nodal_load(:, 1:model%n_nodes), error, &
+                                   model%fixed(:, 1:model%n_nodes), loads, error, &
                                    joints=model%end_joints)
       end associate
    end subroutine check_whole_deck
