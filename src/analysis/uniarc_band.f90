@@ -13,7 +13,8 @@ module uniarc_band
    public :: band_matrix_t
    public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
    public :: band_factorize, band_solve, band_solve_transpose, band_inertia, band_set
-   public :: band_copy, band_move, band_inertia_from_factors
+   public :: band_copy, band_move, band_inertia_from_factors, band_weakest_pivot, &
+             band_row_terms
 
    !> A square band matrix, its LU factors once factorised, and what the factorisation tells.
    type :: band_matrix_t
@@ -281,6 +282,78 @@ contains
          end do
       end do
    end subroutine band_inertia
+
+   !> The relative pivot test for a singular or near-singular matrix (a mechanism): Gaussian
+   !> elimination without interchanges of an unfactorised matrix (on a copy, O(n·b²)), each pivot
+   !> measured against the diagonal entry of its own row before elimination, |p_k| / |A_kk|. That
+   !> ratio is the fraction of the row's own stiffness left once the rows before it are eliminated:
+   !> about 1 where a DOF is held, round-off (1e-16·growth) where a DOF can move without
+   !> deforming anything — unlike |p_k| / max|p|, which is tiny on any large, well-held model whose
+   !> rows differ in stiffness. Rows with a zero diagonal (the contact rows of a rigid contact in
+   !> an augmented saddle-point system) are measured against their largest entry instead, and the
+   !> elimination skips a column whose pivot is exactly zero (as band_inertia does).
+   !> `weakest`: the row with the smallest ratio (0 if n = 0); `ratio`: that ratio (huge if n = 0);
+   !> `below`: the number of rows whose ratio is at most `tolerance`.
+   !> Source: Golub & Van Loan (2013), Matrix Computations, §3.4 (LU pivots) and §4.2 (LDLᵀ of a
+   !> semidefinite matrix: a zero pivot and the null vector).
+   pure subroutine band_weakest_pivot(matrix, tolerance, weakest, ratio, below)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(in) :: tolerance
+      integer, intent(out) :: weakest, below
+      real(dp), intent(out) :: ratio
+      real(dp), allocatable :: work(:, :), row_scale(:)
+      real(dp) :: pivot, factor, scale, r
+      integer :: k, i, j, offset, last_row, last_col
+      weakest = 0
+      below = 0
+      ratio = huge(1.0_dp)
+      if (matrix%n == 0) return
+      offset = matrix%kl + matrix%ku + 1
+      allocate (work, source=matrix%ab)
+      row_scale = row_maxima(matrix)
+      do k = 1, matrix%n
+         scale = abs(matrix%ab(offset, k))
+         if (scale <= 0.0_dp) scale = row_scale(k)
+         pivot = work(offset, k)
+         r = 0.0_dp
+         if (scale > 0.0_dp) r = abs(pivot)/scale
+         if (r < ratio) then
+            ratio = r
+            weakest = k
+         end if
+         if (r <= tolerance) below = below + 1
+         if (pivot == 0.0_dp) cycle
+         last_row = min(matrix%n, k + matrix%kl)
+         last_col = min(matrix%n, k + matrix%ku)
+         do i = k + 1, last_row
+            factor = work(offset + i - k, k)/pivot
+            do j = k + 1, last_col
+               work(offset + i - j, j) = work(offset + i - j, j) - factor*work(offset + k - j, j)
+            end do
+         end do
+      end do
+   end subroutine band_weakest_pivot
+
+   !> A x and the size of its terms, row by row, for an unfactorised matrix: product(i) = Σ_j A_ij x_j
+   !> and magnitude(i) = Σ_j |A_ij x_j| (n each). Their ratio is the cancellation in row i: about ε
+   !> where (A x)_i = 0 holds in exact arithmetic, as for a rigid-body motion of an unsupported
+   !> structure (Higham 2002, Accuracy and Stability of Numerical Algorithms, §3.1: the error of a
+   !> computed sum is at most about n ε Σ|terms|).
+   pure subroutine band_row_terms(matrix, x, product, magnitude)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: product(:), magnitude(:)
+      integer :: i, j, offset
+      offset = matrix%kl + matrix%ku + 1
+      product = 0.0_dp
+      magnitude = 0.0_dp
+      do j = 1, matrix%n
+         do i = max(1, j - matrix%ku), min(matrix%n, j + matrix%kl)
+            product(i) = product(i) + matrix%ab(offset + i - j, j)*x(j)
+            magnitude(i) = magnitude(i) + abs(matrix%ab(offset + i - j, j)*x(j))
+         end do
+      end do
+   end subroutine band_row_terms
 
    !> Largest |A(i, j)| of each row i of an unfactorised matrix (n).
    pure function row_maxima(matrix) result(row_scale)

@@ -1,6 +1,6 @@
 !> Unilateral contact of the structure with foundations and obstacles: the contact rows of the augmented
-!> system and the contact summary of the path file (docs/theory.md §3). The gaps and their derivatives
-!> are the contact law's (uniarc_contact_law).
+!> system (docs/theory.md §3; the path file's contact columns are uniarc_contact_summary's). The gaps and
+!> their derivatives are the contact law's (uniarc_contact_law).
 !>
 !> Every candidate c has a gap g_c(u) ≥ 0 (positive = open), a reaction r_c ≥ 0 acting on its node along
 !> a_c = ∂g_c/∂u (the direction in which the gap opens), and a flexibility t_c (1/k; 0 = rigid), with
@@ -26,16 +26,7 @@ module uniarc_contact
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
-   public :: candidate_gap, assemble_contact, toggle_contacts, set_membership, contact_summary_t, summarize_contact
-
-   !> What the path file reports of the contact state (docs/contracts.md, the path file's columns).
-   type :: contact_summary_t
-      integer :: n_contact = 0
-      integer :: regions = 0
-      real(dp) :: s_contact(2) = 0.0_dp
-      real(dp) :: reaction_max = 0.0_dp
-      real(dp) :: reaction_sum = 0.0_dp
-   end type contact_summary_t
+   public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
 
 contains
 
@@ -180,54 +171,5 @@ contains
          end do
       end do
    end subroutine add_condensed_spring
-
-   !> Contact columns of the path file: candidates in contact (r > 0), contiguous regions along each
-   !> group, the ends of the first region (smallest coordinate), largest and total reaction.
-   pure function summarize_contact(model, reactions, active) result(summary)
-      type(model_t), intent(in) :: model
-      real(dp), intent(in) :: reactions(:)
-      logical, intent(in) :: active(:)
-      type(contact_summary_t) :: summary
-      integer :: g, k, c
-      logical :: inside, first_found
-      real(dp) :: region_start, previous_coordinate
-      first_found = .false.
-      if (.not. allocated(model%contact_groups)) return
-      do g = 1, size(model%contact_groups)
-         inside = .false.
-         previous_coordinate = 0.0_dp
-         region_start = 0.0_dp
-         do k = 1, size(model%contact_groups(g)%candidates)
-            c = model%contact_groups(g)%candidates(k)
-            if (active(c) .and. reactions(c) > 0.0_dp) then
-               summary%n_contact = summary%n_contact + 1
-               summary%reaction_max = max(summary%reaction_max, reactions(c))
-               summary%reaction_sum = summary%reaction_sum + reactions(c)
-               if (.not. inside) then
-                  summary%regions = summary%regions + 1
-                  region_start = model%contacts(c)%coordinate
-               end if
-               inside = .true.
-            else if (inside) then
-               call close_region(summary, first_found, region_start, previous_coordinate)
-               inside = .false.
-            end if
-            previous_coordinate = model%contacts(c)%coordinate
-         end do
-         if (inside) call close_region(summary, first_found, region_start, previous_coordinate)
-      end do
-
-   end function summarize_contact
-
-   !> A region [start, finish] becomes the first region if it lies before the one found so far.
-   pure subroutine close_region(summary, first_found, start, finish)
-      type(contact_summary_t), intent(inout) :: summary
-      logical, intent(inout) :: first_found
-      real(dp), intent(in) :: start, finish
-      if (.not. first_found .or. min(start, finish) < minval(summary%s_contact)) then
-         summary%s_contact = [min(start, finish), max(start, finish)]
-         first_found = .true.
-      end if
-   end subroutine close_region
 
 end module uniarc_contact

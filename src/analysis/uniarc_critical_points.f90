@@ -4,7 +4,9 @@
 !> Hermite interpolant of λ(s) built from the values and slopes at both points (error O(h⁴) in λ, so
 !> the located load is far more accurate than the nearest step). A bifurcation is a change of the
 !> number of negative pivots of K_T that no limit point explains; it is placed where the eigenvalue of
-!> least magnitude, interpolated linearly between the points, vanishes.
+!> least magnitude, interpolated linearly between the points, vanishes. Where the path following has
+!> located a point by re-solving the step (uniarc_path_locate, on a bracket of 1e-3 of the step with
+!> this same interpolation), the point record carries it and it is used instead.
 module uniarc_critical_points
    use uniarc_kinds, only: dp
    use uniarc_path_state, only: path_point_t
@@ -31,7 +33,11 @@ contains
       allocate (events(0))
       unexplained = abs(after%neg_pivots - before%neg_pivots)
       if (before%dlambda_ds*after%dlambda_ds < 0.0_dp) then
-         if (contact_changes(before, after)) then
+         if (after%limit_fraction >= 0.0_dp) then
+            ! Located by re-solving the step (uniarc_path_locate).
+            event%fraction = after%limit_fraction
+            event%lambda = after%limit_lambda
+         else if (contact_changes(before, after)) then
             ! The load turns where a contact starts or ends (a kink of the path, not a smooth limit):
             ! the extremum is at the contact event, on the branch that leads to it.
             event%fraction = first_contact_change(before, after)
@@ -62,11 +68,17 @@ contains
          else
             event%kind = 'bifurcation'
          end if
-         event%fraction = 0.5_dp
-         if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then
-            event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
+         if (after%bifurcation_fraction >= 0.0_dp) then
+            ! Located by re-solving the step (uniarc_path_locate).
+            event%fraction = after%bifurcation_fraction
+            event%lambda = after%bifurcation_lambda
+         else
+            event%fraction = 0.5_dp
+            if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then
+               event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
+            end if
+            event%lambda = hermite_lambda(before, after, event%fraction)
          end if
-         event%lambda = hermite_lambda(before, after, event%fraction)
          event%position = before%step + event%fraction
          events = [events, event]
       end if

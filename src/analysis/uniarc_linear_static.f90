@@ -21,6 +21,7 @@ module uniarc_linear_static
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact
+   use uniarc_path_mechanism, only: find_mechanism
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
    implicit none
@@ -43,7 +44,8 @@ contains
    !> (one per candidate, force ≥ 0, exactly 0 out of contact), `active` (the candidates in contact or
    !> bonded), `lcp_pivots` (pivots the contact LCP spent), `lcp_residual` (largest relative violation
    !> of complementarity of the linearised gaps, docs/theory.md §3.4).
-   !> Errors: a singular matrix (analysis: the supports and the contacts of the set do not hold the
+   !> Errors: a mechanism (input: the model moves as a rigid body with every contact closed,
+   !> uniarc_path_mechanism); a singular matrix (analysis: the supports and the contacts of the set do not hold the
    !> structure); a contact LCP that is not solved (analysis).
    subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
                                   lcp_residual)
@@ -63,7 +65,7 @@ contains
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst
-      integer :: n, round, pivots
+      integer :: n, round, pivots, c
 
       call build_dof_map(model, map)
       n = map%n_equations
@@ -76,6 +78,13 @@ contains
       ! following starts): it holds what the contacts hold, so K_S is regular for a structure that
       ! rests on its medium without supports.
       allocate (set(size(map%candidate_equation)))
+      ! A model that can move as a rigid body even with every contact closed is a mechanism: refused
+      ! (error_input, exit 2) before any solve, by the path following's start-up test
+      ! (uniarc_path_mechanism: relative pivot test, then the rigid-body test).
+      set = [(candidate_live(map, c), c=1, size(set))]
+      call assemble_set(model, map, zero_nodal, set, assembled, residual)
+      call find_mechanism(model, map, assembled, error)
+      if (allocated(error)) return
       call touching(model, map, length_scale, set)
       pivots = 0
       worst = 0.0_dp

@@ -11,7 +11,8 @@
 !> test / system of equations): uniarc_path_state (committed state, trial, system of equations),
 !> uniarc_path_integrator (step constraint and δλ strategies), uniarc_path_newton (one attempt:
 !> predictor, Newton and its convergence test), uniarc_path_contact_set (contact working set),
-!> uniarc_path_stability (inertia, least eigenvalue), uniarc_path_point (the point record). Here:
+!> uniarc_path_stability (inertia, least eigenvalue), uniarc_path_point (the point record),
+!> uniarc_path_locate (critical points passed by a step, located by re-solving it). Here:
 !> path_initialize, and path_advance with the cut-back, the commit and the next step length.
 !>
 !> Predictor sign: the predictor goes along +K⁻¹R or −K⁻¹R, whichever makes a positive angle with the
@@ -23,15 +24,17 @@ module uniarc_path_following
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load
-   use uniarc_dof_map, only: build_dof_map
+   use uniarc_dof_map, only: build_dof_map, dof_map_t
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
-   use uniarc_path_stability, only: structural_inertia, least_eigenvalue, liftoff_stability
+   use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
+   use uniarc_path_locate, only: locate_critical_points
+   use uniarc_path_mechanism, only: check_mechanism
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -75,6 +78,9 @@ contains
                return
             end if
          end if
+         ! A model that no contact can hold is refused before the path starts (exit code 2).
+         call check_mechanism(model, state, system, nodal, error)
+         if (allocated(error)) return
          call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
@@ -159,8 +165,11 @@ contains
    !> Each attempt (uniarc_path_newton, attempt_step) works on a trial of its own; the committed state
    !> is changed only by the attempt that converges. `cuts` (optional) returns the halvings of the step
    !> length before that attempt (0: the first converged), or, on failure, the halvings made.
-   !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why);
-   !> a singular tangent at the converged state.
+   !> A converged attempt off the branch it followed (far_from_predictor, off_branch) is cut like one
+   !> that did not converge.
+   !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why;
+   !> under load control from a stable state, that this is where the load reaches a limit point); a
+   !> singular tangent at the converged state.
    subroutine path_advance(model, state, error, cuts)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -168,6 +177,7 @@ contains
       integer, intent(out), optional :: cuts
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
+      type(path_state_t) :: before
       real(dp) :: length, factor, remaining
       integer :: attempt, halvings
       logical :: to_limit
@@ -188,46 +198,97 @@ contains
             end if
          end if
          halvings = 0
-         do attempt = 0, options%max_cuts
-            trial%length = length
-            call attempt_step(model, state, system, trial)
-            if (trial%converged) exit
+         ! A converged attempt that landed on another branch (far from its predictor, where the
+         ! path's tangent lies across the step, or reversing the last step) is rejected and cut like
+         ! one that did not converge: no silent jump (docs/theory.md §2.3).
+         steps: do
+            do attempt = halvings, options%max_cuts
+               trial%length = length
+               call attempt_step(model, state, system, trial)
+               if (trial%converged) then
+                  ! The distance test holds only where the predictor's linearisation does: a step
+                  ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
+                  ! O(Δl²) (a tip stopped by an obstacle moves far less than the free predictor said);
+                  ! such a step is judged by the angle tests of its commit (off_branch) alone.
+                  if (any(trial%active .neqv. state%active)) exit
+                  if (.not. far_from_predictor(state%map, trial)) exit
+                  trial%converged = .false.
+                  trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
+                                 ' (another branch)'
+                  system%holds_converged = .false.
+               end if
+               length = 0.5_dp*length
+               halvings = halvings + 1
+               if (length < options%min_increment*state%first_length) exit
+            end do
+            if (present(cuts)) cuts = halvings
+            if (.not. trial%converged) then
+               call move_alloc(system, state%system)
+               call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
+                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               error_analysis)
+               if (options%control == control_load .and. state%point%neg_pivots == 0) then
+                  ! Under load control the path cannot pass a limit point: past it there is no
+                  ! equilibrium near the last one (docs/contracts.md, exit code 1).
+                  error%message = error%message//'; under load control this is where the load reaches a '// &
+                                  'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
+               end if
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+               return
+            end if
+            ! The state at the start of the step, for the critical-point locator and a rejection (no
+            ! system: moved out).
+            before = state
+            ! Commit the converged trial.
+            state%u = state%u + trial%increment
+            state%lambda = state%lambda + trial%dlambda
+            ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
+            if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
+            state%active = trial%active
+            state%last_increment = trial%increment
+            state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+            call commit_tangent(model, state, system, .false., error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
+            select case (options%control)
+            case (control_arclength)
+               ! Keep travelling forward: positive angle between the new tangent and the last increment.
+               if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
+                  state%direction = -1
+               else
+                  state%direction = 1
+               end if
+            end select
+            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+            ! A converged state whose tangent is far from the step's chord, or a step that reverses
+            ! the last one, is not on the branch the step followed.
+            if (.not. off_branch(state%map, trial%increment, before%last_increment, state%tangent_displacement)) then
+               ! A limit point or bifurcation the step has passed is located by re-solving from its start.
+               call locate_critical_points(model, before, state, system, length)
+               exit steps
+            end if
+            state = before
+            system%holds_committed = .false.
+            system%holds_converged = .false.
+            trial%reason = 'the converged state is off the branch the step followed (the path''s tangent there is'// &
+                           ' across the step, or the step reverses the last one)'
+            trial%converged = .false.
             length = 0.5_dp*length
             halvings = halvings + 1
-            if (length < options%min_increment*state%first_length) exit
-         end do
-         if (present(cuts)) cuts = halvings
-         if (.not. trial%converged) then
-            call move_alloc(system, state%system)
-            call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                            real_to_string(length/state%first_length, message_edit)//' of the first', error_analysis)
-            call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
-            return
-         end if
-         ! Commit the converged trial.
-         state%u = state%u + trial%increment
-         state%lambda = state%lambda + trial%dlambda
-         ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
-         if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
-         state%active = trial%active
-         state%last_increment = trial%increment
-         state%point%s = state%point%s + masked_norm(state%map, trial%increment)
-         call commit_tangent(model, state, system, .false., error)
-         call move_alloc(system, state%system)
-         if (allocated(error)) then
-            call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
-            return
-         end if
-         select case (options%control)
-         case (control_arclength)
-            ! Keep travelling forward: positive angle between the new tangent and the last increment.
-            if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
-               state%direction = -1
-            else
-               state%direction = 1
+            if (length < options%min_increment*state%first_length) then
+               call move_alloc(system, state%system)
+               call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
+                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               error_analysis)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+               if (present(cuts)) cuts = halvings
+               return
             end if
-         end select
-         call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+         end do steps
+         call move_alloc(system, state%system)
          factor = sqrt(real(options%desired_iterations, dp)/real(max(trial%iterations, 1), dp))
          factor = min(2.0_dp, max(0.25_dp, factor))
          state%step_length = min(options%max_increment*state%first_length, &
@@ -235,48 +296,40 @@ contains
       end associate
    end subroutine path_advance
 
-   !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
-   !> residual, K⁻¹R, inertia and least eigenvalue into the state.
-   !> Errors: a singular tangent (band_factorize, band_solve).
-   subroutine commit_tangent(model, state, system, unloaded, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(inout) :: state
-      type(path_system_t), intent(inout) :: system
-      logical, intent(in) :: unloaded   !< the unloaded state of path_initialize
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
-      real(dp) :: element_scale
-      integer :: n
-      system%holds_committed = .false.
-      n = state%map%n_equations
-      allocate (internal(n), reference(n), rhs(n, 1))
-      if (system%holds_converged) then
-         ! The attempt's last assembly is this very state (the same u, λ and working set).
-         internal = system%converged_internal
-         reference = system%converged_reference
-         system%holds_converged = .false.
-      else
-         call nodal_displacements(model, state, nodal)
-         call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
-                             reference, element_scale)
+   !> Whether a converged attempt landed farther from its predictor than the predictor's own length
+   !> (displacement norm): Newton's corrections are O(Δl²) on the branch the predictor follows, while
+   !> a step that converges on another branch lands at a distance of its own. Measured on every deck
+   !> of the repository: at most 0.37 of the predictor on the traced branches; 36 for Walker's arch
+   !> under load control jumping past its limit point onto the inverted branch.
+   pure logical function far_from_predictor(map, trial)
+      type(dof_map_t), intent(in) :: map
+      type(step_trial_t), intent(in) :: trial
+      far_from_predictor = masked_norm(map, trial%increment - trial%predictor) > masked_norm(map, trial%predictor)
+   end function far_from_predictor
+
+   !> Whether a converged step of increment Δx (n) from a state reached by `last` (n; zero at the
+   !> start) lands off the branch it followed: the path's tangent at the landing state, `tangent` (n,
+   !> K⁻¹R there), makes an angle above 60° with the chord Δx, or Δx makes an obtuse angle with the
+   !> last increment (the path walked back). On a traced branch the chord of a step is close to the
+   !> tangents at both its ends (half the turning angle of the step); a step that converged on a
+   !> crossing branch lands where that branch's tangent is across it. Measured on every deck of the
+   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent and 40° (cos ≥ 0.77) to the
+   !> last increment; Walker's arch (ex. 3, k = 1e5, max_increment 50) jumping onto another loop: 87°.
+   pure logical function off_branch(map, increment, last, tangent)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: increment(:), last(:), tangent(:)
+      real(dp) :: size_step, size_tangent, size_last
+      size_step = masked_norm(map, increment)
+      size_tangent = masked_norm(map, tangent)
+      size_last = masked_norm(map, last)
+      off_branch = .false.
+      if (size_step > 0.0_dp .and. size_tangent > 0.0_dp) then
+         off_branch = abs(masked_dot(map, increment, tangent)) < 0.5_dp*size_step*size_tangent
       end if
-      state%reference = reference
-      ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
-      ! LCP needs both): the step's first attempt does not assemble and factorise them again.
-      call band_copy(system%tangent, system%assembled)
-      state%committed_residual = state%lambda*state%reference - internal
-      call band_factorize(system%tangent, error)
-      if (allocated(error)) return
-      call structural_inertia(system%tangent, system%assembled, state%active, state%map%candidate_equation, &
-                              state%point%neg_pivots, state%point%n_active)
-      rhs(:, 1) = state%reference
-      call band_solve(system%tangent, rhs, error)
-      if (allocated(error)) return
-      system%holds_committed = .true.
-      state%tangent_displacement = rhs(:, 1)
-      state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
-      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
-   end subroutine commit_tangent
+      if (size_step > 0.0_dp .and. size_last > 0.0_dp) then
+         off_branch = off_branch .or. masked_dot(map, increment, last) < 0.0_dp
+      end if
+   end function off_branch
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)

@@ -10,9 +10,9 @@ module uniarc_run
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model
-   use uniarc_contact, only: contact_summary_t, summarize_contact
+   use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
-                            write_crit_row, close_outputs, discard_outputs, format_number
+                            write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
@@ -86,6 +86,7 @@ contains
                return
             end if
             summary = summarize_contact(model, record%reactions, active)
+            record%groups = summarize_groups(model, record%reactions, active)
             record%n_contact = summary%n_contact
             record%contact_regions = summary%regions
             record%s_contact = summary%s_contact
@@ -102,6 +103,7 @@ contains
       do k = 1, n_steps
          if (.not. allocated(io_error)) call write_path_row(files, model, records(k), io_error)
          if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
+         if (.not. allocated(io_error)) call write_forces(files, step_model(model, k, end_lambda), records(k), io_error)
          if (k < n_steps .and. .not. allocated(io_error)) &
             call write_vtk_snapshot(vtk, results, model, records(k), io_error)
       end do
@@ -152,6 +154,7 @@ contains
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error) .and. forces_due(stepped, record%step)) call write_forces(files, stepped, record, io_error)
       n_events = 0
       do
          done = allocated(io_error)
@@ -185,6 +188,8 @@ contains
                call write_vtk_snapshot(vtk, results, model, record, io_error)
                if (allocated(io_error)) exit
             end if
+            if (forces_due(stepped, record%step)) call write_forces(files, stepped, record, io_error)
+            if (allocated(io_error)) exit
             done = driver%stop /= stop_none
             call system_clock(clock_now)
             if (.not. options%quiet .and. (options%verbose .or. &
@@ -223,7 +228,8 @@ contains
       end do
       if (.not. allocated(io_error) .and. mod(record%step, stepped%analysis%shape_every) /= 0) &
          call write_shape(files, model, record, io_error)
-      ! The last converged step closes the VTK series, also when the path failed after it.
+      ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
+      if (.not. allocated(io_error)) call write_forces(files, stepped, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
@@ -295,6 +301,7 @@ contains
          record%lcp_residual = state%point%lcp_residual
          record%reactions = candidate_reactions(state)
          summary = summarize_contact(model, record%reactions, state%active)
+         record%groups = summarize_groups(model, record%reactions, state%active)
       end associate
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions

@@ -282,9 +282,12 @@ contains
    end subroutine set_path_value
 
    !> *OUTPUT, FORMAT [, EVERY=n]: an extra result file format (docs/input.md). The format is the card's
-   !> one option without a value, so that further formats are further names here; VTK is the first
-   !> (ParaView snapshots, uniarc_vtk). EVERY= is the snapshot interval in steps; without it the
-   !> snapshots are those of the shape file. Step 0 and the last step are always written.
+   !> one option without a value, so that further formats are further names here:
+   !> - VTK: ParaView snapshots (uniarc_vtk), no data lines;
+   !> - FORCES: the tables of internal forces and contact pressures (uniarc_output, STEM.forces and
+   !>   STEM.contact); optional data lines list step numbers (whole numbers >= 0) at which to write them.
+   !> EVERY= is the interval in steps; without it (and, for FORCES, without listed steps) the steps are
+   !> those of the shape file (step 0 included). The last converged step is always written.
    subroutine read_output(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -300,22 +303,43 @@ contains
       do i = 1, size(card%options)
          if (card%options(i)%has_value .or. card%options(i)%name == 'EVERY') cycle
          select case (card%options(i)%name)
-         case ('VTK')
+         case ('VTK', 'FORCES')
             if (len(format_name) == 0) then
                format_name = card%options(i)%name
                format_column = card%options(i)%column
+            else
+               call raise(source, card%line, card%options(i)%column, 'expected one output format per '// &
+                          '*OUTPUT card, found '''//clip(card%options(i)%name)//''' after '''//format_name// &
+                          '''', error)
+               return
             end if
          case default
-            call raise(source, card%line, card%options(i)%column, 'expected an output format (VTK) on '// &
-                       '*OUTPUT, found '''//clip(card%options(i)%name)//'''', error)
+            call raise(source, card%line, card%options(i)%column, 'expected an output format (VTK, FORCES) '// &
+                       'on *OUTPUT, found '''//clip(card%options(i)%name)//'''', error)
             return
          end select
       end do
-      call check_options(source, card, [character(len=6) :: 'VTK', 'EVERY='], error)
+      call check_options(source, card, [character(len=6) :: 'VTK', 'FORCES', 'EVERY='], error)
       if (allocated(error)) return
       if (len(format_name) == 0) then
          call raise(source, card%line, card%column, 'expected an output format after *OUTPUT '// &
-                    '(*OUTPUT, VTK), found none', error)
+                    '(*OUTPUT, VTK or *OUTPUT, FORCES), found none', error)
+         return
+      end if
+      every = 0
+      k = option_index(card, 'EVERY')
+      if (k > 0) then
+         call field_integer(source, deck%parameters, card%line, option_field(card, k), &
+                            'a number of steps for EVERY=', every, error)
+         if (allocated(error)) return
+         if (every <= 0) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a positive number '// &
+                       'of steps for EVERY=, found '//integer_to_string(every), error)
+            return
+         end if
+      end if
+      if (format_name == 'FORCES') then
+         call read_output_forces(source, card, format_column, every, deck, error)
          return
       end if
       if (card%n_data > 0) then
@@ -330,20 +354,45 @@ contains
       end if
       deck%vtk_line = card%line
       deck%model%output%vtk = .true.
-      deck%model%output%vtk_every = 0
-      k = option_index(card, 'EVERY')
-      if (k > 0) then
-         call field_integer(source, deck%parameters, card%line, option_field(card, k), &
-                            'a number of steps for EVERY=', every, error)
-         if (allocated(error)) return
-         if (every <= 0) then
-            call raise(source, card%line, card%options(k)%value_column, 'expected a positive number '// &
-                       'of steps for EVERY=, found '//integer_to_string(every), error)
-            return
-         end if
-         deck%model%output%vtk_every = every
-      end if
+      deck%model%output%vtk_every = every
    end subroutine read_output
+
+   !> The rest of *OUTPUT, FORCES [, EVERY=n] (read_output): once per deck; its data lines list the
+   !> steps to write, whole numbers >= 0 separated by commas.
+   subroutine read_output_forces(source, card, format_column, every, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      integer, intent(in) :: format_column, every
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      type(field_t), allocatable :: fields(:)
+      integer, allocatable :: steps(:)
+      integer :: i, j, line, step
+      if (deck%forces_line > 0) then
+         call raise(source, card%line, format_column, 'expected one *OUTPUT, FORCES card, found another '// &
+                    'after the one at line '//integer_to_string(deck%forces_line), error)
+         return
+      end if
+      allocate (steps(0))
+      do i = 1, card%n_data
+         line = card%data_lines(i)
+         call data_fields(source, line, fields)
+         do j = 1, size(fields)
+            call field_integer(source, deck%parameters, line, fields(j), 'a step number', step, error)
+            if (allocated(error)) return
+            if (step < 0) then
+               call raise(source, line, fields(j)%column, 'expected a step number (0 or more), found '// &
+                          integer_to_string(step), error)
+               return
+            end if
+            steps = [steps, step]
+         end do
+      end do
+      deck%forces_line = card%line
+      deck%model%output%forces = .true.
+      deck%model%output%forces_every = every
+      deck%model%output%forces_steps = steps
+   end subroutine read_output_forces
 
    !> A deck describes one analysis: a second analysis card is an error.
    subroutine require_analysis_once(source, card, deck, error)

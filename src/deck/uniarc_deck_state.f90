@@ -40,6 +40,7 @@ module uniarc_deck_state
       character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
       integer :: stop_track_line = 0, stop_track_column = 0
       integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
+      integer :: forces_line = 0                      !< line of the *OUTPUT, FORCES card, 0 if none yet
       !> Analysis steps (*STEP ... *END STEP, uniarc_deck_steps): the steps closed so far, whether one
       !> is open and where it began, and the first load and analysis card met outside every step
       !> (refused once the deck turns out to have steps).

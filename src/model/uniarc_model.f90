@@ -198,6 +198,10 @@ module uniarc_model
    type :: output_options_t
       logical :: vtk = .false.   !< ParaView snapshots `STEM_NNNN.vtk` and their collection `STEM.pvd`
       integer :: vtk_every = 0   !< a VTK snapshot every so many steps; 0: as the shape file (shape_every)
+      !> The tables of internal forces `STEM.forces` and contact pressures `STEM.contact` (*OUTPUT, FORCES)
+      logical :: forces = .false.
+      integer :: forces_every = 0              !< every so many steps; 0: as the shape file, unless listed
+      integer, allocatable :: forces_steps(:)  !< the steps listed on the card's data lines (may be unallocated)
    end type output_options_t
 
    !> The loads of one analysis step (*STEP, docs/input.md): its reference nodal loads, distributed loads

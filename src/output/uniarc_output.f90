@@ -1,6 +1,8 @@
 !> Result files of docs/contracts.md: the path file `STEM.path`, critical points `STEM.crit`, shapes
-!> `STEM.shape`, the surfaces of the contact media `STEM.surface` (when the model has any), and with
-!> `--csv` the same tables as comma-separated `STEM.path.csv`, ... for spreadsheets.
+!> `STEM.shape`, the surfaces of the contact media `STEM.surface` (when the model has any), the
+!> internal forces `STEM.forces` and contact pressures `STEM.contact` (`*OUTPUT, FORCES`; their
+!> values are uniarc_output_forces'), and with `--csv` the same tables as comma-separated
+!> `STEM.path.csv`, ... for spreadsheets.
 !>
 !> Every table starts with one line of column names (no comment sign: numpy's genfromtxt(names=True),
 !> pandas' read_csv and gnuplot's columnheader take it as it is), then the provenance of the run as
@@ -21,11 +23,14 @@ module uniarc_output
                                discard_text_file
    use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_provenance, only: provenance_t, provenance_lines
+   use uniarc_contact_summary, only: contact_summary_t
+   use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths
    implicit none
    private
    public :: step_record_t, output_files_t
    public :: open_outputs, write_path_row, write_crit_row, write_shape, close_outputs, discard_outputs
    public :: path_header, format_number, nodal_reactions, surface_point
+   public :: forces_due, write_forces, medium_name
 
    !> What a converged step reports (one row of the path file).
    type :: step_record_t
@@ -43,6 +48,9 @@ module uniarc_output
       integer :: iterations = 0
       integer :: neg_pivots = 0
       integer :: analysis_step = 0        !< the analysis step (*STEP) of the row; written when the deck has steps
+      !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
+      !> written as the group's own path columns when the model has more than one group
+      type(contact_summary_t), allocatable :: groups(:)
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -54,6 +62,10 @@ module uniarc_output
    !> The result files of one run.
    type :: output_files_t
       type(table_t) :: path, crit, shape
+      type(table_t) :: forces, contact      !< *OUTPUT, FORCES: STEM.forces, STEM.contact (with candidates)
+      logical :: with_forces = .false.      !< the forces tables are open
+      logical :: with_contact = .false.     !< STEM.contact is open
+      integer :: forces_last = -1           !< the step last written to them, −1 before any
    end type output_files_t
 
    !> Number format of every real: ES with 13 significant digits (docs/contracts.md).
@@ -85,6 +97,18 @@ contains
       if (allocated(model%contacts)) then
          if (size(model%contacts) > 0) call write_surface(model, results, comments, csv, error)
       end if
+      if (allocated(error) .or. .not. model%output%forces) return
+      call open_table(results, files%forces, results%stem//'.forces', &
+                      'step lambda element node_start node_end N_start V_start M_start N_end V_end M_end', &
+                      comments, csv, error)
+      if (allocated(error)) return
+      files%with_forces = .true.
+      if (.not. allocated(model%contacts)) return
+      if (size(model%contacts) == 0) return
+      call open_table(results, files%contact, results%stem//'.contact', &
+                      'step lambda medium candidate node s gap reaction length pressure', comments, csv, error)
+      if (allocated(error)) return
+      files%with_contact = .true.
    end subroutine open_outputs
 
    !> `STEM.surface`: one row per contact candidate, `medium candidate node x y rigid`: the name of its
@@ -114,7 +138,8 @@ contains
    end subroutine write_surface
 
    !> The name of contact group `group` (its card's NAME=), or `medium_<group>` for a group without
-   !> one: a name is one field of a STEM.surface row, never empty.
+   !> one: a name is one field of a STEM.surface or STEM.contact row and a part of the group's path
+   !> column names, never empty.
    pure function medium_name(model, group) result(name)
       type(model_t), intent(in) :: model
       integer, intent(in) :: group
@@ -146,14 +171,35 @@ contains
       end associate
    end function surface_point
 
-   !> Header line of the path file: `step lambda <tracks> <contact and solver columns>`.
+   !> Header line of the path file: `step lambda <tracks> <contact columns> [<each group's contact
+   !> columns>] <solver columns>`. A model with more than one contact group has, after the contact
+   !> columns of all groups together, those of each group under the group's name (medium_name):
+   !> `n_contact_NAME contact_regions_NAME s_contact_1_NAME s_contact_2_NAME reaction_max_NAME
+   !> reaction_sum_NAME`.
    pure function path_header(model) result(header)
       type(model_t), intent(in) :: model
       character(len=:), allocatable :: header
+      character(len=*), parameter :: contact_columns(6) = [character(len=15) :: 'n_contact', 'contact_regions', &
+                                                          's_contact_1', 's_contact_2', 'reaction_max', 'reaction_sum']
+      integer :: g, k
       header = 'step lambda'//track_names(model)// &
-               ' n_contact contact_regions s_contact_1 s_contact_2 reaction_max reaction_sum'// &
-               ' lcp_residual lcp_pivots iterations neg_pivots'//step_column(model)
+               ' n_contact contact_regions s_contact_1 s_contact_2 reaction_max reaction_sum'
+      if (n_groups(model) > 1) then
+         do g = 1, n_groups(model)
+            do k = 1, size(contact_columns)
+               header = header//' '//trim(contact_columns(k))//'_'//medium_name(model, g)
+            end do
+         end do
+      end if
+      header = header//' lcp_residual lcp_pivots iterations neg_pivots'//step_column(model)
    end function path_header
+
+   !> The number of contact groups of the model.
+   pure integer function n_groups(model)
+      type(model_t), intent(in) :: model
+      n_groups = 0
+      if (allocated(model%contact_groups)) n_groups = size(model%contact_groups)
+   end function n_groups
 
    !> The last column of the path and crit files of a deck with analysis steps (*STEP): ' analysis_step'.
    pure function step_column(model) result(name)
@@ -182,10 +228,20 @@ contains
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: line
+      type(contact_summary_t) :: group
+      integer :: g
       line = integer_to_string(record%step)//' '//trim(format_number(record%lambda))// &
              numbers_text(tracked_values(model, record%displacement))//' '// &
              integer_to_string(record%n_contact)//' '//integer_to_string(record%contact_regions)// &
-             numbers_text([record%s_contact, record%reaction_max, record%reaction_sum, record%lcp_residual])// &
+             numbers_text([record%s_contact, record%reaction_max, record%reaction_sum])
+      if (n_groups(model) > 1) then
+         do g = 1, n_groups(model)
+            if (allocated(record%groups)) group = record%groups(g)
+            line = line//' '//integer_to_string(group%n_contact)//' '//integer_to_string(group%regions)// &
+                   numbers_text([group%s_contact, group%reaction_max, group%reaction_sum])
+         end do
+      end if
+      line = line//numbers_text([record%lcp_residual])// &
              ' '//integer_to_string(record%lcp_pivots)//' '//integer_to_string(record%iterations)//' '// &
              integer_to_string(record%neg_pivots)
       if (allocated(model%steps)) line = line//' '//integer_to_string(record%analysis_step)
@@ -222,7 +278,9 @@ contains
       real(dp), allocatable :: nodal_reaction(:)
       character(len=:), allocatable :: line
       integer :: i, k
-      nodal_reaction = nodal_reactions(model, record%reactions)
+      ! allocate with source=, not an assignment: under -fcheck=bounds gfortran 12 compares the bounds of
+      ! the unallocated array before allocating it on assignment (valgrind: uninitialised values).
+      allocate (nodal_reaction, source=nodal_reactions(model, record%reactions))
       do i = 1, model%n_nodes
          line = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '// &
                 integer_to_string(model%node_label(i))
@@ -242,6 +300,71 @@ contains
       call flush_table(files%shape, error)
    end subroutine write_shape
 
+   !> Whether the deck asks for the forces tables at step `step` (*OUTPUT, FORCES): a step listed on the
+   !> card, a multiple of its EVERY=, or, with neither, a step of the shape file (every shape_every).
+   !> The last converged step is written in any case (write_forces after the path).
+   pure logical function forces_due(model, step)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: step
+      logical :: listed
+      forces_due = .false.
+      if (.not. model%output%forces) return
+      listed = .false.
+      if (allocated(model%output%forces_steps)) listed = size(model%output%forces_steps) > 0
+      if (model%output%forces_every > 0) then
+         forces_due = mod(step, model%output%forces_every) == 0
+      else if (.not. listed) then
+         forces_due = mod(step, max(model%analysis%shape_every, 1)) == 0
+      end if
+      if (listed) forces_due = forces_due .or. any(model%output%forces_steps == step)
+   end function forces_due
+
+   !> The rows of step `record` in STEM.forces and STEM.contact (when they are open and the step is not
+   !> the one last written), flushed; blocks of steps are separated by two blank lines (gnuplot's
+   !> `index`), as in STEM.shape.
+   !> STEM.forces, one row per element: `step lambda element node_start node_end N_start V_start M_start
+   !> N_end V_end M_end` — the section forces at node 1 and node 2 (uniarc_output_forces,
+   !> element_end_forces: element frame, N tension positive, M = EI κ positive toward the left normal,
+   !> V = dM/ds). STEM.contact, one row per candidate: `step lambda medium candidate node s gap reaction
+   !> length pressure` — its coordinate along its group, gap, reaction, tributary length
+   !> (candidate_lengths) and reaction/length.
+   subroutine write_forces(files, model, record, error)
+      type(output_files_t), intent(inout) :: files
+      type(model_t), intent(in) :: model
+      type(step_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:)
+      character(len=:), allocatable :: head
+      integer :: e, c
+      if (.not. files%with_forces .or. files%forces_last == record%step) return
+      files%forces_last = record%step
+      head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
+      forces = element_end_forces(model, record%displacement, record%lambda)
+      do e = 1, model%n_elements
+         call put_row(files%forces, head//integer_to_string(model%element_label(e))//' '// &
+                      integer_to_string(model%node_label(model%connectivity(1, e)))//' '// &
+                      integer_to_string(model%node_label(model%connectivity(2, e)))//numbers_text(forces(:, e)))
+      end do
+      call put_row(files%forces, '')
+      call put_row(files%forces, '')
+      call flush_table(files%forces, error)
+      if (allocated(error) .or. .not. files%with_contact) return
+      gaps = candidate_gaps(model, record%displacement)
+      lengths = candidate_lengths(model)
+      allocate (reactions(size(model%contacts)), source=0.0_dp)
+      if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
+         record%reactions(1:min(size(reactions), size(record%reactions)))
+      do c = 1, size(model%contacts)
+         call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
+                      integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
+                      numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
+                                    reactions(c)/lengths(c)]))
+      end do
+      call put_row(files%contact, '')
+      call put_row(files%contact, '')
+      call flush_table(files%contact, error)
+   end subroutine write_forces
+
    !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
    pure function nodal_reactions(model, reactions) result(nodal)
       type(model_t), intent(in) :: model
@@ -260,12 +383,16 @@ contains
    subroutine close_outputs(files, error)
       type(output_files_t), intent(inout) :: files
       type(error_t), allocatable, intent(out) :: error
-      type(error_t), allocatable :: crit_error, shape_error
+      type(error_t), allocatable :: crit_error, shape_error, forces_error, contact_error
       call close_table(files%path, error)
       call close_table(files%crit, crit_error)
       call close_table(files%shape, shape_error)
+      if (files%with_forces) call close_table(files%forces, forces_error)
+      if (files%with_contact) call close_table(files%contact, contact_error)
       if (.not. allocated(error) .and. allocated(crit_error)) call move_alloc(crit_error, error)
       if (.not. allocated(error) .and. allocated(shape_error)) call move_alloc(shape_error, error)
+      if (.not. allocated(error) .and. allocated(forces_error)) call move_alloc(forces_error, error)
+      if (.not. allocated(error) .and. allocated(contact_error)) call move_alloc(contact_error, error)
    end subroutine close_outputs
 
    !> Close and remove every file (after a failure that is reported already).
@@ -274,6 +401,8 @@ contains
       call discard_table(files%path)
       call discard_table(files%crit)
       call discard_table(files%shape)
+      if (files%with_forces) call discard_table(files%forces)
+      if (files%with_contact) call discard_table(files%contact)
    end subroutine discard_outputs
 
    !> A real as text in the files' number format, without surrounding blanks.

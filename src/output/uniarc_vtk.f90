@@ -19,13 +19,14 @@
 !> XML format must state NumberOfTuples: without it VTK's XML readers size it from the piece's points
 !> or cells, which field data has none of, and read it empty.
 !>
-!> The element forces are the element layer's (uniarc_element: axial force, shear force and end moments
-!> of any element kind); bending moments use the beam convention M = EI κ, κ = dθ/ds along node 1 →
-!> node 2: positive when the element bends towards its left normal (uniarc_transformation,
-!> transform_end_forces), and V = dM/ds along the same direction. Between the ends the moment of the
-!> element's cubic field is linear, so the mean is the moment at mid-element and V is constant (both
-!> zero for a truss). Like every force of a displacement-based element they leave out the fixed-end
-!> forces of a load distributed on the element itself, a difference that vanishes as the mesh is refined.
+!> The element forces are those of the table STEM.forces (uniarc_output_forces, element_end_forces):
+!> the element layer's axial force, shear force and end moments of any element kind, with the
+!> element's own loads (temperature changes, loads on its span) accounted for; bending moments use
+!> the beam convention M = EI κ, κ = dθ/ds along node 1 → node 2: positive when the element bends
+!> towards its left normal (uniarc_transformation, transform_end_forces), and V = dM/ds along the same
+!> direction. `bending_moment` is the mean of the end moments (the moment at mid-element of an element
+!> without a load on its span), `axial_force` and `shear_force` the means of their end values (zero V
+!> for a truss).
 !>
 !> The pvd's `timestep` is the step number, the NNNN of the file name, for every path: ParaView wants
 !> strictly increasing time values, which λ does not give past a limit point, on unloading or under a
@@ -42,7 +43,7 @@ module uniarc_vtk
    use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_strings, only: integer_text => integer_to_string
    use uniarc_model, only: model_t
-   use uniarc_element, only: element_response_t, element_response, element_displacements, analysis_transformation
+   use uniarc_output_forces, only: element_end_forces
    use uniarc_output, only: step_record_t, format_number, nodal_reactions
    implicit none
    private
@@ -156,27 +157,27 @@ contains
       name = stem//'_'//trim(digits)//'.'//extension
    end function vtk_file_name
 
-   !> Axial force, shear force and bending moments at both ends of every element: rows (N, V, M_start,
-   !> M_end), shape (4, n_elements), from the element layer (uniarc_element) at nodal displacements
-   !> (3, n_nodes). Units: those of the deck's forces and forces × lengths.
+   !> Axial force, shear force and bending moments of every element: rows (N, V, M_start, M_end), shape
+   !> (4, n_elements), at nodal displacements (3, n_nodes) and load factor `lambda`. Units: those of the
+   !> deck's forces and forces × lengths.
    !>
-   !> The transformation is the analysis' (analysis_transformation): a nonlinear analysis reports the
-   !> corotational forces of the deformed element, a linear one the small-displacement forces Kb B0 u_e
-   !> on the initial chord, which are the forces its solution is in equilibrium with. The moments are
-   !> in the beam convention M = EI κ and V = dM/ds (see the module header).
-   pure function element_forces(model, displacement) result(forces)
+   !> They are the section forces of uniarc_output_forces (element_end_forces, the same as STEM.forces:
+   !> the element layer's forces with the element's own loads — temperature changes, loads on the
+   !> span — accounted for, in the analysis' transformation): M_start and M_end at the two ends, and N
+   !> and V the means of their values at the two ends (equal without a load along the span; the values
+   !> at mid-element for a uniform one). The moments are in the beam convention M = EI κ and V = dM/ds
+   !> (see the module header).
+   pure function element_forces(model, displacement, lambda) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: lambda
       real(dp) :: forces(4, model%n_elements)
-      type(element_response_t) :: response
-      integer :: e, transformation
-      transformation = analysis_transformation(model%analysis%kind)
-      do e = 1, model%n_elements
-         call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
-         forces(1, e) = response%axial_force
-         forces(2, e) = response%shear_force
-         forces(3:4, e) = response%end_moments
-      end do
+      real(dp) :: ends(6, model%n_elements)
+      ends = element_end_forces(model, displacement, lambda)
+      forces(1, :) = 0.5_dp*(ends(1, :) + ends(4, :))
+      forces(2, :) = 0.5_dp*(ends(2, :) + ends(5, :))
+      forces(3, :) = ends(3, :)
+      forces(4, :) = ends(6, :)
    end function element_forces
 
    !> The legacy VTK file of one snapshot (ASCII, DATASET POLYDATA with LINES).
@@ -233,7 +234,7 @@ contains
          call put_line(file, integer_text(model%node_label(i)))
       end do
 
-      forces = element_forces(model, record%displacement)
+      forces = element_forces(model, record%displacement, record%lambda)
       call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
       call write_scalars(file, 'axial_force', forces(1, :))
       call write_scalars(file, 'shear_force', forces(2, :))
@@ -275,7 +276,7 @@ contains
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
 
-      forces = element_forces(model, record%displacement)
+      forces = element_forces(model, record%displacement, record%lambda)
       call put_line(file, '<CellData Scalars="bending_moment">')
       call write_xml_reals(file, 'axial_force', 1, forces(1, :))
       call write_xml_reals(file, 'shear_force', 1, forces(2, :))

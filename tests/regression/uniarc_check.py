@@ -14,6 +14,7 @@ Usage (one CTest per call):
                   [--expect-crit-count KIND=N]... [--expect-crit-before KIND[#k]<KIND[#j]]...
                   [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
+                  [--expect-stderr TEXT]...                         # text the run writes to stderr
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
 EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
@@ -316,6 +317,7 @@ def main():
     parser.add_argument('--expect-crit-before', action='append', default=[])
     parser.add_argument('--expect-crit-path', action='append', default=[])
     parser.add_argument('--expect-all', action='append', default=[])
+    parser.add_argument('--expect-stderr', action='append', default=[])
     args = parser.parse_args()
 
     command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
@@ -325,6 +327,9 @@ def main():
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     path_file = os.path.join(args.out, stem + '.path')
     failures = []
+    for text in args.expect_stderr:
+        if text not in run.stderr:
+            failures.append(f'stderr does not contain {text!r}')
     if args.reference:
         failures += numeric_diff(path_file, args.reference, args.rtol, args.atol)
     if args.expect:
@@ -355,12 +360,13 @@ def main():
         path_names, path_rows = read_table(path_file)
         failures += check_events(args, os.path.join(args.out, stem + '.crit'), path_names, path_rows)
     crit_file = os.path.join(args.out, stem + '.crit')
-    if args.expect_exit == 0 and os.path.exists(crit_file) and os.path.exists(path_file):
+    if args.expect_exit in (0, 1) and os.path.exists(crit_file) and os.path.exists(path_file):
         failures += check_limits_bracketed(path_file, crit_file)
     # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0'), and
     # every table has its provenance lines and its counts written as integers.
     for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
-        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface'):
+        if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface', 'forces',
+                                                                    'contact'):
             with open(os.path.join(args.out, name)) as f:
                 text = f.read()
             if '-0.000000000000E+000' in text:
@@ -372,7 +378,7 @@ def main():
 
 
 INTEGER_COLUMNS = ('step', 'node', 'n_contact', 'contact_regions', 'lcp_pivots', 'iterations', 'neg_pivots',
-                   'candidate', 'rigid')
+                   'candidate', 'rigid', 'element', 'node_start', 'node_end')
 
 
 def check_table_format(path, text, deck, defines):
@@ -391,7 +397,8 @@ def check_table_format(path, text, deck, defines):
     for number, pattern in enumerate(expected, start=2):
         if not re.fullmatch(pattern, lines[number - 1]):
             failures.append(f'{name}:{number}: {lines[number - 1]!r} is not the provenance line {pattern!r}')
-    counts = [i for i, column in enumerate(names) if column in INTEGER_COLUMNS
+    counts = [i for i, column in enumerate(names)
+              if (column in INTEGER_COLUMNS or column.startswith(('n_contact_', 'contact_regions_')))
               and not (column == 'step' and name.endswith('.crit'))]
     for number, line in enumerate(lines[5:], start=6):
         fields = line.split()

@@ -47,12 +47,18 @@ contains
 
    !> Consistent nodal loads (6) of a uniform pressure p per unit length along the element's left normal
    !> (the tangent node 1 → node 2 turned by +90°), on the geometry x (initial or current).
+   !> A chord of zero length (two ends that round-off of huge displacements, or a collapse, makes equal)
+   !> carries the resultant p L = 0: the loads are then zero, not the 0/0 of its undefined normal.
    pure function pressure_load_vector(x, pressure) result(f)
       real(dp), intent(in) :: x(2, 2), pressure
       real(dp) :: f(6)
       real(dp) :: d(2), length
       d = x(:, 2) - x(:, 1)
       length = norm2(d)
+      if (length == 0.0_dp) then
+         f = 0.0_dp
+         return
+      end if
       f = fixed_direction_load_vector(x, -pressure*d(2)/length, pressure*d(1)/length)
    end function pressure_load_vector
 

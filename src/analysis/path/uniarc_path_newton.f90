@@ -147,6 +147,8 @@ contains
       if (.not. predicted) return
       associate (options => model%analysis)
          predictor = trial%increment
+         trial%predictor = predictor
+         trial%predictor_dlambda = trial%dlambda
          test = new_newton_test(options, state%length_scale)
          do while (trial%iterations <= options%max_iterations)
             lambda = state%lambda + trial%dlambda

@@ -1,7 +1,8 @@
 !> Stability of a converged state of the path from its factorised tangent: the inertia (Sylvester's
 !> law: negative pivots are negative eigenvalues) and the eigenvalue of least magnitude by inverse
 !> iteration, which the critical-point detector (uniarc_critical_points) interpolates between steps;
-!> and the lift-off test of contacts that touch without force (`liftoff_stability`).
+!> and the lift-off test of contacts that touch without force (`liftoff_stability`); `commit_tangent`
+!> computes them all, with the tangent solution K⁻¹R, at a committed state.
 module uniarc_path_stability
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
@@ -10,12 +11,12 @@ module uniarc_path_stability
                           band_factorize
    use uniarc_dof_map, only: candidate_live
    use uniarc_contact, only: candidate_gap, set_membership
-   use uniarc_path_state, only: path_state_t, nodal_displacements
+   use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at
    use uniarc_path_contact_set, only: candidate_state, contact_units
    use uniarc_contact_lcp, only: contact_scales_t
    implicit none
    private
-   public :: structural_inertia, least_eigenvalue, liftoff_stability
+   public :: structural_inertia, least_eigenvalue, liftoff_stability, commit_tangent
 
 contains
 
@@ -149,5 +150,50 @@ contains
       state%point%min_eigenvalue = mu
       state%point%liftoff = .true.
    end subroutine liftoff_stability
+
+
+   !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
+   !> residual, K⁻¹R, inertia and least eigenvalue into the state (path_advance's commit, and the
+   !> probes of the critical-point locator, uniarc_path_locate).
+   !> Errors: a singular tangent (band_factorize, band_solve).
+   subroutine commit_tangent(model, state, system, unloaded, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(path_system_t), intent(inout) :: system
+      logical, intent(in) :: unloaded   !< the unloaded state of path_initialize
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
+      real(dp) :: element_scale
+      integer :: n
+      system%holds_committed = .false.
+      n = state%map%n_equations
+      allocate (internal(n), reference(n), rhs(n, 1))
+      if (system%holds_converged) then
+         ! The attempt's last assembly is this very state (the same u, λ and working set).
+         internal = system%converged_internal
+         reference = system%converged_reference
+         system%holds_converged = .false.
+      else
+         call nodal_displacements(model, state, nodal)
+         call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
+                             reference, element_scale)
+      end if
+      state%reference = reference
+      ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
+      ! LCP needs both): the step's first attempt does not assemble and factorise them again.
+      call band_copy(system%tangent, system%assembled)
+      state%committed_residual = state%lambda*state%reference - internal
+      call band_factorize(system%tangent, error)
+      if (allocated(error)) return
+      call structural_inertia(system%tangent, system%assembled, state%active, state%map%candidate_equation, &
+                              state%point%neg_pivots, state%point%n_active)
+      rhs(:, 1) = state%reference
+      call band_solve(system%tangent, rhs, error)
+      if (allocated(error)) return
+      system%holds_committed = .true.
+      state%tangent_displacement = rhs(:, 1)
+      state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
+      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
+   end subroutine commit_tangent
 
 end module uniarc_path_stability

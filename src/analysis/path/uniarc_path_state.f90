@@ -44,6 +44,10 @@ module uniarc_path_state
       logical, allocatable :: in_contact(:)       !< per candidate: in the working set with r > 0
       real(dp), allocatable :: contact_value(:)   !< per candidate: reaction if in contact, else gap
       real(dp), allocatable :: contact_rate(:)    !< d(contact_value)/ds in the direction of travel
+      !> Critical points between the previous converged point and this one, located by re-solving
+      !> (uniarc_path_locate): the fraction of that interval (−1: none located) and λ there.
+      real(dp) :: limit_fraction = -1.0_dp, limit_lambda = 0.0_dp
+      real(dp) :: bifurcation_fraction = -1.0_dp, bifurcation_lambda = 0.0_dp
    end type path_point_t
 
    !> The system of equations the steps work in: the augmented tangent K_T in band storage (n × n,
@@ -92,6 +96,8 @@ module uniarc_path_state
       real(dp) :: length = 0.0_dp               !< step length of the attempt (units of state%step_length)
       real(dp), allocatable :: increment(:)     !< (n) Δx: unknowns minus the committed ones
       real(dp) :: dlambda = 0.0_dp              !< Δλ: load factor minus the committed one
+      real(dp), allocatable :: predictor(:)     !< (n) Δx of the predictor (before any correction)
+      real(dp) :: predictor_dlambda = 0.0_dp    !< Δλ of the predictor
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       integer :: iterations = 0                 !< Newton corrections
       integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs

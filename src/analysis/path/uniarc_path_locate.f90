@@ -1,0 +1,205 @@
+!> Critical points between two converged steps located by re-solving (docs/theory.md §2.2).
+!>
+!> A limit point or a bifurcation that the step has passed is bracketed by the step: the state at its
+!> start (`before`) is on one side, the converged state (`after`) on the other. The locator re-solves
+!> the step from `before` with shorter lengths h ∈ (0, Δl) — each a converged equilibrium state, with
+!> its tangent, inertia and least eigenvalue — and narrows the bracket: for a limit point on the sign
+!> of dλ/ds, for a bifurcation on whether the count of negative pivots has changed, the new h by the
+!> secant (regula falsi) on dλ/ds or on the least eigenvalue, safeguarded by bisection (Crisfield
+!> 1997, Non-linear Finite Element Analysis of Solids and Structures vol. 2, ch. 21: locating critical
+!> points). On the final bracket (below 1e-3 of the step) a limit point is placed by the cubic Hermite
+!> interpolant of uniarc_critical_points, a bifurcation where the least eigenvalue vanishes, between
+!> two converged states that close together; a located limit is as high (a minimum as low) as every
+!> converged state around it. The probes never change the committed state; the system of equations
+!> is returned holding the committed tangent.
+module uniarc_path_locate
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_model, only: model_t, control_arclength
+   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm
+   use uniarc_path_newton, only: attempt_step
+   use uniarc_path_stability, only: commit_tangent
+   use uniarc_path_point, only: describe_point
+   use uniarc_critical_points, only: critical_event_t, find_critical_events
+   implicit none
+   private
+   public :: locate_critical_points
+
+   !> Re-solved states per located point: the bracket shrinks by a factor ≥ 2 every other probe, so
+   !> 16 reach the bracket tolerance from any step.
+   integer, parameter :: max_probes = 16
+   !> The bracket is narrowed to this fraction of the step length. Across it the cubic interpolant
+   !> of λ has an error O(w⁴) of 1e-12 of the step's own, far below the equilibrium tolerance.
+   real(dp), parameter :: bracket_tolerance = 1.0e-3_dp
+
+contains
+
+   !> Locate the limit point (dλ/ds changes sign between before%point and after%point) or, if there
+   !> is none, the bifurcation (the number of negative pivots changes) that the step from `before`
+   !> (a copy of the committed state at its start, system not allocated) to `after` (the committed
+   !> state it reached with a step of length `length`, the units of state%step_length) passed.
+   !> On return after%point%limit_fraction/limit_lambda or bifurcation_fraction/bifurcation_lambda
+   !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
+   !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
+   !> return (re-assembled if a probe used it). No errors: a failure leaves the fields at −1.
+   subroutine locate_critical_points(model, before, after, system, length)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: before
+      type(path_state_t), intent(inout) :: after
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: length
+      type(path_point_t) :: pa, pb, probe
+      type(path_state_t) :: restore
+      type(critical_event_t), allocatable :: events(:)
+      type(error_t), allocatable :: error
+      real(dp) :: ha, hb, h, fa, fb, fp, width, t
+      integer :: k, same_side, last_side, side
+      logical :: limit, bifurcation, probed, converged
+      after%point%limit_fraction = -1.0_dp
+      after%point%bifurcation_fraction = -1.0_dp
+      limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
+      bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
+      if (.not. (limit .or. bifurcation)) return
+      if (.not. (length > 0.0_dp)) return
+      ha = 0.0_dp
+      hb = length
+      pa = before%point
+      pb = after%point
+      fa = indicator(pa)
+      fb = indicator(pb)
+      probed = .false.
+      last_side = 0
+      same_side = 0
+      do k = 1, max_probes
+         width = hb - ha
+         if (width <= bracket_tolerance*length) exit
+         ! Secant (regula falsi) on the indicator when it changes sign across the bracket, kept 5 %
+         ! inside it; bisection when it does not or when one end has moved twice in a row (the
+         ! regula falsi's one-sided stall).
+         h = ha + 0.5_dp*width
+         if (fa*fb < 0.0_dp .and. same_side < 2) then
+            h = ha + width*fa/(fa - fb)
+            h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
+         end if
+         call re_solve(h, probe, converged)
+         if (.not. converged) exit
+         probed = .true.
+         fp = indicator(probe)
+         if (passed(probe)) then
+            hb = h
+            pb = probe
+            fb = fp
+            side = 1
+         else
+            ha = h
+            pa = probe
+            fa = fp
+            side = -1
+         end if
+         if (side == last_side) then
+            same_side = same_side + 1
+         else
+            same_side = 1
+         end if
+         last_side = side
+      end do
+      if (probed) then
+         ! The system holds the last probe's tangent: the committed one again for the next step.
+         restore = after
+         call commit_tangent(model, restore, system, .false., error)
+      end if
+      ! The point on the final bracket. Its fraction of the step is measured in the step parameter h
+      ! (the path length of the probes is not monotone in h where the tangent is near-singular: its
+      ! round-off mode enters the increments). A limit: the interpolation of the detector between pa
+      ! and pb (cubic in the path length, or the higher end if their path lengths are out of order); a
+      ! bifurcation: where the least eigenvalue, linear between them, vanishes (the middle if it is
+      ! the same at both).
+      t = 0.5_dp
+      if (limit) then
+         after%point%limit_lambda = pa%lambda
+         if (pb%s > pa%s) then
+            call find_critical_events(pa, pb, events)
+            do k = 1, size(events)
+               if (events(k)%kind /= 'limit_max' .and. events(k)%kind /= 'limit_min') cycle
+               t = events(k)%fraction
+               after%point%limit_lambda = events(k)%lambda
+               exit
+            end do
+         end if
+         if (before%point%dlambda_ds > 0.0_dp) then
+            after%point%limit_lambda = max(after%point%limit_lambda, pa%lambda, pb%lambda)
+         else
+            after%point%limit_lambda = min(after%point%limit_lambda, pa%lambda, pb%lambda)
+         end if
+         after%point%limit_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+      else
+         ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
+         ! of either sign (pa within 1e-11 of the point).
+         if (pa%min_eigenvalue /= pb%min_eigenvalue) then
+            t = min(1.0_dp, max(0.0_dp, pa%min_eigenvalue/(pa%min_eigenvalue - pb%min_eigenvalue)))
+         end if
+         after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
+         after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+      end if
+
+   contains
+
+      !> The quantity whose zero is the point: dλ/ds for a limit, the least eigenvalue for a
+      !> bifurcation.
+      pure real(dp) function indicator(point)
+         type(path_point_t), intent(in) :: point
+         if (limit) then
+            indicator = point%dlambda_ds
+         else
+            indicator = point%min_eigenvalue
+         end if
+      end function indicator
+
+      !> Whether the point lies beyond the critical point (on the side of `after`).
+      pure logical function passed(point)
+         type(path_point_t), intent(in) :: point
+         if (limit) then
+            passed = point%dlambda_ds*before%point%dlambda_ds <= 0.0_dp
+         else
+            passed = point%neg_pivots /= before%point%neg_pivots
+         end if
+      end function passed
+
+      !> The converged state of a step of length step_h from `before`, as a point record.
+      subroutine re_solve(step_h, point, ok)
+         real(dp), intent(in) :: step_h
+         type(path_point_t), intent(out) :: point
+         logical, intent(out) :: ok
+         type(step_trial_t) :: trial
+         type(path_state_t) :: state
+         type(error_t), allocatable :: commit_error
+         trial%length = step_h
+         call attempt_step(model, before, system, trial)
+         ok = trial%converged
+         if (.not. ok) return
+         ! The commit of path_advance (uniarc_path_following), on a copy.
+         state = before
+         state%u = state%u + trial%increment
+         state%lambda = state%lambda + trial%dlambda
+         state%active = trial%active
+         state%last_increment = trial%increment
+         state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+         call commit_tangent(model, state, system, .false., commit_error)
+         if (allocated(commit_error)) then
+            ok = .false.
+            return
+         end if
+         if (model%analysis%control == control_arclength) then
+            if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
+               state%direction = -1
+            else
+               state%direction = 1
+            end if
+         end if
+         call describe_point(model, state, before%point%step + 1, trial%iterations, trial%lcp_pivots)
+         point = state%point
+      end subroutine re_solve
+
+   end subroutine locate_critical_points
+
+end module uniarc_path_locate

@@ -1,0 +1,208 @@
+!> Mechanisms: a model that can move as a rigid body without deforming (docs/theory.md §2.4).
+!>
+!> `find_mechanism` works on any unfactorised stiffness of the model (the path's tangent at the
+!> unloaded state, the linear stiffness of *STATIC): two stages, both scaled so that large held models
+!> pass.
+!> 1. The relative pivot test (uniarc_band, band_weakest_pivot): Gaussian elimination without
+!>    interchanges, each pivot against the diagonal entry of its own row before elimination. A free
+!>    motion leaves round-off there; a held model leaves more, but on large models not much more (a
+!>    cantilever of 1e4 elements numbered from its support: 1.0e-12; a ring of 1e5 elements: 1.9e-13),
+!>    so a pivot at most 1e-10 of its diagonal only calls for stage 2.
+!> 2. The rigid-body test: the plane rigid motions — every translation, and the rotation about every
+!>    point (a rotation about the centroid plus the translation that best cancels its forces) — are
+!>    put through the stiffness. A motion is held if some row keeps a term it does not cancel (a
+!>    support: the coupling to the held DOF) or if its energy vᵀKv, a coherent sum, stands above the
+!>    round-off of the rows (springs or closed contacts spread over the model, each far below the
+!>    bending terms of its row on a fine mesh); a motion held by neither is free (function `held`).
+!> The model is refused (error_input, exit code 2) with the free motion and the node it moves most.
+!> Mechanisms inside a model (a hinge, a part with no support of its own) are not rigid motions of
+!> the whole and are not looked for; an exactly singular stiffness still fails the factorisation.
+module uniarc_path_mechanism
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_strings, only: integer_to_string, real_to_string
+   use uniarc_model, only: model_t
+   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply
+   use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at
+   implicit none
+   private
+   public :: find_mechanism, check_mechanism
+
+   !> Stage 1: a pivot at most this fraction of its row's diagonal calls for stage 2.
+   real(dp), parameter :: pivot_tolerance = 1.0e-10_dp
+   !> Stage 2: a rigid motion is free if no row keeps more than this share of its terms ...
+   real(dp), parameter :: residual_tolerance = 1.0e3_dp*epsilon(1.0_dp)
+   !> ... and its energy is at most this many times the random walk of the rows' round-off.
+   real(dp), parameter :: energy_factor = 3.0_dp
+
+contains
+
+   !> The path's check at the unloaded state: the tangent with every contact candidate closed (held
+   !> as if bonded), so that a model that contacts will hold once they touch (a liner floating in a
+   !> cavity) passes. `system` is work space (its tangent is overwritten); nodal (dofs_per_node,
+   !> n_nodes) the displacements of state%u. Errors: find_mechanism's.
+   subroutine check_mechanism(model, state, system, nodal, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: internal(:), reference(:)
+      logical, allocatable :: closed(:)
+      real(dp) :: element_scale
+      integer :: c
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
+      closed = [(candidate_live(state%map, c), c=1, size(state%map%candidate_equation))]
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale)
+      call find_mechanism(model, state%map, system%tangent, error)
+   end subroutine check_mechanism
+
+   !> Refuse a model whose unfactorised stiffness `stiffness` (n × n, n = map%n_equations, with the
+   !> supports, springs and contacts that hold the model) lets it move as a rigid body.
+   !> Errors (error_input): the model is a mechanism: which rigid motion, the node it moves most and
+   !> the component there.
+   subroutine find_mechanism(model, map, stiffness, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(in) :: stiffness
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: motion(:)
+      real(dp) :: ratio
+      character(len=:), allocatable :: what, deck
+      integer :: row, node, dof, largest, label
+      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+      if (.not. allocated(motion)) return
+      largest = maxloc(abs(map%metric*motion), 1)
+      node = 0
+      dof = 0
+      do node = 1, size(map%equation, 2)
+         dof = findloc(map%equation(:, node), largest, 1)
+         if (dof > 0) exit
+      end do
+      deck = 'the model'
+      if (allocated(model%deck_path)) deck = model%deck_path//': the model'
+      label = node
+      if (allocated(model%node_label)) label = model%node_label(node)
+      call make_error(error, deck//' is a mechanism (its stiffness is singular): it can move as a rigid body, '// &
+                      what//', without deforming anything that holds it (even with every contact closed; '// &
+                      'weakest pivot '//trim(real_to_string(ratio, '(es9.2)'))//' of its diagonal, at equation '// &
+                      integer_to_string(row)//'); the motion is largest at node '//integer_to_string(label)//', '// &
+                      component_name(dof)//'; hold it with supports (*BOUNDARY)', error_input)
+
+   end subroutine find_mechanism
+
+   !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
+   !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
+   !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(in) :: stiffness
+      real(dp), allocatable, intent(out) :: motion(:)
+      real(dp), intent(out) :: ratio
+      integer, intent(out) :: row
+      character(len=:), allocatable, intent(out) :: what
+      real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual
+      integer :: below, node, dof
+      what = ''
+      ratio = huge(1.0_dp)
+      row = 0
+      if (map%n_equations == 0) return
+      call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below)
+      if (row == 0 .or. ratio > pivot_tolerance) return
+      ! The rigid motions about the centroid: translation x, translation y, rotation (Przemieniecki
+      ! 1968, §2: u = a − θ(y − y_c), v = b + θ(x − x_c), rz = θ), on the free equations.
+      centre = sum(model%coordinates, 2)/real(max(1, model%n_nodes), dp)
+      allocate (modes(map%n_equations, 3), forces(map%n_equations, 3), source=0.0_dp)
+      do node = 1, model%n_nodes
+         call put(1, node, 1, 1.0_dp)
+         call put(2, node, 2, 1.0_dp)
+         call put(3, node, 1, -(model%coordinates(2, node) - centre(2)))
+         call put(3, node, 2, model%coordinates(1, node) - centre(1))
+         call put(3, node, 3, 1.0_dp)
+      end do
+      do dof = 1, 3
+         forces(:, dof) = band_multiply(stiffness, modes(:, dof))
+      end do
+      ! The translation least held: the eigenvector of the least eigenvalue of the 2×2 Gram matrix of
+      ! the translations' forces (its angle in closed form).
+      gram(1, 1) = dot_product(forces(:, 1), forces(:, 1))
+      gram(2, 2) = dot_product(forces(:, 2), forces(:, 2))
+      gram(1, 2) = dot_product(forces(:, 1), forces(:, 2))
+      angle = 0.5_dp*atan2(2.0_dp*gram(1, 2), gram(1, 1) - gram(2, 2)) + 2.0_dp*atan(1.0_dp)
+      candidate = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
+      best = held(candidate)
+      what = 'a translation in the direction ('//trim(adjustl(real_to_string(cos(angle), '(f6.3)')))// &
+             ', '//trim(adjustl(real_to_string(sin(angle), '(f6.3)')))//')'
+      ! The rotation least held: about the centroid plus the translation that minimises its forces
+      ! (least squares), i.e. a rotation about the point centre + (−shift(2), shift(1)).
+      gram(2, 1) = gram(1, 2)
+      det = gram(1, 1)*gram(2, 2) - gram(1, 2)**2
+      shift = 0.0_dp
+      if (det > epsilon(1.0_dp)*(gram(1, 1)*gram(2, 2))) then
+         shift(1) = -(gram(2, 2)*dot_product(forces(:, 1), forces(:, 3)) - gram(1, 2)*dot_product(forces(:, 2), &
+                      forces(:, 3)))/det
+         shift(2) = -(gram(1, 1)*dot_product(forces(:, 2), forces(:, 3)) - gram(1, 2)*dot_product(forces(:, 1), &
+                      forces(:, 3)))/det
+      end if
+      residual = held(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))
+      if (residual < best) then
+         best = residual
+         candidate = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
+         what = 'a rotation about ('//trim(real_to_string(centre(1) - shift(2), '(es10.3)'))//', '// &
+                trim(real_to_string(centre(2) + shift(1), '(es10.3)'))//')'
+      end if
+      if (best > 1.0_dp) return
+      motion = candidate
+
+   contains
+
+      !> How firmly a rigid motion v (n) is held, in units of its threshold (≤ 1: not at all). Held
+      !> locally: some row keeps a term that the motion does not cancel, |(K v)_i| > 1e3 ε Σ_j|K_ij v_j|
+      !> (a support: the coupling to the held DOF, a fraction of order 1 of the row). Held by many
+      !> small springs: the energy vᵀK v, a coherent sum of their terms, above 3 times the random walk
+      !> of the rows' round-off, ε (Σ_i (v_i Σ_j|K_ij v_j|)²)^½. Measured: a ring of 1e5 elements in
+      !> the benchmarks' Winkler bed (each row's spring 1e-16 of its bending terms) 99 and 200 times
+      !> that round-off for its rotation and translation; an arch with no support 0.024 and 0.15.
+      real(dp) function held(v)
+         real(dp), intent(in) :: v(:)
+         real(dp), allocatable :: product(:), magnitude(:)
+         real(dp) :: local, noise
+         integer :: i
+         allocate (product(size(v)), magnitude(size(v)))
+         call band_row_terms(stiffness, v, product, magnitude)
+         local = 0.0_dp
+         do i = 1, size(v)
+            if (magnitude(i) > 0.0_dp) local = max(local, abs(product(i))/magnitude(i))
+         end do
+         noise = epsilon(1.0_dp)*norm2(v*magnitude)
+         held = local/residual_tolerance
+         if (noise > 0.0_dp) held = max(held, abs(dot_product(v, product))/(energy_factor*noise))
+      end function held
+
+      !> modes(equation of (component, node), mode) = value, where the component is free.
+      subroutine put(mode, at_node, component, value)
+         integer, intent(in) :: mode, at_node, component
+         real(dp), intent(in) :: value
+         if (map%equation(component, at_node) > 0) modes(map%equation(component, at_node), mode) = value
+      end subroutine put
+
+   end subroutine free_rigid_motion
+
+   !> The deck's name of a nodal component (1, 2, 3).
+   pure function component_name(dof) result(name)
+      integer, intent(in) :: dof
+      character(len=2) :: name
+      select case (dof)
+      case (1)
+         name = 'UX'
+      case (2)
+         name = 'UY'
+      case default
+         name = 'RZ'
+      end select
+   end function component_name
+
+end module uniarc_path_mechanism

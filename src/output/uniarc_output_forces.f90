@@ -1,0 +1,169 @@
+!> What the tables of `*OUTPUT, FORCES` report (docs/contracts.md, `STEM.forces` and `STEM.contact`):
+!> the internal forces N, V, M at both ends of every element, and at every contact candidate its gap,
+!> its tributary length and the contact pressure (reaction per unit length).
+!>
+!> End forces. The element layer (uniarc_element) gives the basic forces q = (N, M1, M2) of the
+!> element's deformations; the loads that act on the element itself are added here, as the element
+!> equations hold them (f_e = f_int(u) − λ f_load(u), the forces the nodes exert on the element):
+!> - temperature changes are natural deformations, q = Kb (v − λ v0) = q_elastic − λ q0
+!>   (uniarc_element_loads, thermal_basic_force; docs/theory.md §1.9): a clamped beam under a
+!>   gradient carries the thermal moment EI α ΔT/h with no deformation at all;
+!> - loads distributed on the span (fixed direction, pressure, follower pressure) enter through their
+!>   consistent nodal loads f_load (the fixed-end forces of the Hermite element, uniarc_frame_linear,
+!>   uniarc_corotational), whose components in the element's frame are subtracted at each end. For a
+!>   straight prismatic element under a uniform load this is exact (Przemieniecki 1968, §5.4;
+!>   McGuire, Gallagher & Ziemian 2000, §3.5): a cantilever under q shows M = −q (L − x)²/2 at every
+!>   node.
+!> The element's frame is the chord of the analysis' transformation (analysis_transformation): the
+!> initial chord in a linear analysis, the current chord (corotational) in a nonlinear one, with the
+!> unit tangent t (node 1 → node 2) and the left normal n (t turned by +90°). At each end the section
+!> forces are in the beam convention of uniarc_transformation: N tension positive, M = EI κ positive
+!> when the element bends toward n, V = dM/ds along t (so dV/ds = q_n, the load along n per length).
+!> With f1, f2 the end forces on the element (force along t, along n, moment) at nodes 1 and 2:
+!>     N_start = −f1·t, V_start = f1·n, M_start = −m1;   N_end = f2·t, V_end = −f2·n, M_end = m2.
+module uniarc_output_forces
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, dofs_per_node, load_fixed_direction, load_pressure, analysis_linear, &
+                           element_kind_of
+   use uniarc_element, only: element_response_t, element_response, element_coordinates, element_displacements, &
+                             analysis_transformation
+   use uniarc_element_loads, only: thermal_basic_force
+   use uniarc_transformation, only: chord_t, transform_deformations, transform_end_forces
+   use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
+   use uniarc_corotational, only: follower_pressure
+   use uniarc_contact_law, only: candidate_gap, tributary_lengths
+   implicit none
+   private
+   public :: element_end_forces, candidate_gaps, candidate_lengths
+
+contains
+
+   !> Section forces at both ends of every element at nodal displacements `displacement` (3, n_nodes)
+   !> and load factor `lambda`: rows (N_start, V_start, M_start, N_end, V_end, M_end), shape
+   !> (6, n_elements), in the deck's force and force × length units, in the element's frame and the
+   !> beam convention of the module header. A truss has V = M = 0 (no transverse load on its span).
+   pure function element_end_forces(model, displacement, lambda) result(forces)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: lambda
+      real(dp) :: forces(6, model%n_elements)
+      real(dp) :: thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements)
+      real(dp) :: deformation(3), q(3), end_forces(4), t(2), n(2), f(2*dofs_per_node)
+      real(dp) :: k_unused(2*dofs_per_node, 2*dofs_per_node)
+      type(element_response_t) :: response
+      type(chord_t) :: chord
+      integer :: e, i, transformation
+      logical :: loaded(model%n_elements)
+
+      transformation = analysis_transformation(model%analysis%kind)
+      thermal = 0.0_dp
+      span = 0.0_dp
+      loaded = .false.
+      if (allocated(model%thermal_loads)) then
+         do i = 1, size(model%thermal_loads)
+            e = model%thermal_loads(i)%element
+            thermal(:, e) = thermal(:, e) + thermal_basic_force(model%thermal_loads(i), &
+                                                                model%sections(model%element_section(e)), &
+                                                                element_kind_of(model, e))
+         end do
+      end if
+      if (allocated(model%distributed_loads)) then
+         do i = 1, size(model%distributed_loads)
+            associate (dload => model%distributed_loads(i))
+               e = dload%element
+               select case (dload%kind)
+               case (load_fixed_direction)
+                  f = fixed_direction_load_vector(element_coordinates(model, e), dload%qx, dload%qy)
+               case (load_pressure)
+                  if (dload%follower .and. model%analysis%kind /= analysis_linear) then
+                     call follower_pressure(element_coordinates(model, e), &
+                                            element_displacements(model, e, displacement), dload%pressure, f, k_unused)
+                  else
+                     f = pressure_load_vector(element_coordinates(model, e), dload%pressure)
+                  end if
+               case default
+                  cycle
+               end select
+               span(:, e) = span(:, e) + f
+               loaded(e) = .true.
+            end associate
+         end do
+      end if
+
+      do e = 1, model%n_elements
+         call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         q = response%basic_force - lambda*thermal(:, e)
+         call transform_deformations(transformation, element_coordinates(model, e), &
+                                     element_displacements(model, e, displacement), chord, deformation)
+         end_forces = transform_end_forces(chord, q)
+         forces(:, e) = [end_forces(1), end_forces(2), end_forces(3), end_forces(1), end_forces(2), end_forces(4)]
+         if (.not. loaded(e)) cycle
+         ! f_e = f_int − λ f_load: the load's components along t and n at each end (module header).
+         t = [chord%c, chord%s]
+         n = [-chord%s, chord%c]
+         f = lambda*span(:, e)
+         forces(1, e) = forces(1, e) + dot_product(f(1:2), t)
+         forces(2, e) = forces(2, e) - dot_product(f(1:2), n)
+         forces(3, e) = forces(3, e) + f(3)
+         forces(4, e) = forces(4, e) - dot_product(f(4:5), t)
+         forces(5, e) = forces(5, e) + dot_product(f(4:5), n)
+         forces(6, e) = forces(6, e) - f(6)
+      end do
+   end function element_end_forces
+
+   !> The gap g of every contact candidate at nodal displacements `displacement` (3, n_nodes), in
+   !> length units (uniarc_contact_law, candidate_gap): positive open; negative in contact with an
+   !> elastic medium, whose springs are then compressed by −g = r/k.
+   pure function candidate_gaps(model, displacement) result(gaps)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), allocatable :: gaps(:)
+      real(dp) :: gradient(2), hessian(2, 2)
+      integer :: c
+      allocate (gaps(0))
+      if (.not. allocated(model%contacts)) return
+      deallocate (gaps)
+      allocate (gaps(size(model%contacts)))
+      do c = 1, size(model%contacts)
+         associate (node => model%contacts(c)%node)
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gaps(c), &
+                               gradient, hessian)
+         end associate
+      end do
+   end function candidate_gaps
+
+   !> The tributary length of every contact candidate (initial geometry, length units), over which
+   !> its reaction is spread as a contact pressure: for a foundation's candidate, half the lengths of
+   !> the elements of the foundation's set that meet at its node — the length its Winkler spring k = K
+   !> × length was lumped from (uniarc_contact_law), so that reaction/length is the bed's pressure K w;
+   !> for a spring's or an obstacle's candidate, half the lengths of all the elements that meet at its
+   !> node (the share of the structure's length the node stands for), so that reaction/length is the
+   !> mean line load that the contact puts on the structure there.
+   pure function candidate_lengths(model) result(lengths)
+      type(model_t), intent(in) :: model
+      real(dp), allocatable :: lengths(:)
+      real(dp), allocatable :: structure(:), per_node(:)
+      integer, allocatable :: every_node(:), every_element(:)
+      integer :: c, i, group
+      allocate (lengths(0))
+      if (.not. allocated(model%contacts)) return
+      every_node = [(i, i = 1, model%n_nodes)]
+      every_element = [(i, i = 1, model%n_elements)]
+      structure = tributary_lengths(model%coordinates, model%connectivity, every_element, every_node)
+      deallocate (lengths)
+      allocate (lengths(size(model%contacts)))
+      do c = 1, size(model%contacts)
+         lengths(c) = structure(model%contacts(c)%node)
+      end do
+      if (.not. allocated(model%foundations)) return
+      do i = 1, size(model%foundations)
+         group = model%foundations(i)%group
+         per_node = tributary_lengths(model%coordinates, model%connectivity, model%foundations(i)%elements, &
+                                      every_node)
+         do c = 1, size(model%contacts)
+            if (model%contacts(c)%group == group) lengths(c) = per_node(model%contacts(c)%node)
+         end do
+      end do
+   end function candidate_lengths
+
+end module uniarc_output_forces
