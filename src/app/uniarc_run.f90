@@ -2,7 +2,7 @@
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_internal
+   use uniarc_error, only: error_t, make_error, error_internal, error_input
    use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
@@ -81,8 +81,7 @@ contains
             call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
                                      error, record%reactions, active, record%lcp_pivots, record%lcp_residual)
             if (allocated(error)) then
-               if (allocated(model%steps)) error%message = 'analysis step '//integer_to_string(k)//' ('// &
-                                                           model%steps(k)%name//'): '//error%message
+               call name_analysis_step(model, k, error)
                return
             end if
             summary = summarize_contact(model, record%reactions, active)
@@ -252,13 +251,24 @@ contains
       if (allocated(model%steps)) label = ' (analysis step '//integer_to_string(k)//' '//model%steps(k)%name//')'
    end function step_label
 
-   !> Prefix an error of the analysis with the analysis step it happened in (decks with steps).
+   !> Prefix an error of the analysis with the analysis step it happened in (decks with steps); an
+   !> input error (exit code 2) keeps its `file:` first (docs/contracts.md) and names the step after it.
    subroutine name_analysis_step(model, k, error)
       type(model_t), intent(in) :: model
       integer, intent(in) :: k
       type(error_t), intent(inout) :: error
-      if (allocated(model%steps)) error%message = 'analysis step '//integer_to_string(k)//' ('// &
-                                                  model%steps(k)%name//'): '//error%message
+      character(len=:), allocatable :: label
+      integer :: n
+      if (.not. allocated(model%steps)) return
+      label = 'analysis step '//integer_to_string(k)//' ('//model%steps(k)%name//')'
+      n = len(model%deck_path)
+      if (error%category == error_input .and. n > 0 .and. len(error%message) > n + 1) then
+         if (error%message(1:n + 1) == model%deck_path//':') then
+            error%message = error%message(1:n + 1)//' '//label//':'//error%message(n + 2:)
+            return
+         end if
+      end if
+      error%message = label//': '//error%message
    end subroutine name_analysis_step
 
    !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
