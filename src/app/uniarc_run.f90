@@ -104,9 +104,10 @@ contains
          if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
          if (.not. allocated(io_error)) call write_forces(files, step_model(model, k, end_lambda), records(k), io_error)
          if (k < n_steps .and. .not. allocated(io_error)) &
-            call write_vtk_snapshot(vtk, results, model, records(k), io_error)
+            call write_vtk_snapshot(vtk, results, step_model(model, k, end_lambda), records(k), io_error)
       end do
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, records(n_steps), io_error)
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, step_model(model, n_steps, end_lambda), &
+         records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (.not. options%quiet) call print_tracks(model, records(n_steps))
@@ -152,7 +153,7 @@ contains
       record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
-      if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, stepped, record, io_error)
       if (.not. allocated(io_error) .and. forces_due(stepped, record%step)) call write_forces(files, stepped, record, io_error)
       n_events = 0
       do
@@ -184,7 +185,7 @@ contains
                if (allocated(io_error)) exit
             end if
             if (vtk_snapshot_due(vtk, record%step)) then
-               call write_vtk_snapshot(vtk, results, model, record, io_error)
+               call write_vtk_snapshot(vtk, results, stepped, record, io_error)
                if (allocated(io_error)) exit
             end if
             if (forces_due(stepped, record%step)) call write_forces(files, stepped, record, io_error)
@@ -229,7 +230,7 @@ contains
          call write_shape(files, model, record, io_error)
       ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
       if (.not. allocated(io_error)) call write_forces(files, stepped, record, io_error)
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (.not. options%quiet) then
