@@ -244,7 +244,7 @@ def mutant(corpus, seed, index):
 CRASH_MARKERS = ['Fortran runtime error', 'Program received signal', 'Backtrace for this error',
                  'Error termination', 'ERROR STOP', 'AddressSanitizer', 'LeakSanitizer',
                  'UndefinedBehaviorSanitizer', 'runtime error:', 'Operating system error']
-TABLES = ('.path', '.crit', '.shape')
+TABLES = ('.path', '.crit', '.shape', '.surface', '.forces', '.contact', '.csv')
 REQUIRED_TABLES = ('.path', '.crit', '.shape')
 
 
@@ -262,11 +262,13 @@ def check_table(path, problems):
     if text and not text.endswith('\n'):
         problems.append(('torn_row', f'{os.path.basename(path)}: last line not ended'))
     lines = text.splitlines()
-    if not lines or not lines[0].startswith('#'):
+    # The column names are line 1 (no '#'); '#' lines are provenance (docs/contracts.md).
+    if not lines or not lines[0].strip() or lines[0].startswith('#'):
         problems.append(('torn_row', f'{os.path.basename(path)}: no header line'))
         return
-    header = lines[0].lstrip('#').split()
-    words_allowed = path.endswith('.crit')   # the event kind in the first column
+    header = lines[0].replace(',', ' ').split()
+    # Columns of words: the event kind of .crit, the medium's name of .contact and .surface.
+    word_columns = {k for k, name in enumerate(header) if name in ('kind', 'medium')}
     for number, line in enumerate(lines[1:], start=2):
         if not line.strip() or line.startswith('#'):
             continue
@@ -275,7 +277,7 @@ def check_table(path, problems):
             problems.append(('torn_row', f'{os.path.basename(path)}:{number}: {len(fields)} fields, header has {len(header)}'))
             return
         for k, field in enumerate(fields):
-            if k == 0 and words_allowed and re.fullmatch(r'[A-Za-z_]+', field):
+            if k in word_columns and re.fullmatch(r'[A-Za-z_][A-Za-z0-9_.-]*', field):
                 continue
             if not finite_token(field):
                 kind = 'nonfinite' if re.search(r'(?i)nan|inf|\*', field) else 'torn_row'
@@ -290,7 +292,7 @@ def check_other_file(path, problems):
     """NaN, Inf or asterisks among the numbers of a ParaView file (the legacy title line skipped)."""
     with open(path, 'rb') as f:
         text = f.read().decode('utf-8', 'replace')
-    if path.endswith('.vtu'):
+    if path.endswith('.vtp'):
         text = '\n'.join(re.findall(r'<DataArray[^>]*>(.*?)</DataArray>', text, re.S))
     elif path.endswith('.vtk'):
         text = '\n'.join(text.splitlines()[2:])

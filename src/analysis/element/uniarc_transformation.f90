@@ -129,8 +129,18 @@ contains
       length = norm2(d)
       c0 = d0(1)/initial_length
       s0 = d0(2)/initial_length
-      c = d(1)/length
-      s = d(2)/length
+      if (length > epsilon(1.0_dp)*initial_length) then
+         c = d(1)/length
+         s = d(2)/length
+      else
+         ! A chord crushed to (nearly) a point has no direction: only a diverged Newton iterate gets
+         ! here (its axial force is then about −EA, and the step is cut). Keep the initial direction
+         ! and a length of one ulp of L0, so that the iterate stays finite and is rejected by the
+         ! convergence test instead of dividing by zero.
+         length = epsilon(1.0_dp)*initial_length
+         c = c0
+         s = s0
+      end if
       elongation = dot_product(delta, 2.0_dp*d0 + delta)/(length + initial_length)
 
       ! Chord rotation β − β0 through its cosine and sine, never as an angle: no branch cut.
