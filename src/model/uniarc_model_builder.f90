@@ -366,11 +366,15 @@ contains
    pure subroutine take_loads(builder, pattern)
       type(model_builder_t), intent(inout) :: builder
       type(load_pattern_t), intent(out) :: pattern
-      pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
+      if (allocated(builder%nodal_load)) then
+         pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
+         builder%nodal_load = 0.0_dp
+      else
+         allocate (pattern%nodal_load(dofs_per_node, 0))
+      end if
       allocate (pattern%distributed_loads(builder%n_loads), pattern%thermal_loads(builder%n_thermal))
       if (builder%n_loads > 0) pattern%distributed_loads = builder%loads(1:builder%n_loads)
       if (builder%n_thermal > 0) pattern%thermal_loads = builder%thermal(1:builder%n_thermal)
-      builder%nodal_load = 0.0_dp
       builder%n_loads = 0
       builder%n_thermal = 0
       if (allocated(builder%load_index)) builder%load_index = 0
