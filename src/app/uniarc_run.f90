@@ -457,7 +457,8 @@ contains
       real(dp), intent(in) :: elapsed   !< seconds since the path started
       character(len=:), allocatable :: text
       real(dp) :: done, rate
-      done = real(record%step, dp)/real(max(driver%rules%max_steps, 1), dp)
+      ! max_steps counts the steps of the current analysis step (*STEP; step_offset 0 without steps)
+      done = real(record%step - driver%step_offset, dp)/real(max(driver%rules%max_steps, 1), dp)
       if (driver%rules%lambda_max < huge(1.0_dp)) done = max(done, abs(record%lambda)/driver%rules%lambda_max)
       if (driver%rules%track > 0) then
          if (driver%rules%track_limit > 0.0_dp) done = max(done, abs(driver%tracked(driver%rules%track))/ &
