@@ -14,13 +14,16 @@ module uniarc_check
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text
    implicit none
    private
-   public :: model_memory_estimate, check_model, print_model_summary, stiffness_bound
+   public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
 
    !> The largest element stiffness times coordinate size (force) the analysis accepts: the round-off
    !> floor and the force scale of the convergence test sum squares of such products
    !> (uniarc_equilibrium), which must stay below the largest double, 1.8e308; 1e150 leaves a margin of
    !> 1e8 for the sums over elements.
    real(dp), parameter :: stiffness_bound = 1.0e150_dp
+   !> Coordinates and element lengths the analysis accepts: within 1e±100 the cubes of lengths and the
+   !> products of coordinates with stiffnesses (EA, EI ≤ 1e100, uniarc_deck_mesh) stay finite and normal.
+   real(dp), parameter :: coordinate_bound = 1.0e100_dp, length_floor = 1.0e-100_dp
 
 contains
 
@@ -37,41 +40,69 @@ contains
                                  real(map%half_bandwidth, dp), real(n_candidates, dp))
    end function model_memory_estimate
 
-   !> The checks of a model before its analysis. Errors (error_input, exit code 2): the estimated memory
-   !> exceeds what is available (the message gives both and what they count); an element whose
-   !> stiffness scale k_e (EA/L + 12 EI/L³, uniarc_element) is not finite, or whose k_e |x| exceeds
-   !> `stiffness_bound` (|x| the larger of its coordinates and its length): its squares would overflow.
+   !> The geometry and stiffness checks of a model, before its DOF numbering (which already forms
+   !> stiffness scales): every coordinate within ±`coordinate_bound`, every element at least
+   !> `length_floor` long, and every element's stiffness scale k_e (EA/L + 12 EI/L³, uniarc_element)
+   !> times its size |x| (the larger of its coordinates and its length) at most `stiffness_bound`. k_e
+   !> is compared through its logarithm, so that the check itself cannot overflow (EI = 1e100 over
+   !> L = 1e-100 would). Errors (error_input, exit code 2): the first element that fails, named with
+   !> its section, EA, EI and L.
+   subroutine check_element_scales(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: x(2, 2), length, size_x, log_k, t_axial, t_bending
+      integer :: e, label
+      character(len=:), allocatable :: what
+      do e = 1, model%n_elements
+         x = element_coordinates(model, e)
+         what = ''
+         if (.not. (maxval(abs(x)) <= coordinate_bound)) then
+            what = 'a coordinate beyond 1e100 in magnitude'
+         else
+            length = norm2(x(:, 2) - x(:, 1))
+            size_x = max(maxval(abs(x)), length)
+            associate (section => model%sections(model%element_section(e)))
+               if (.not. (length >= length_floor)) then
+                  what = 'a length below 1e-100'
+               else
+                  t_axial = -huge(1.0_dp)
+                  t_bending = -huge(1.0_dp)
+                  if (section%ea > 0.0_dp) t_axial = log(section%ea) - log(length)
+                  if (section%ei > 0.0_dp .and. element_kind_of(model, e) /= element_truss) &
+                     t_bending = log(12.0_dp*section%ei) - 3.0_dp*log(length)
+                  ! log(exp(a) + exp(b)) without forming either
+                  log_k = max(t_axial, t_bending) + log(1.0_dp + exp(-abs(t_axial - t_bending)))
+                  if (log_k + log(size_x) > log(stiffness_bound)) &
+                     what = 'a stiffness EA/L + 12 EI/L^3 that times its size (coordinates, length) exceeds 1e150'
+               end if
+            end associate
+         end if
+         if (len(what) == 0) cycle
+         label = e
+         if (allocated(model%element_label)) label = model%element_label(e)
+         associate (section => model%sections(model%element_section(e)))
+            call make_error(error, model%deck_path//': element '//integer_to_string(label)//' (section '// &
+                            section%name//', EA = '//real_to_string(section%ea)//', EI = '// &
+                            real_to_string(section%ei)//') has '//what//', beyond which the equations '// &
+                            'overflow double precision; rescale the units of the deck', error_input)
+         end associate
+         return
+      end do
+   end subroutine check_element_scales
+
+   !> The memory check of a model before its analysis (after its DOF numbering). Errors (error_input,
+   !> exit code 2): the estimated memory exceeds what is available (the message gives both and what
+   !> they count).
    subroutine check_model(model, map, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: shortfall
-      real(dp) :: k, size_x
-      integer :: e, label
       call memory_shortfall(model_memory_estimate(model, map), shortfall)
       if (allocated(shortfall)) then
          call make_error(error, model%deck_path//': the model does not fit in memory: its analysis ('// &
                          counts_text(model, map)//') would '//shortfall, error_input)
-         return
       end if
-      do e = 1, model%n_elements
-         k = element_stiffness_scale(model, e)
-         size_x = max(maxval(abs(element_coordinates(model, e))), element_length(model, e))
-         if (.not. (k*size_x <= stiffness_bound)) then
-            label = e
-            if (allocated(model%element_label)) label = model%element_label(e)
-            associate (section => model%sections(model%element_section(e)))
-               call make_error(error, model%deck_path//': element '//integer_to_string(label)//' (section '// &
-                               section%name//', EA = '//real_to_string(section%ea)//', EI = '// &
-                               real_to_string(section%ei)//', L = '//real_to_string(element_length(model, e))// &
-                               '): its stiffness EA/L + 12 EI/L^3 = '//real_to_string(k)// &
-                               ' times its size (coordinates, length) exceeds 1e150, beyond which the '// &
-                               'equations overflow '// &
-                               'double precision; rescale the units of the deck', error_input)
-            end associate
-            return
-         end if
-      end do
    end subroutine check_model
 
    !> The summary of `uniarc --check` on stdout: counts, supports, loads and their totals, contact

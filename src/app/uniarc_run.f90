@@ -19,7 +19,7 @@ module uniarc_run
                                       abandon_results
    use uniarc_foreign, only: interrupt_signal, signal_name
    use uniarc_dof_map, only: dof_map_t, build_dof_map
-   use uniarc_check, only: check_model, print_model_summary
+   use uniarc_check, only: check_model, check_element_scales, print_model_summary
    use uniarc_strings, only: integer_to_string
    use uniarc_provenance, only: provenance_t
    implicit none
@@ -61,6 +61,8 @@ contains
          return
       end if
       ! Memory and stiffness checks (uniarc_check) before any large array or result file.
+      call check_element_scales(model, error)
+      if (allocated(error)) return
       call build_dof_map(model, map)
       call check_model(model, map, error)
       if (allocated(error)) return
@@ -85,6 +87,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(dof_map_t) :: map
       integer :: k
+      call check_element_scales(model, error)
+      if (allocated(error)) return
       call build_dof_map(model, map)
       call print_model_summary(model, map)
       ! A deck with *STEP: the loads and analysis above are empty; each step's own, in order.
