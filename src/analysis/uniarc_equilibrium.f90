@@ -2,16 +2,20 @@
 !>   g(u, λ) = λ R(u) − F(u) = 0,   K_T = ∂F/∂u − λ ∂R/∂u
 !> F the internal forces of the elements (uniarc_element under the corotational transformation), R the
 !> reference load (paper Eq. 17: R = λ R_r; fixed-direction loads do not depend on u, follower pressure
-!> does).
+!> does). With analysis steps (uniarc_model_steps) the loads of earlier steps are held at fixed value:
+!>   g(u, λ) = H(u) + λ R(u) − F(u),   K_T = ∂F/∂u − ∂H/∂u − λ ∂R/∂u,
+!> H = Σ_j λ_j R_j(u) the held patterns (model%held); H is assembled into F with its sign reversed, so
+!> that every caller keeps reading g = λ R − F.
 module uniarc_equilibrium
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, dofs_per_node, load_pressure
+   use uniarc_model, only: model_t, dofs_per_node, load_pressure, load_fixed_direction, load_pattern_t
    use uniarc_dof_map, only: dof_map_t, element_equations
    use uniarc_band, only: band_matrix_t, band_add_element, band_zero
    use uniarc_assembly, only: scatter_add
    use uniarc_element, only: element_response_t, element_response, element_stiffness_scale, &
                              element_coordinates, element_displacements, transformation_corotational
    use uniarc_corotational, only: follower_pressure
+   use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element_loads, only: thermal_load_vector
    implicit none
    private
@@ -70,6 +74,11 @@ contains
             call band_add_element(tangent, element_equations(model, map, e), lambda*k)
          end do
       end if
+      if (allocated(model%held)) then
+         do i = 1, size(model%held)
+            call subtract_held_pattern(model, map, model%held(i), displacement, tangent, internal)
+         end do
+      end if
       if (.not. allocated(model%distributed_loads)) return
       do i = 1, size(model%distributed_loads)
          associate (dload => model%distributed_loads(i))
@@ -82,5 +91,51 @@ contains
          end associate
       end do
    end subroutine assemble_equilibrium
+
+   !> internal −= c R_p(u) and tangent += c (load stiffness of R_p), c = pattern%factor: a load pattern
+   !> held at fixed value (an earlier analysis step's loads at the λ where that step ended), assembled
+   !> as the reference load is (nodal and fixed-direction loads and non-follower pressure on the initial
+   !> geometry, follower pressure and temperature changes on the current one).
+   subroutine subtract_held_pattern(model, map, pattern, displacement, tangent, internal)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(load_pattern_t), intent(in) :: pattern
+      real(dp), intent(in) :: displacement(:, :)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: internal(:)
+      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
+      integer :: i, j, e
+      do i = 1, model%n_nodes
+         do j = 1, dofs_per_node
+            if (map%equation(j, i) > 0) internal(map%equation(j, i)) = internal(map%equation(j, i)) &
+                                                                      - pattern%factor*pattern%nodal_load(j, i)
+         end do
+      end do
+      do i = 1, size(pattern%thermal_loads)
+         e = pattern%thermal_loads(i)%element
+         call thermal_load_vector(model, pattern%thermal_loads(i), element_displacements(model, e, displacement), &
+                                  transformation_corotational, f, k)
+         call scatter_add(element_equations(model, map, e), -pattern%factor*f, internal)
+         call band_add_element(tangent, element_equations(model, map, e), pattern%factor*k)
+      end do
+      do i = 1, size(pattern%distributed_loads)
+         associate (dload => pattern%distributed_loads(i))
+            e = dload%element
+            k = 0.0_dp
+            if (dload%kind == load_fixed_direction) then
+               f = fixed_direction_load_vector(element_coordinates(model, e), dload%qx, dload%qy)
+            else if (dload%kind == load_pressure .and. .not. dload%follower) then
+               f = pressure_load_vector(element_coordinates(model, e), dload%pressure)
+            else if (dload%kind == load_pressure) then
+               call follower_pressure(element_coordinates(model, e), element_displacements(model, e, displacement), &
+                                      dload%pressure, f, k)
+               call band_add_element(tangent, element_equations(model, map, e), pattern%factor*k)
+            else
+               cycle
+            end if
+            call scatter_add(element_equations(model, map, e), -pattern%factor*f, internal)
+         end associate
+      end do
+   end subroutine subtract_held_pattern
 
 end module uniarc_equilibrium

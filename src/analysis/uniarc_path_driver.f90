@@ -22,11 +22,12 @@ module uniarc_path_driver
    use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
-                                    nodal_displacements
+                                    nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
+   public :: driver_next_analysis_step
    public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure
 
    !> Why the path ended (`path_driver_t%stop`, `step_outcome_t%stop`).
@@ -54,6 +55,9 @@ module uniarc_path_driver
       real(dp), allocatable :: tracked(:)          !< (size(model%tracks)) tracked values at the committed state
       integer :: stop = stop_none                  !< why the path ended; stop_none while it goes on
       logical :: started = .false.                 !< driver_start succeeded
+      !> Converged steps before the current analysis step (driver_next_analysis_step): the step
+      !> numbers go on across analysis steps, and max_steps counts the steps of the current one.
+      integer :: step_offset = 0
    end type path_driver_t
 
    !> What one call of driver_step did.
@@ -104,6 +108,40 @@ contains
       driver%started = .true.
    end subroutine driver_start
 
+   !> Go on to the next analysis step (docs/theory.md §2.5) from the committed state of a path that
+   !> ended by a stop rule: `model` is the new step's (uniarc_model_steps), whose stop rules replace
+   !> the driver's; the state keeps its displacements, contacts and step number (path_restart), λ
+   !> starts at 0, and max_steps counts the steps from here.
+   !> Errors: path_restart's (error_analysis); a driver not started or whose path failed
+   !> (error_internal); a stop track that is not one of the model's tracks (error_input).
+   subroutine driver_next_analysis_step(model, driver, error)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(inout) :: driver
+      type(error_t), allocatable, intent(out) :: error
+      if (.not. driver%started .or. driver%stop == stop_failure) then
+         call make_error(error, 'driver_next_analysis_step: no converged path to go on from', error_internal)
+         return
+      end if
+      driver%rules%lambda_max = model%analysis%lambda_max
+      driver%rules%track = model%analysis%stop_track
+      driver%rules%track_limit = model%analysis%stop_value
+      driver%rules%max_steps = model%analysis%max_steps
+      if (driver%rules%track < 0 .or. driver%rules%track > size(driver%tracked)) then
+         call make_error(error, 'the stop track '//integer_to_string(driver%rules%track)//' is not one of the '// &
+                         integer_to_string(size(driver%tracked))//' tracks of the model', error_input)
+         return
+      end if
+      call path_restart(model, driver%state, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         return
+      end if
+      call nodal_displacements(model, driver%state, driver%displacement)
+      driver%tracked = tracked_values(model, driver%displacement)
+      driver%step_offset = driver%state%point%step
+      driver%stop = stop_none
+   end subroutine driver_next_analysis_step
+
    !> Take one converged step (path_advance) and check the stop rules at the new point.
    !> On success the committed state, `displacement` and `tracked` are those of the new step and
    !> `driver%stop` (= `outcome%stop`) says whether the path has ended. If the step cannot be made
@@ -148,7 +186,7 @@ contains
       do k = 1, size(outcome%events)
          outcome%event_tracked(:, k) = tracked_before + outcome%events(k)%fraction*(driver%tracked - tracked_before)
       end do
-      driver%stop = stop_reason(driver%rules, outcome%step, outcome%lambda, driver%tracked)
+      driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
       outcome%stop = driver%stop
    end subroutine driver_step
 

@@ -38,6 +38,7 @@ module uniarc_path_following
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
+   public :: path_restart
    public :: candidate_reactions
 
    !> How a real is written in the messages of a failed step (λ, the step length): 6 digits suffice.
@@ -87,6 +88,60 @@ contains
             call add_where(error, 'unloaded state', state)
             return
          end if
+         call size_first_step(model, state, error)
+         if (allocated(error)) return
+         call describe_point(model, state, 0, 0, 0)
+      end associate
+   end subroutine path_initialize
+
+   !> Start the next analysis step (docs/theory.md §2.5) from the committed state of the previous one:
+   !> `model` is the new step's (uniarc_model_steps: its loads scaled by λ, the earlier ones held), and
+   !> the state keeps its displacements, working set, reactions, path length and step number; λ starts
+   !> at 0, the reference load, K_T and its point record are those of the new step at that state, and
+   !> the first step is sized by the new step's controls. The previous step's last increment is
+   !> forgotten: the first predictor goes along +K⁻¹R (or −K⁻¹R for a negative first increment), as at
+   !> the start of a path.
+   !> Errors (error_analysis): displacement control of a held DOF; a singular tangent; a zero first
+   !> increment or reference load.
+   subroutine path_restart(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      type(path_system_t), allocatable :: system
+      associate (options => model%analysis)
+         state%lambda = 0.0_dp
+         state%last_increment = 0.0_dp
+         call assemble_reference_load(model, state%map, .false., state%fixed_load)
+         state%control_equation = 0
+         if (options%control == control_displacement) then
+            state%control_equation = state%map%equation(options%control_dof, options%control_node)
+            if (state%control_equation == 0) then
+               call make_error(error, 'displacement control of a DOF held by a support', error_analysis)
+               return
+            end if
+         end if
+         call move_alloc(state%system, system)
+         system%holds_converged = .false.
+         call commit_tangent(model, state, system, .false., error)
+         call move_alloc(system, state%system)
+         if (allocated(error)) then
+            call add_where(error, 'start of the step', state)
+            return
+         end if
+         call size_first_step(model, state, error)
+         if (allocated(error)) return
+         call describe_point(model, state, state%point%step, 0, 0)
+      end associate
+   end subroutine path_restart
+
+   !> The first step length, direction and force scale of a path (or an analysis step) from the
+   !> committed K⁻¹R and R and the controls of `model%analysis`.
+   !> Errors (error_analysis): a zero first increment or reference load.
+   subroutine size_first_step(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      associate (options => model%analysis)
          select case (options%control)
          case (control_arclength)
             state%first_length = abs(options%first_increment)*masked_norm(state%map, state%tangent_displacement)
@@ -103,9 +158,8 @@ contains
                             error_analysis)
             return
          end if
-         call describe_point(model, state, 0, 0, 0)
       end associate
-   end subroutine path_initialize
+   end subroutine size_first_step
 
    !> Advance one converged step, cutting the step length on failure; error if it cannot be done.
    !>

@@ -2,12 +2,14 @@
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_internal, error_analysis
+   use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: candidate_reactions
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
-                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure
+                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, &
+                                 driver_next_analysis_step
+   use uniarc_model_steps, only: n_analysis_steps, step_model
    use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
@@ -85,15 +87,30 @@ contains
       type(model_t), intent(in) :: model
       type(error_t), allocatable, intent(out) :: error
       type(dof_map_t) :: map
+      integer :: k
       call check_element_scales(model, error)
       if (allocated(error)) return
       call build_dof_map(model, map)
       call print_model_summary(model, map)
+      ! A deck with *STEP: the loads and analysis above are empty; each step's own, in order.
+      if (allocated(model%steps)) then
+         do k = 1, size(model%steps)
+            associate (step => model%steps(k))
+               write (output_unit, '(a)') '  analysis step '//integer_to_string(k)//' ('//step%name//'): '// &
+                  trim(merge('*STATIC', '*PATH  ', step%analysis%kind == analysis_linear))//', loads on '// &
+                  integer_to_string(count(any(step%loads%nodal_load /= 0.0_dp, dim=1)))//' nodes, '// &
+                  integer_to_string(size(step%loads%distributed_loads))//' element loads, '// &
+                  integer_to_string(size(step%loads%thermal_loads))//' temperature changes'
+            end associate
+         end do
+      end if
       call check_model(model, map, error)
       if (.not. allocated(error)) call check_model_mechanism(model, map, error)
       if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
    end subroutine check_deck
 
+   !> The linear static analysis (with contact: one LCP, uniarc_linear_static); one row per analysis
+   !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps).
    subroutine run_linear(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
@@ -101,48 +118,71 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
-      type(step_record_t) :: record
+      type(step_record_t), allocatable :: records(:)
       type(error_t), allocatable :: io_error
       type(contact_summary_t) :: summary
       logical, allocatable :: active(:)
-      call solve_linear_static(model, record%displacement, record%neg_pivots, error, record%reactions, active, &
-                               record%lcp_pivots, record%lcp_residual)
-      if (allocated(error)) return
-      summary = summarize_contact(model, record%reactions, active)
-      record%groups = summarize_groups(model, record%reactions, active)
-      record%n_contact = summary%n_contact
-      record%contact_regions = summary%regions
-      record%s_contact = summary%s_contact
-      record%reaction_max = summary%reaction_max
-      record%reaction_sum = summary%reaction_sum
-      if (.not. finite_record(record)) then
-         call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large for the '// &
-                         'stiffnesses, or the stiffness matrix is singular or badly scaled; no result file '// &
-                         'written', error_analysis)
-         return
-      end if
-      record%step = 1
-      record%lambda = 1.0_dp
-      record%iterations = 1
+      real(dp), allocatable :: end_lambda(:)
+      integer :: k, n_steps
+      n_steps = n_analysis_steps(model)
+      allocate (records(n_steps))
+      allocate (end_lambda(n_steps), source=1.0_dp)
+      do k = 1, n_steps
+         associate (record => records(k))
+            call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
+                                     error, record%reactions, active, record%lcp_pivots, record%lcp_residual)
+            if (allocated(error)) then
+               call name_analysis_step(model, k, error)
+               return
+            end if
+            summary = summarize_contact(model, record%reactions, active)
+            record%groups = summarize_groups(model, record%reactions, active)
+            record%n_contact = summary%n_contact
+            record%contact_regions = summary%regions
+            record%s_contact = summary%s_contact
+            record%reaction_max = summary%reaction_max
+            record%reaction_sum = summary%reaction_sum
+            if (.not. finite_record(record)) then
+               call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large '// &
+                               'for the stiffnesses, or the stiffness matrix is singular or badly scaled; no result '// &
+                               'file written', error_analysis)
+               call name_analysis_step(model, k, error)
+               return
+            end if
+            record%step = k
+            record%lambda = 1.0_dp
+            record%iterations = 1
+            record%analysis_step = k
+         end associate
+      end do
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
-      if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
-      if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
-      if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      do k = 1, n_steps
+         if (.not. allocated(io_error)) call write_path_row(files, model, records(k), io_error)
+         if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
+         if (.not. allocated(io_error)) call write_forces(files, step_model(model, k, end_lambda), records(k), io_error)
+         if (k < n_steps .and. .not. allocated(io_error)) &
+            call write_vtk_snapshot(vtk, results, step_model(model, k, end_lambda), records(k), io_error)
+      end do
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, step_model(model, n_steps, end_lambda), &
+                                                            records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
          ' during the linear analysis, which ended all the same: its result files are complete'
-      if (.not. options%quiet) call print_tracks(model, record)
+      if (.not. options%quiet) call print_tracks(model, records(n_steps))
    end subroutine run_linear
 
    !> Follow the equilibrium path with the path driver (uniarc_path_driver: the steps, the stop rules,
    !> the critical points between steps), writing each converged step, its critical points and the
-   !> progress messages. An error of the analysis ends the path with the files of the steps so far; an
-   !> error of the result files ends it at once. A step whose λ, displacements or reactions are not
-   !> finite is not written: it ends the path as an analysis error. An interrupt (SIGINT, SIGTERM) is
-   !> polled after every written step: the path ends there, and its files are completed and committed.
+   !> progress messages. A deck with analysis steps (*STEP) traces them in turn, each from the state
+   !> where the previous one stopped (driver_next_analysis_step) on the model of the step
+   !> (uniarc_model_steps: the earlier steps' loads held at their final λ); each later step starts with
+   !> a row of that state at its λ = 0. An error of the analysis ends the path with the files of the
+   !> steps so far; an error of the result files ends it at once. A step whose λ, displacements or
+   !> reactions are not finite is not written: it ends the path as an analysis error. An interrupt
+   !> (SIGINT, SIGTERM) is polled after every written step: the path ends there, and its files are
+   !> completed and committed.
    subroutine run_path(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
@@ -154,77 +194,118 @@ contains
       type(step_outcome_t) :: outcome
       type(step_record_t) :: record, last_written
       type(error_t), allocatable :: io_error
+      type(model_t) :: stepped
+      real(dp), allocatable :: end_lambda(:)
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
-      integer :: k, n_critical, n_contact_events
+      integer :: k, n_critical, n_contact_events, k_step, n_steps
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
-      call driver_start(model, driver, error)
-      if (allocated(error)) return
+      n_steps = n_analysis_steps(model)
+      allocate (end_lambda(n_steps), source=0.0_dp)
+      k_step = 1
+      stepped = step_model(model, k_step, end_lambda)
+      call driver_start(stepped, driver, error)
+      if (allocated(error)) then
+         call name_analysis_step(model, k_step, error)
+         return
+      end if
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
       call record_state(model, driver, record)
+      record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
-      if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
-      if (.not. allocated(io_error) .and. forces_due(model, record%step)) call write_forces(files, model, record, io_error)
+      if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, stepped, record, io_error)
+      if (.not. allocated(io_error) .and. forces_due(stepped, record%step)) &
+         call write_forces(files, stepped, record, io_error)
       n_critical = 0
       n_contact_events = 0
-      done = allocated(io_error) .or. interrupt_signal() /= 0
-      do while (.not. done)
-         call driver_step(model, driver, outcome, error)
-         if (allocated(error)) exit
-         last_written = record
-         call record_state(model, driver, record)
-         if (.not. finite_record(record)) then
-            call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
-                            trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
-                            'overflow in lambda, the displacements or the reactions); it is not written, '// &
-                            'the path ends at step '//integer_to_string(last_written%step), error_analysis)
-            record = last_written
-            exit
-         end if
-         call write_path_row(files, model, record, io_error)
-         if (allocated(io_error)) exit
-         do k = 1, size(outcome%events)
-            call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
-                                outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
-            if (allocated(io_error)) exit
-            if (is_contact_event(outcome%events(k)%kind)) then
-               n_contact_events = n_contact_events + 1
-            else
-               n_critical = n_critical + 1
+      do
+         done = allocated(io_error) .or. interrupt_signal() /= 0
+         do while (.not. done)
+            call driver_step(stepped, driver, outcome, error)
+            if (allocated(error)) exit
+            last_written = record
+            call record_state(model, driver, record)
+            record%analysis_step = k_step
+            if (.not. finite_record(record)) then
+               call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
+                               trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
+                               'overflow in lambda, the displacements or the reactions); it is not written, '// &
+                               'the path ends at step '//integer_to_string(last_written%step), error_analysis)
+               record = last_written
+               exit
             end if
-            if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
-               event_place(outcome%events(k)%position, record%step)//', lambda = '// &
-               short_number(outcome%events(k)%lambda)
+            call write_path_row(files, model, record, io_error)
+            if (allocated(io_error)) exit
+            do k = 1, size(outcome%events)
+               if (allocated(model%steps)) then
+                  call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
+                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error, k_step)
+               else
+                  call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
+                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
+               end if
+               if (allocated(io_error)) exit
+               if (is_contact_event(outcome%events(k)%kind)) then
+                  n_contact_events = n_contact_events + 1
+               else
+                  n_critical = n_critical + 1
+               end if
+               if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
+                  event_place(outcome%events(k)%position, record%step)//', lambda = '// &
+                  short_number(outcome%events(k)%lambda)//step_label(model, k_step)
+            end do
+            if (allocated(io_error)) exit
+            if (mod(record%step, stepped%analysis%shape_every) == 0) then
+               call write_shape(files, model, record, io_error)
+               if (allocated(io_error)) exit
+            end if
+            if (vtk_snapshot_due(vtk, record%step)) then
+               call write_vtk_snapshot(vtk, results, stepped, record, io_error)
+               if (allocated(io_error)) exit
+            end if
+            if (forces_due(stepped, record%step)) call write_forces(files, stepped, record, io_error)
+            if (allocated(io_error)) exit
+            done = driver%stop /= stop_none .or. interrupt_signal() /= 0
+            call system_clock(clock_now)
+            if (.not. options%quiet .and. (options%verbose .or. &
+                (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
+               write (error_unit, '(a)') progress_line(driver, record, &
+                                                       real(clock_now - clock_start, dp)/real(clock_rate, dp))
+               ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
+               flush (error_unit)
+               clock_last = clock_now
+            end if
          end do
-         if (allocated(io_error)) exit
-         if (mod(record%step, model%analysis%shape_every) == 0) then
+         if (allocated(error)) call name_analysis_step(model, k_step, error)
+         if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none) exit
+         ! The next analysis step, from the state where this one stopped (its shape written first).
+         end_lambda(k_step) = driver%state%lambda
+         if (.not. options%quiet) write (output_unit, '(a)') 'analysis step '//integer_to_string(k_step)//' ('// &
+            model%steps(k_step)%name//') ended at step '//integer_to_string(record%step)//', lambda = '// &
+            trim(format_number(record%lambda))//'; '//stop_message(model, driver)
+         if (mod(record%step, stepped%analysis%shape_every) /= 0) then
             call write_shape(files, model, record, io_error)
             if (allocated(io_error)) exit
          end if
-         if (vtk_snapshot_due(vtk, record%step)) then
-            call write_vtk_snapshot(vtk, results, model, record, io_error)
-            if (allocated(io_error)) exit
+         k_step = k_step + 1
+         stepped = step_model(model, k_step, end_lambda)
+         call driver_next_analysis_step(stepped, driver, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k_step, error)
+            exit
          end if
-         if (forces_due(model, record%step)) call write_forces(files, model, record, io_error)
-         if (allocated(io_error)) exit
-         done = driver%stop /= stop_none .or. interrupt_signal() /= 0
-         call system_clock(clock_now)
-         if (.not. options%quiet .and. (options%verbose .or. &
-             (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
-            write (error_unit, '(a)') progress_line(driver, record, real(clock_now - clock_start, dp)/real(clock_rate, dp))
-            ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
-            flush (error_unit)
-            clock_last = clock_now
-         end if
+         call record_state(model, driver, record)
+         record%analysis_step = k_step
+         call write_path_row(files, model, record, io_error)
       end do
-      if (.not. allocated(io_error) .and. mod(record%step, model%analysis%shape_every) /= 0) &
+      if (.not. allocated(io_error) .and. mod(record%step, stepped%analysis%shape_every) /= 0) &
          call write_shape(files, model, record, io_error)
       ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
-      if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error)) call write_forces(files, stepped, record, io_error)
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (interrupt_signal() /= 0 .and. driver%stop == stop_none) then
@@ -233,12 +314,44 @@ contains
             integer_to_string(record%step)//' steps traced are in '//results%directory//'/'//options%stem//'.path'
       end if
       if (.not. options%quiet) then
+         if (allocated(model%steps)) write (output_unit, '(a)') 'analysis step '//integer_to_string(k_step)// &
+            ' ('//model%steps(k_step)%name//') ended at lambda = '//trim(format_number(record%lambda))//'; '// &
+            stop_message(model, driver)
          write (output_unit, '(a)') 'path traced: '//integer_to_string(record%step)//' steps, lambda = '// &
             trim(format_number(record%lambda))//'; '//stop_message(model, driver)
          write (output_unit, '(a)') '  '//counted(n_critical, 'critical point')//' and '// &
             counted(n_contact_events, 'contact event')//' in '//options%stem//'.crit'
       end if
    end subroutine run_path
+
+   !> ' (analysis step K NAME)' for the messages of a deck with steps; '' without.
+   function step_label(model, k) result(label)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      character(len=:), allocatable :: label
+      label = ''
+      if (allocated(model%steps)) label = ' (analysis step '//integer_to_string(k)//' '//model%steps(k)%name//')'
+   end function step_label
+
+   !> Prefix an error of the analysis with the analysis step it happened in (decks with steps); an
+   !> input error (exit code 2) keeps its `file:` first (docs/contracts.md) and names the step after it.
+   subroutine name_analysis_step(model, k, error)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      type(error_t), intent(inout) :: error
+      character(len=:), allocatable :: label
+      integer :: n
+      if (.not. allocated(model%steps)) return
+      label = 'analysis step '//integer_to_string(k)//' ('//model%steps(k)%name//')'
+      n = len(model%deck_path)
+      if (error%category == error_input .and. n > 0 .and. len(error%message) > n + 1) then
+         if (error%message(1:n + 1) == model%deck_path//':') then
+            error%message = error%message(1:n + 1)//' '//label//':'//error%message(n + 2:)
+            return
+         end if
+      end if
+      error%message = label//': '//error%message
+   end subroutine name_analysis_step
 
    !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
    !> their final names together, and `error` (the analysis' error, if any) is left as it is. After an
@@ -350,7 +463,8 @@ contains
       real(dp), intent(in) :: elapsed   !< seconds since the path started
       character(len=:), allocatable :: text
       real(dp) :: done, rate
-      done = real(record%step, dp)/real(max(driver%rules%max_steps, 1), dp)
+      ! max_steps counts the steps of the current analysis step (*STEP; step_offset 0 without steps)
+      done = real(record%step - driver%step_offset, dp)/real(max(driver%rules%max_steps, 1), dp)
       if (driver%rules%lambda_max < huge(1.0_dp)) done = max(done, abs(record%lambda)/driver%rules%lambda_max)
       if (driver%rules%track > 0) then
          if (driver%rules%track_limit > 0.0_dp) done = max(done, abs(driver%tracked(driver%rules%track))/ &

@@ -25,6 +25,7 @@ module uniarc_deck
    use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
+   use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps
    implicit none
    private
    public :: parameter_override_t, read_deck
@@ -61,9 +62,16 @@ contains
          if (allocated(error)) return
       end do
 
+      call finish_steps(source, deck, error)
+      if (allocated(error)) return
       call check_whole_deck(source, deck, error)
       if (allocated(error)) return
       call finish_model(deck%model, model, error, origin=source%path)
+      if (allocated(error)) return
+      if (deck%n_steps > 0) then
+         model%steps = deck%steps(1:deck%n_steps)
+         model%analysis = model%steps(1)%analysis
+      end if
    end subroutine read_deck
 
    !> The card dispatch: one case per keyword, one subroutine per card.
@@ -73,7 +81,13 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
 
+      call check_step_placement(source, card, deck, error)
+      if (allocated(error)) return
       select case (card%keyword)
+      case ('STEP')
+         call read_step(source, card, deck, error)
+      case ('END STEP')
+         call read_end_step(source, card, deck, error)
       case ('HEADING')
          call read_heading(source, card, deck, error)
       case ('PARAMETER')
@@ -117,7 +131,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT), found ''*'// &
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT, *STEP, *END STEP), found ''*'// &
                     clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch
@@ -236,6 +250,7 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, bad
+      real(dp), allocatable :: loads(:, :)
 
       do i = 1, size(deck%overrides)
          if (.not. deck%override_used(i)) then
@@ -272,10 +287,15 @@ contains
          return
       end if
       associate (model => deck%model)
+         ! The nodal loads of every analysis step count as the model's (a moment on a truss node).
+         loads = abs(model%nodal_load(:, 1:model%n_nodes))
+         do i = 1, deck%n_steps
+            loads = loads + abs(deck%steps(i)%loads%nodal_load)
+         end do
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
                                    element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
                                    deck%node_line(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
-                                   model%fixed(:, 1:model%n_nodes), model%nodal_load(:, 1:model%n_nodes), error, &
+                                   model%fixed(:, 1:model%n_nodes), loads, error, &
                                    joints=model%end_joints)
       end associate
    end subroutine check_whole_deck

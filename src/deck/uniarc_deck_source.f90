@@ -277,6 +277,17 @@ contains
       if (first + 1 <= len(text)) is_comment = text(first:first + 1) == '**'
    end function is_comment
 
+   !> The keyword `END STEP` (any case, one or more blanks between the words).
+   pure logical function is_end_step(text)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: upper
+      upper = to_upper(trim(adjustl(text)))
+      is_end_step = .false.
+      if (len(upper) < 8) return
+      if (upper(1:3) /= 'END' .or. upper(4:4) /= ' ') return
+      is_end_step = trim(adjustl(upper(4:))) == 'STEP'
+   end function is_end_step
+
    !> Split `*KEYWORD, OPTION, OPTION=value ...` into the card's keyword and options.
    subroutine parse_keyword_line(source, line, star, card, error)
       type(source_t), intent(in) :: source
@@ -295,12 +306,14 @@ contains
          call raise(source, line, star + 1, 'expected a keyword after ''*'', found nothing', error)
          return
       end if
-      if (.not. is_name(fields(1)%text)) then
+      if (.not. is_name(fields(1)%text) .and. .not. is_end_step(fields(1)%text)) then
          call raise(source, line, fields(1)%column, 'expected a keyword after ''*'', found '''// &
                     clip(fields(1)%text)//'''', error)
          return
       end if
       card%keyword = to_upper(fields(1)%text)
+      ! *END STEP, the one keyword of two words (docs/input.md, *STEP), whatever blanks part them
+      if (is_end_step(fields(1)%text)) card%keyword = 'END STEP'
 
       allocate (card%options(size(fields) - 1))
       do i = 2, size(fields)

@@ -13,6 +13,7 @@ module uniarc_deck_state
    use uniarc_growth, only: grow_integers
    use uniarc_expression, only: parameter_table_t, find_parameter
    use uniarc_deck_source, only: source_t, card_t, raise, clip, field_real, field_integer
+   use uniarc_model, only: analysis_step_t
    use uniarc_model_builder, only: model_builder_t, add_node, node_index, element_index, node_set_index, &
                                    element_set_index
    implicit none
@@ -40,6 +41,16 @@ module uniarc_deck_state
       integer :: stop_track_line = 0, stop_track_column = 0
       integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
       integer :: forces_line = 0                      !< line of the *OUTPUT, FORCES card, 0 if none yet
+      !> Analysis steps (*STEP ... *END STEP, uniarc_deck_steps): the steps closed so far, whether one
+      !> is open and where it began, and the first load and analysis card met outside every step
+      !> (refused once the deck turns out to have steps).
+      integer :: n_steps = 0
+      type(analysis_step_t), allocatable :: steps(:)
+      logical :: in_step = .false.
+      integer :: step_line = 0, step_column = 0
+      integer :: loose_load_line = 0, loose_load_column = 0
+      integer :: loose_analysis_line = 0, loose_analysis_column = 0
+      integer :: analysis_column = 0                  !< column of the analysis card of the open step
    end type deck_t
 
 contains

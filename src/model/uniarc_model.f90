@@ -25,6 +25,7 @@ module uniarc_model
    public :: thermal_load_t
    public :: element_timoshenko, end_joint_t, end_joints_of
    public :: gap_ellipse_inside, gap_ellipse_outside, gap_polyline
+   public :: load_pattern_t, analysis_step_t
 
    !> Degrees of freedom per node of the 2-D frame: u_x, u_y, θ_z (counter-clockwise positive).
    integer, parameter :: dofs_per_node = 3
@@ -218,6 +219,24 @@ module uniarc_model
       integer, allocatable :: forces_steps(:)  !< the steps listed on the card's data lines (may be unallocated)
    end type output_options_t
 
+   !> The loads of one analysis step (*STEP, docs/input.md): its reference nodal loads, distributed loads
+   !> and temperature changes. `factor` is the multiplier of a held pattern (`model_t%held`): the λ at
+   !> which the step that applied it ended (docs/theory.md, analysis steps).
+   type :: load_pattern_t
+      real(dp) :: factor = 1.0_dp
+      real(dp), allocatable :: nodal_load(:, :)                  !< (3, n_nodes)
+      type(distributed_load_t), allocatable :: distributed_loads(:)
+      type(thermal_load_t), allocatable :: thermal_loads(:)
+   end type load_pattern_t
+
+   !> One analysis step of a deck with *STEP cards: its name, its own load pattern (scaled by the
+   !> step's λ) and its analysis (*STATIC or *PATH with its controls).
+   type :: analysis_step_t
+      character(len=:), allocatable :: name
+      type(load_pattern_t) :: loads
+      type(analysis_options_t) :: analysis
+   end type analysis_step_t
+
    !> The whole model.
    type :: model_t
       character(len=:), allocatable :: deck_path   !< file it was read from (messages)
@@ -251,6 +270,12 @@ module uniarc_model
       !> (3, n_nodes) prescribed displacements of held DOFs (support settlements), scaled by λ like the
       !> loads; unallocated: none (every held DOF stays at zero).
       real(dp), allocatable :: prescribed(:, :)
+      !> The analysis steps of a deck with *STEP cards, in order (unallocated: a deck without *STEP,
+      !> whose loads and analysis are the fields above). uniarc_model_steps makes the model of each step.
+      type(analysis_step_t), allocatable :: steps(:)
+      !> Loads held at fixed value while this model's own loads are scaled by λ: the patterns of the
+      !> earlier steps, each times its factor (unallocated or empty: none). Set by uniarc_model_steps.
+      type(load_pattern_t), allocatable :: held(:)
    end type model_t
 
 contains

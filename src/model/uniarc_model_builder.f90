@@ -25,7 +25,8 @@ module uniarc_model_builder
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
-                           gap_fixed_direction, element_beam_column, thermal_load_t, end_joint_t
+                           gap_fixed_direction, element_beam_column, thermal_load_t, end_joint_t, &
+                           load_pattern_t
    use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
                                  path_coordinates, normals_valid, foundation_straight, foundation_problem
    implicit none
@@ -39,6 +40,7 @@ module uniarc_model_builder
    public :: unused_node, element_without_section, model_size
    public :: penetration_tolerance
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
+   public :: take_loads
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -358,6 +360,25 @@ contains
       type(model_builder_t), intent(in) :: builder
       has_prescribed_displacements = builder%n_prescribed > 0
    end function has_prescribed_displacements
+
+   !> Move the loads added so far (nodal, distributed, temperature changes) into `pattern` (an analysis
+   !> step's, *STEP) and start again without loads; the element's load records start afresh too.
+   pure subroutine take_loads(builder, pattern)
+      type(model_builder_t), intent(inout) :: builder
+      type(load_pattern_t), intent(out) :: pattern
+      if (allocated(builder%nodal_load)) then
+         pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
+         builder%nodal_load = 0.0_dp
+      else
+         allocate (pattern%nodal_load(dofs_per_node, 0))
+      end if
+      allocate (pattern%distributed_loads(builder%n_loads), pattern%thermal_loads(builder%n_thermal))
+      if (builder%n_loads > 0) pattern%distributed_loads = builder%loads(1:builder%n_loads)
+      if (builder%n_thermal > 0) pattern%thermal_loads = builder%thermal(1:builder%n_thermal)
+      builder%n_loads = 0
+      builder%n_thermal = 0
+      if (allocated(builder%load_index)) builder%load_index = 0
+   end subroutine take_loads
 
    !> The load record of `element` in `slot`, made if the element has none there yet.
    pure subroutine load_record(builder, element, slot, record)

@@ -47,6 +47,7 @@ module uniarc_output
       integer :: lcp_pivots = 0
       integer :: iterations = 0
       integer :: neg_pivots = 0
+      integer :: analysis_step = 0        !< the analysis step (*STEP) of the row; written when the deck has steps
       !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
       !> written as the group's own path columns when the model has more than one group
       type(contact_summary_t), allocatable :: groups(:)
@@ -86,7 +87,8 @@ contains
       comments = provenance_lines(provenance)
       call open_table(results, files%path, results%stem//'.path', path_header(model), comments, csv, error)
       if (allocated(error)) return
-      call open_table(results, files%crit, results%stem//'.crit', 'kind step lambda'//track_names(model), &
+      call open_table(results, files%crit, results%stem//'.crit', 'kind step lambda'//track_names(model)// &
+                      step_column(model), &
                       comments, csv, error)
       if (allocated(error)) return
       call open_table(results, files%shape, results%stem//'.shape', &
@@ -190,7 +192,7 @@ contains
             end do
          end do
       end if
-      header = header//' lcp_residual lcp_pivots iterations neg_pivots'
+      header = header//' lcp_residual lcp_pivots iterations neg_pivots'//step_column(model)
    end function path_header
 
    !> The number of contact groups of the model.
@@ -199,6 +201,14 @@ contains
       n_groups = 0
       if (allocated(model%contact_groups)) n_groups = size(model%contact_groups)
    end function n_groups
+
+   !> The last column of the path and crit files of a deck with analysis steps (*STEP): ' analysis_step'.
+   pure function step_column(model) result(name)
+      type(model_t), intent(in) :: model
+      character(len=:), allocatable :: name
+      name = ''
+      if (allocated(model%steps)) name = ' analysis_step'
+   end function step_column
 
    pure function track_names(model) result(names)
       type(model_t), intent(in) :: model
@@ -235,21 +245,27 @@ contains
       line = line//numbers_text([record%lcp_residual])// &
              ' '//integer_to_string(record%lcp_pivots)//' '//integer_to_string(record%iterations)//' '// &
              integer_to_string(record%neg_pivots)
+      if (allocated(model%steps)) line = line//' '//integer_to_string(record%analysis_step)
       call put_row(files%path, line)
       call flush_table(files%path, error)
    end subroutine write_path_row
 
    !> One event of the critical-point file: kind, where it lies (a step number, fractional when the
-   !> event was located between two steps), λ and the tracked values at the event. Flushed.
-   subroutine write_crit_row(files, kind, position, lambda, tracked, error)
+   !> event was located between two steps), λ and the tracked values at the event; `analysis_step`
+   !> (given for a deck with *STEP cards only) the analysis step it happened in. Flushed.
+   subroutine write_crit_row(files, kind, position, lambda, tracked, error, analysis_step)
       type(output_files_t), intent(inout) :: files
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position
       real(dp), intent(in) :: lambda
       real(dp), intent(in) :: tracked(:)
       type(error_t), allocatable, intent(out) :: error
+      integer, intent(in), optional :: analysis_step
+      character(len=:), allocatable :: step_text
+      step_text = ''
+      if (present(analysis_step)) step_text = ' '//integer_to_string(analysis_step)
       call put_row(files%crit, kind//' '//trim(format_number(position))//' '//trim(format_number(lambda))// &
-                   numbers_text(tracked))
+                   numbers_text(tracked)//step_text)
       call flush_table(files%crit, error)
    end subroutine write_crit_row
 

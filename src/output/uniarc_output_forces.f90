@@ -21,10 +21,12 @@
 !> when the element bends toward n, V = dM/ds along t (so dV/ds = q_n, the load along n per length).
 !> With f1, f2 the end forces on the element (force along t, along n, moment) at nodes 1 and 2:
 !>     N_start = −f1·t, V_start = f1·n, M_start = −m1;   N_end = f2·t, V_end = −f2·n, M_end = m2.
+!> In an analysis step (*STEP) the loads of the earlier steps, held at their factor (model%held,
+!> uniarc_model_steps), are added the same way at that factor instead of λ.
 module uniarc_output_forces
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, dofs_per_node, load_fixed_direction, load_pressure, analysis_linear, &
-                           element_kind_of
+                           element_kind_of, load_pattern_t
    use uniarc_element, only: element_response_t, element_response, element_coordinates, element_displacements, &
                              analysis_transformation
    use uniarc_element_loads, only: thermal_basic_force
@@ -53,7 +55,8 @@ contains
       type(element_response_t) :: response
       type(chord_t) :: chord
       integer :: e, i, transformation
-      logical :: loaded(model%n_elements)
+      logical :: loaded(model%n_elements), has_held
+      real(dp) :: held_thermal(3, model%n_elements), held_span(2*dofs_per_node, model%n_elements)
 
       transformation = analysis_transformation(model%analysis%kind)
       thermal = 0.0_dp
@@ -90,9 +93,20 @@ contains
          end do
       end if
 
+      has_held = .false.
+      if (allocated(model%held)) has_held = size(model%held) > 0
+      if (has_held) then
+         held_thermal = 0.0_dp
+         held_span = 0.0_dp
+         do i = 1, size(model%held)
+            call add_held_pattern(model, model%held(i), displacement, transformation, held_thermal, held_span, loaded)
+         end do
+      end if
+
       do e = 1, model%n_elements
          call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
          q = response%basic_force - lambda*thermal(:, e)
+         if (has_held) q = q - held_thermal(:, e)
          call transform_deformations(transformation, element_coordinates(model, e), &
                                      element_displacements(model, e, displacement), chord, deformation)
          end_forces = transform_end_forces(chord, q)
@@ -102,6 +116,7 @@ contains
          t = [chord%c, chord%s]
          n = [-chord%s, chord%c]
          f = lambda*span(:, e)
+         if (has_held) f = f + held_span(:, e)
          forces(1, e) = forces(1, e) + dot_product(f(1:2), t)
          forces(2, e) = forces(2, e) - dot_product(f(1:2), n)
          forces(3, e) = forces(3, e) + f(3)
@@ -110,6 +125,43 @@ contains
          forces(6, e) = forces(6, e) - f(6)
       end do
    end function element_end_forces
+
+   !> The basic thermal forces and the consistent span loads of a held load pattern, times its factor,
+   !> added to `thermal` (3, n_elements) and `span` (6, n_elements); its elements marked `loaded`.
+   pure subroutine add_held_pattern(model, pattern, displacement, transformation, thermal, span, loaded)
+      type(model_t), intent(in) :: model
+      type(load_pattern_t), intent(in) :: pattern
+      real(dp), intent(in) :: displacement(:, :)
+      integer, intent(in) :: transformation
+      real(dp), intent(inout) :: thermal(:, :), span(:, :)
+      logical, intent(inout) :: loaded(:)
+      real(dp) :: f(2*dofs_per_node), k_unused(2*dofs_per_node, 2*dofs_per_node)
+      integer :: i, e
+      do i = 1, size(pattern%thermal_loads)
+         e = pattern%thermal_loads(i)%element
+         thermal(:, e) = thermal(:, e) + pattern%factor*thermal_basic_force(pattern%thermal_loads(i), &
+                                                                           model%sections(model%element_section(e)), &
+                                                                           element_kind_of(model, e))
+      end do
+      do i = 1, size(pattern%distributed_loads)
+         associate (dload => pattern%distributed_loads(i))
+            e = dload%element
+            if (dload%kind == load_fixed_direction) then
+               f = fixed_direction_load_vector(element_coordinates(model, e), dload%qx, dload%qy)
+            else if (dload%kind == load_pressure .and. dload%follower .and. &
+                     transformation /= analysis_transformation(analysis_linear)) then
+               call follower_pressure(element_coordinates(model, e), element_displacements(model, e, displacement), &
+                                      dload%pressure, f, k_unused)
+            else if (dload%kind == load_pressure) then
+               f = pressure_load_vector(element_coordinates(model, e), dload%pressure)
+            else
+               cycle
+            end if
+            span(:, e) = span(:, e) + pattern%factor*f
+            loaded(e) = .true.
+         end associate
+      end do
+   end subroutine add_held_pattern
 
    !> The gap g of every contact candidate at nodal displacements `displacement` (3, n_nodes), in
    !> length units (uniarc_contact_law, candidate_gap): positive open; negative in contact with an

@@ -1,0 +1,184 @@
+!> The analysis steps of a deck: *STEP [, NAME=name] ... *END STEP (docs/input.md, *STEP).
+!>
+!> The model (mesh, sections, supports, contact media, tracks, output) comes first; then one or more
+!> steps, each with its loads (*CLOAD, *DLOAD, *TEMPERATURE) and its analysis card (*STATIC or *PATH,
+!> none: *STATIC). At *END STEP the loads read since *STEP are taken out of the model builder into the
+!> step (take_loads), so that the next step starts without loads of its own; uniarc_model_steps then
+!> holds the earlier ones. The placement rules are checked card by card (`check_step_placement`), so
+!> that each message points at the card that breaks them:
+!> - inside a step only loads and one analysis card; no *STEP inside a step;
+!> - in a deck with steps, no load or analysis card outside them, and nothing after the last
+!>   *END STEP but further steps;
+!> - every step has a load, and the steps are all *STATIC or all *PATH.
+module uniarc_deck_steps
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t
+   use uniarc_strings, only: integer_to_string, same_text
+   use uniarc_deck_source, only: source_t, card_t, raise, check_options, option_index
+   use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
+   use uniarc_model_builder, only: take_loads
+   use uniarc_deck_state, only: deck_t
+   implicit none
+   private
+   public :: check_step_placement, read_step, read_end_step, finish_steps
+
+contains
+
+   !> The rules of where a card may be with respect to the steps (module header); records the first
+   !> load and analysis card outside every step, refused when a *STEP follows.
+   subroutine check_step_placement(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      logical :: load, analysis
+      if (card%keyword == 'STEP' .or. card%keyword == 'END STEP') return
+      load = card%keyword == 'CLOAD' .or. card%keyword == 'DLOAD' .or. card%keyword == 'TEMPERATURE'
+      analysis = card%keyword == 'STATIC' .or. card%keyword == 'PATH'
+      if (deck%in_step) then
+         if (analysis .and. deck%analysis_line == 0) deck%analysis_column = card%column
+         if (load .or. analysis) return
+         call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE), '// &
+                    '*STATIC, *PATH or *END STEP in the step opened at line '//integer_to_string(deck%step_line)// &
+                    ', found *'//card%keyword//' (the model comes before the first *STEP)', error)
+      else if (deck%n_steps > 0) then
+         if (load .or. analysis) then
+            call raise(source, card%line, card%column, 'expected *STEP before *'//card%keyword//': in a deck '// &
+                       'with steps every load and analysis card belongs to a step', error)
+         else
+            call raise(source, card%line, card%column, 'expected *STEP after *END STEP, found *'// &
+                       card%keyword//' (the model comes before the first *STEP)', error)
+         end if
+      else if (load .and. deck%loose_load_line == 0) then
+         deck%loose_load_line = card%line
+         deck%loose_load_column = card%column
+      else if (analysis .and. deck%loose_analysis_line == 0) then
+         deck%loose_analysis_line = card%line
+         deck%loose_analysis_column = card%column
+      end if
+   end subroutine check_step_placement
+
+   !> *STEP [, NAME=name]: opens an analysis step (no data lines). Its name (default Step-k, k its
+   !> number) is used in the messages.
+   subroutine read_step(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      call check_options(source, card, [character(len=5) :: 'NAME='], error)
+      if (allocated(error)) return
+      if (deck%in_step) then
+         call raise(source, card%line, card%column, 'expected *END STEP before another *STEP (the step '// &
+                    'opened at line '//integer_to_string(deck%step_line)//' is not closed; steps do not nest)', error)
+         return
+      end if
+      if (deck%loose_load_line > 0) then
+         call raise(source, deck%loose_load_line, deck%loose_load_column, 'expected this load inside '// &
+                    '*STEP ... *END STEP: the deck has steps (*STEP at line '//integer_to_string(card%line)// &
+                    ') and every load belongs to one', error)
+         return
+      end if
+      if (deck%loose_analysis_line > 0) then
+         call raise(source, deck%loose_analysis_line, deck%loose_analysis_column, 'expected this analysis '// &
+                    'card inside *STEP ... *END STEP: the deck has steps (*STEP at line '// &
+                    integer_to_string(card%line)//') and each step has its own', error)
+         return
+      end if
+      if (card%n_data > 0) then
+         call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
+                    'expected a card after *STEP (it takes no data line), found a data line', error)
+         return
+      end if
+      if (.not. allocated(deck%steps)) allocate (deck%steps(4))
+      if (deck%n_steps == size(deck%steps)) deck%steps = [deck%steps, deck%steps]
+      deck%steps(deck%n_steps + 1)%name = 'Step-'//integer_to_string(deck%n_steps + 1)
+      k = option_index(card, 'NAME')
+      if (k > 0) then
+         if (len_trim(card%options(k)%value) == 0) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a step name after NAME=, '// &
+                       'found none', error)
+            return
+         end if
+         deck%steps(deck%n_steps + 1)%name = trim(card%options(k)%value)
+      end if
+      deck%in_step = .true.
+      deck%step_line = card%line
+      deck%step_column = card%column
+      ! Each step has its own analysis card (none: linear static) and stop track.
+      deck%analysis_line = 0
+      deck%analysis_column = 0
+      deck%model%analysis = analysis_options_t()
+      if (allocated(deck%stop_track)) deallocate (deck%stop_track)
+   end subroutine read_step
+
+   !> *END STEP: closes the open step, whose loads and analysis it takes from the builder.
+   subroutine read_end_step(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, line, column
+      call check_options(source, card, [character(len=1) ::], error)
+      if (allocated(error)) return
+      if (.not. deck%in_step) then
+         call raise(source, card%line, card%column, 'expected *STEP before *END STEP, found no open step', error)
+         return
+      end if
+      if (card%n_data > 0) then
+         call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
+                    'expected a card after *END STEP (it takes no data line), found a data line', error)
+         return
+      end if
+      associate (step => deck%steps(deck%n_steps + 1))
+         call take_loads(deck%model, step%loads)
+         if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
+             size(step%loads%thermal_loads) == 0) then
+            call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE) in '// &
+                       'the step opened at line '//integer_to_string(deck%step_line)//', found none', error)
+            return
+         end if
+         if (allocated(deck%stop_track)) then
+            do i = 1, deck%model%n_tracks
+               if (same_text(deck%model%tracks(i)%name, deck%stop_track)) deck%model%analysis%stop_track = i
+            end do
+            if (deck%model%analysis%stop_track == 0) then
+               call raise(source, deck%stop_track_line, deck%stop_track_column, 'expected the name of a '// &
+                          '*TRACK defined before the step, found '''//deck%stop_track//'''', error)
+               return
+            end if
+            deallocate (deck%stop_track)
+         end if
+         step%analysis = deck%model%analysis
+         if (deck%n_steps > 0) then
+            if ((step%analysis%kind == analysis_linear) .neqv. (deck%steps(1)%analysis%kind == analysis_linear)) then
+               line = deck%analysis_line
+               column = deck%analysis_column
+               if (line == 0) then
+                  line = deck%step_line
+                  column = deck%step_column
+               end if
+               call raise(source, line, column, 'expected the analysis of the first step ('// &
+                          trim(merge('*STATIC', '*PATH  ', deck%steps(1)%analysis%kind == analysis_linear))// &
+                          ') in every step: a linear static step cannot go before or after a path (use *PATH, '// &
+                          'CONTROL=LOAD with lambda_max = 1 for a load to apply before a path)', error)
+               return
+            end if
+         end if
+      end associate
+      deck%n_steps = deck%n_steps + 1
+      deck%in_step = .false.
+      deck%model%analysis = analysis_options_t()
+      deck%analysis_line = 0
+   end subroutine read_end_step
+
+   !> At the end of the deck: a step left open is an error (at its *STEP).
+   subroutine finish_steps(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      if (deck%in_step) call raise(source, deck%step_line, deck%step_column, 'expected *END STEP to close '// &
+                                   'this *STEP, found the end of the deck', error)
+   end subroutine finish_steps
+
+end module uniarc_deck_steps
