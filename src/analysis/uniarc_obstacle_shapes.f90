@@ -64,7 +64,14 @@ contains
       if (swapped) normal = [normal(2), normal(1)]
       n = [axis(1)*normal(1) - axis(2)*normal(2), axis(2)*normal(1) + axis(1)*normal(2)]
       t = [-n(2), n(1)]
-      factor = kappa/(1.0_dp + kappa*rho)
+      ! At the centre of curvature (1 + κρ = 0, a point of the evolute, far inside the cavity) the
+      ! distance has no second derivative; its Hessian enters the tangent only times the reaction,
+      ! which is zero that far from the wall: the curvature term is dropped there (no 0/0 or x/0).
+      if (abs(1.0_dp + kappa*rho) > sqrt(epsilon(1.0_dp))) then
+         factor = kappa/(1.0_dp + kappa*rho)
+      else
+         factor = 0.0_dp
+      end if
       hessian = factor*reshape([t(1)*t(1), t(2)*t(1), t(1)*t(2), t(2)*t(2)], [2, 2])
       if (inside) then
          gap = -rho
