@@ -142,8 +142,13 @@ contains
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
       outcome%iterations = driver%state%point%iterations
-      call find_critical_events(previous, driver%state%point, outcome%events)
-      call find_contact_events(previous, driver%state%point, outcome%events)
+      if (driver%state%point%switched) then
+         ! The first point of a secondary branch (*PATH, SWITCH=n): the interval joins two branches.
+         allocate (outcome%events(0))
+      else
+         call find_critical_events(previous, driver%state%point, outcome%events)
+         call find_contact_events(previous, driver%state%point, outcome%events)
+      end if
       allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
       do k = 1, size(outcome%events)
          outcome%event_tracked(:, k) = tracked_before + outcome%events(k)%fraction*(driver%tracked - tracked_before)

@@ -16,6 +16,9 @@ module uniarc_run
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results
    use uniarc_provenance, only: provenance_t
+   use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
+   use uniarc_path_branch, only: nodal_mode
+   use uniarc_critical_points, only: critical_event_t
    implicit none
    private
    public :: run_options_t, run_model
@@ -105,6 +108,7 @@ contains
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
       type(step_record_t) :: record
+      type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
       integer :: k, n_events
@@ -138,6 +142,7 @@ contains
                trim(format_number(outcome%events(k)%lambda))
          end do
          if (allocated(io_error)) exit
+         if (model%output%modes) call keep_mode(model, driver, outcome%events, modes)
          if (mod(record%step, model%analysis%shape_every) == 0) then
             call write_shape(files, model, record, io_error)
             if (allocated(io_error)) exit
@@ -166,6 +171,8 @@ contains
       ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
       if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
+      if (.not. allocated(io_error) .and. model%output%modes) &
+         call write_modes_file(modes, results, options%stem, options%provenance, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (.not. options%quiet) then
@@ -174,6 +181,23 @@ contains
          write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
       end if
    end subroutine run_path
+
+   !> The buckling mode of the bifurcation the last step located (driver%state%bifurcation), if any,
+   !> into the modes table (*OUTPUT, MODES), with the kind and position of its event in STEM.crit.
+   subroutine keep_mode(model, driver, events, modes)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(in) :: driver
+      type(critical_event_t), intent(in) :: events(:)
+      type(modes_table_t), intent(inout) :: modes
+      integer :: k
+      if (.not. allocated(driver%state%bifurcation)) return
+      do k = size(events), 1, -1
+         if (index(events(k)%kind, 'bifurcation') == 0) cycle
+         call add_mode(modes, model, events(k)%kind, events(k)%position, events(k)%lambda, &
+                       nodal_mode(model, driver%state%map, driver%state%bifurcation%mode))
+         return
+      end do
+   end subroutine keep_mode
 
    !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
    !> their final names together, and `error` (the analysis' error, if any) is left as it is. After an

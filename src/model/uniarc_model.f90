@@ -190,6 +190,9 @@ module uniarc_model
       integer :: control_node = 0            !< displacement control: node and DOF
       integer :: control_dof = 0
       integer :: shape_every = 10            !< write a shape snapshot every so many steps
+      !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
+      !> primary path; docs/theory.md §2.4)
+      integer :: switch_bifurcation = 0
    end type analysis_options_t
 
    !> Extra result files a deck asks for with `*OUTPUT` (docs/input.md); the path, critical-point and
@@ -201,6 +204,8 @@ module uniarc_model
       logical :: forces = .false.
       integer :: forces_every = 0              !< every so many steps; 0: as the shape file, unless listed
       integer, allocatable :: forces_steps(:)  !< the steps listed on the card's data lines (may be unallocated)
+      !> The buckling modes at the located bifurcations, `STEM.modes` (*OUTPUT, MODES)
+      logical :: modes = .false.
    end type output_options_t
 
    !> The whole model.

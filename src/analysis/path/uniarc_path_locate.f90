@@ -16,7 +16,8 @@ module uniarc_path_locate
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, control_arclength
-   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm
+   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
+                                bifurcation_state_t
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -42,6 +43,9 @@ contains
    !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
    !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). No errors: a failure leaves the fields at −1.
+   !> A located bifurcation also sets after%bifurcation: the converged state of the final bracket
+   !> nearest to it (the end with the least eigenvalue of smaller magnitude) and its least eigenvector,
+   !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    subroutine locate_critical_points(model, before, after, system, length)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
@@ -49,7 +53,7 @@ contains
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       type(path_point_t) :: pa, pb, probe
-      type(path_state_t) :: restore
+      type(path_state_t) :: restore, probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
       type(error_t), allocatable :: error
       real(dp) :: ha, hb, h, fa, fb, fp, width, t
@@ -67,6 +71,10 @@ contains
       pb = after%point
       fa = indicator(pa)
       fb = indicator(pb)
+      if (bifurcation) then
+         state_a = before
+         state_b = after
+      end if
       probed = .false.
       last_side = 0
       same_side = 0
@@ -81,7 +89,7 @@ contains
             h = ha + width*fa/(fa - fb)
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
-         call re_solve(h, probe, converged)
+         call re_solve(h, probe, probe_state, converged)
          if (.not. converged) exit
          probed = .true.
          fp = indicator(probe)
@@ -90,11 +98,13 @@ contains
             pb = probe
             fb = fp
             side = 1
+            if (bifurcation) state_b = probe_state
          else
             ha = h
             pa = probe
             fa = fp
             side = -1
+            if (bifurcation) state_a = probe_state
          end if
          if (side == last_side) then
             same_side = same_side + 1
@@ -140,6 +150,11 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+         if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
+            call keep_bifurcation(state_a)
+         else
+            call keep_bifurcation(state_b)
+         end if
       end if
 
    contains
@@ -165,13 +180,32 @@ contains
          end if
       end function passed
 
-      !> The converged state of a step of length step_h from `before`, as a point record.
-      subroutine re_solve(step_h, point, ok)
+      !> The bifurcation's nearest converged state `near` and its mode into after%bifurcation.
+      subroutine keep_bifurcation(near)
+         type(path_state_t), intent(in) :: near
+         allocate (after%bifurcation)
+         after%bifurcation%u = near%u
+         after%bifurcation%active = near%active
+         after%bifurcation%lambda = near%lambda
+         after%bifurcation%located_lambda = after%point%bifurcation_lambda
+         after%bifurcation%s = near%point%s
+         after%bifurcation%liftoff = near%point%liftoff
+         if (near%point%liftoff .and. allocated(near%liftoff_mode)) then
+            after%bifurcation%mode = near%liftoff_mode
+         else if (allocated(near%eigenvector)) then
+            after%bifurcation%mode = near%eigenvector
+         else
+            deallocate (after%bifurcation)
+         end if
+      end subroutine keep_bifurcation
+
+      !> The converged state of a step of length step_h from `before`, as a point record and a state.
+      subroutine re_solve(step_h, point, state, ok)
          real(dp), intent(in) :: step_h
          type(path_point_t), intent(out) :: point
+         type(path_state_t), intent(out) :: state
          logical, intent(out) :: ok
          type(step_trial_t) :: trial
-         type(path_state_t) :: state
          type(error_t), allocatable :: commit_error
          trial%length = step_h
          call attempt_step(model, before, system, trial)
