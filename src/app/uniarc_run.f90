@@ -190,7 +190,7 @@ contains
       type(critical_event_t), intent(in) :: events(:)
       type(modes_table_t), intent(inout) :: modes
       integer :: k
-      if (.not. allocated(driver%state%bifurcation)) return
+      if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
       do k = size(events), 1, -1
          if (index(events(k)%kind, 'bifurcation') == 0) cycle
          call add_mode(modes, model, events(k)%kind, events(k)%position, events(k)%lambda, &

@@ -53,9 +53,11 @@ contains
    !> One step from the bifurcation kept in state%bifurcation onto the secondary branch: predictor
    !> x_c + ξφ at λ_c (φ orthogonal to the primary tangent, unit in the displacement norm; at a lift-off
    !> signed to open the contacts that touch without force, else its largest component positive; ξ the
-   !> current step length), Riks' normal-plane corrections, the step halved on failure down to
+   !> current step length; orthogonal to the primary path's chord over the step that passed the
+   !> bifurcation), Riks' normal-plane corrections, the step halved on failure down to
    !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
-   !> factorised into state%system) and the arc length goes on from it along the new branch.
+   !> factorised into state%system) and the arc length goes on from it along the new branch;
+   !> state%bifurcation stays until the next step (the switch's row in STEM.crit).
    !> `cuts` returns the halvings made. Errors (error_analysis): no bifurcation kept, a singular tangent
    !> at x_c, or no convergence down to the smallest step.
    subroutine switch_branch(model, state, error, cuts)
@@ -67,7 +69,7 @@ contains
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
       type(model_t) :: riks_model
-      real(dp), allocatable :: phi(:)
+      real(dp), allocatable :: phi(:), primary(:)
       real(dp) :: xi, t_norm
       integer :: step
       cuts = 0
@@ -78,32 +80,28 @@ contains
       end if
       step = state%point%step
       call move_alloc(state%system, system)
-      ! The committed state becomes the converged state nearest to the bifurcation, with its tangent.
+      ! The step starts from the state at the bifurcation. Its tangent K⁻¹R is not used: K_T is
+      ! singular there to the located precision, and K⁻¹R is dominated by the mode (noise / μ). The
+      ! primary path's direction is the chord of the step that passed the bifurcation.
       critical = state
       critical%u = state%bifurcation%u
       critical%active = state%bifurcation%active
       critical%lambda = state%bifurcation%lambda
       system%holds_committed = .false.
       system%holds_converged = .false.
-      call commit_tangent(model, critical, system, .false., error)
-      if (allocated(error)) then
-         call move_alloc(system, state%system)
-         error%message = 'at the bifurcation (branch switching): '//error%message
-         return
-      end if
-      ! φ without reactions, orthogonal to the primary tangent, unit, signed.
+      ! φ without reactions, orthogonal to the primary path, unit, signed.
+      primary = merge(state%last_increment, 0.0_dp, critical%map%metric > 0.0_dp)
       phi = merge(state%bifurcation%mode, 0.0_dp, critical%map%metric > 0.0_dp)
-      t_norm = masked_norm(critical%map, critical%tangent_displacement)
-      if (t_norm > 0.0_dp) phi = phi - masked_dot(critical%map, phi, critical%tangent_displacement)/t_norm**2* &
-                                 merge(critical%tangent_displacement, 0.0_dp, critical%map%metric > 0.0_dp)
-      if (.not. masked_norm(critical%map, phi) > 0.0_dp) then
+      t_norm = masked_norm(critical%map, primary)
+      if (t_norm > 0.0_dp) phi = phi - masked_dot(critical%map, phi, primary)/t_norm**2*primary
+      if (.not. masked_norm(critical%map, phi) > 1.0e-3_dp*masked_norm(critical%map, state%bifurcation%mode)) then
          call move_alloc(system, state%system)
          call make_error(error, 'the buckling mode at the bifurcation is along the primary path: no branch '// &
                          'to switch to', error_analysis)
          return
       end if
       phi = phi/masked_norm(critical%map, phi)
-      phi = phi*mode_sign(model, critical, phi)
+      phi = phi*mode_sign(model, critical, state%bifurcation%liftoff, phi)
       ! Riks' updated normal plane for the corrections of this step only.
       riks_model = model
       riks_model%analysis%iteration = iteration_riks
@@ -143,23 +141,24 @@ contains
       end if
       call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots)
       state%point%switched = .true.
+      state%point%switch_lambda = critical%lambda
       state%point%limit_fraction = -1.0_dp
       state%point%bifurcation_fraction = -1.0_dp
-      deallocate (state%bifurcation)
    end subroutine switch_branch
 
    !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that
    !> touch without force (a lift-off), the sign that opens them (Σ a_cᵀφ ≥ 0 over the working set:
    !> the other sign presses into the medium, where it resists); else the largest component positive.
-   real(dp) function mode_sign(model, state, phi) result(sign_of)
+   real(dp) function mode_sign(model, state, liftoff, phi) result(sign_of)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
+      logical, intent(in) :: liftoff   !< the bifurcation is a lift-off (unilateral) one
       real(dp), intent(in) :: phi(:)
       real(dp), allocatable :: nodal(:, :), shape(:, :)
       real(dp) :: g, gradient(2), hessian(2, 2), opening
       integer :: c, node
       sign_of = 1.0_dp
-      if (state%point%liftoff) then
+      if (liftoff) then
          call nodal_displacements(model, state, nodal)
          allocate (shape(dofs_per_node, model%n_nodes))
          call gather_nodal(state%map, phi, shape)

@@ -43,8 +43,9 @@ contains
    !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
    !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). No errors: a failure leaves the fields at −1.
-   !> A located bifurcation also sets after%bifurcation: the converged state of the final bracket
-   !> nearest to it (the end with the least eigenvalue of smaller magnitude) and its least eigenvector,
+   !> A located bifurcation also sets after%bifurcation: the converged state at the located point (one
+   !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
+   !> magnitude) and its least eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    subroutine locate_critical_points(model, before, after, system, length)
       type(model_t), intent(in) :: model
@@ -113,11 +114,6 @@ contains
          end if
          last_side = side
       end do
-      if (probed) then
-         ! The system holds the last probe's tangent: the committed one again for the next step.
-         restore = after
-         call commit_tangent(model, restore, system, .false., error)
-      end if
       ! The point on the final bracket. Its fraction of the step is measured in the step parameter h
       ! (the path length of the probes is not monotone in h where the tangent is near-singular: its
       ! round-off mode enters the increments). A limit: the interpolation of the detector between pa
@@ -150,11 +146,22 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
-         if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
+         ! The state at the located point itself, re-solved, for its mode and branch switching
+         ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
+         call re_solve(ha + t*(hb - ha), probe, probe_state, converged)
+         if (converged) then
+            probed = .true.
+            call keep_bifurcation(probe_state)
+         else if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
             call keep_bifurcation(state_a)
          else
             call keep_bifurcation(state_b)
          end if
+      end if
+      if (probed) then
+         ! The system holds the last probe's tangent: the committed one again for the next step.
+         restore = after
+         call commit_tangent(model, restore, system, .false., error)
       end if
 
    contains
@@ -188,6 +195,7 @@ contains
          after%bifurcation%active = near%active
          after%bifurcation%lambda = near%lambda
          after%bifurcation%located_lambda = after%point%bifurcation_lambda
+         after%bifurcation%position = before%point%step + after%point%bifurcation_fraction
          after%bifurcation%s = near%point%s
          after%bifurcation%liftoff = near%point%liftoff
          if (near%point%liftoff .and. allocated(near%liftoff_mode)) then

@@ -51,6 +51,7 @@ module uniarc_path_state
       !> This point is the first of a secondary branch, reached from a bifurcation (uniarc_path_branch):
       !> the interval before it joins two branches and holds no critical point.
       logical :: switched = .false.
+      real(dp) :: switch_lambda = 0.0_dp   !< when switched: λ of the state the branch left from
    end type path_point_t
 
    !> A bifurcation located by re-solving a step (uniarc_path_locate): the converged state nearest to
@@ -60,6 +61,7 @@ module uniarc_path_state
       logical, allocatable :: active(:)    !< its working set
       real(dp) :: lambda = 0.0_dp          !< its load factor
       real(dp) :: located_lambda = 0.0_dp  !< λ of the located bifurcation (point%bifurcation_lambda)
+      real(dp) :: position = 0.0_dp        !< where it lies: the fractional step of STEM.crit
       real(dp) :: s = 0.0_dp               !< its path length
       !> (n) least eigenvector there: of K_T, or with the touching contacts released when `liftoff`
       !> (the mode on the admissible cone, docs/theory.md §2.2)
