@@ -172,7 +172,7 @@ contains
       if (.not. allocated(io_error)) call write_forces(files, model, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       if (.not. allocated(io_error) .and. model%output%modes) &
-         call write_modes_file(modes, results, options%stem, options%provenance, io_error)
+         call write_modes_file(modes, results, options%stem, options%provenance, model, model%output%vtk, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (.not. options%quiet) then
@@ -193,7 +193,7 @@ contains
       if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
       do k = size(events), 1, -1
          if (index(events(k)%kind, 'bifurcation') == 0) cycle
-         call add_mode(modes, model, events(k)%kind, events(k)%position, events(k)%lambda, &
+         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, &
                        nodal_mode(model, driver%state%map, driver%state%bifurcation%mode))
          return
       end do

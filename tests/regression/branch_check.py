@@ -18,6 +18,7 @@ import os
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ElementTree
 
 
 def read_rows(path):
@@ -122,9 +123,42 @@ def check_walker(base, failures):
         worst = max(worst, abs(float(n['ux']) - float(mirror['ux'])), abs(float(n['uy']) + float(mirror['uy'])))
     if worst > 1e-4:
         failures.append(f'the mode is not antisymmetric: {worst}')
+    check_mode_vtp(base + '_mode_01.vtp', nodes, lam_b, failures)
     print(f'walker: bifurcation {lam_b:.10f}, switch {float(switch["lambda"]):.10f}, '
           f'{len(falling)} falling rows to K = {falling[-1]["lambda"]:.3f} with u_crown = '
           f'{falling[-1]["u_crown"]:.4e}, antisymmetry {worst:.1e}')
+
+
+def check_mode_vtp(path, nodes, lam_b, failures):
+    """STEM_mode_01.vtp (*OUTPUT, VTK with MODES): PolyData on the undeformed geometry whose point
+    array `mode` is the mode of STEM.modes (same numbers in the same format) and field data lambda.
+    Read as XML (stdlib), and by VTK's own reader when the vtk module is installed."""
+    if not os.path.exists(path):
+        failures.append(f'no {os.path.basename(path)}')
+        return
+    arrays = {a.get('Name'): a.text.split() for a in ElementTree.parse(path).iter('DataArray')}
+    mode = [float(x) for x in arrays.get('mode', [])]
+    expected = []
+    for n in nodes:
+        expected += [float(n['ux']), float(n['uy']), 0.0]
+    points = [float(x) for x in arrays.get('points', [])]
+    initial = []
+    for n in nodes:
+        initial += [float(n['x0']), float(n['y0']), 0.0]
+    if mode != expected or points != initial:
+        failures.append(f'{os.path.basename(path)}: mode or points differ from STEM.modes')
+    if float(arrays.get('lambda', ['nan'])[0]) != lam_b:
+        failures.append(f'{os.path.basename(path)}: lambda is not the bifurcation\'s')
+    try:
+        import vtk
+    except ImportError:
+        return
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    data = reader.GetOutput()
+    if data.GetNumberOfPoints() != len(nodes) or data.GetPointData().GetArray('mode') is None:
+        failures.append(f'{os.path.basename(path)}: VTK reads {data.GetNumberOfPoints()} points, no mode')
 
 
 def check_strut(base, failures):
