@@ -25,6 +25,7 @@ module uniarc_deck
    use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
+   use uniarc_deck_imperfection, only: read_imperfection
    implicit none
    private
    public :: parameter_override_t, read_deck
@@ -114,10 +115,12 @@ contains
          call read_static(source, card, deck, error)
       case ('OUTPUT')
          call read_output(source, card, deck, error)
+      case ('IMPERFECTION')
+         call read_imperfection(source, card, deck, error)
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT), found ''*'// &
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT, *IMPERFECTION), found ''*'// &
                     clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch

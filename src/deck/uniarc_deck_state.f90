@@ -40,6 +40,7 @@ module uniarc_deck_state
       integer :: stop_track_line = 0, stop_track_column = 0
       integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
       integer :: forces_line = 0                      !< line of the *OUTPUT, FORCES card, 0 if none yet
+      integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
    end type deck_t
 
 contains
