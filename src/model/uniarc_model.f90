@@ -191,7 +191,7 @@ module uniarc_model
       integer :: control_dof = 0
       integer :: shape_every = 10            !< write a shape snapshot every so many steps
       !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
-      !> primary path; docs/theory.md §2.4)
+      !> primary path; docs/theory.md §2.5)
       integer :: switch_bifurcation = 0
    end type analysis_options_t
 

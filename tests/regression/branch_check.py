@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Branch switching and buckling modes (issue 11 item 5; docs/theory.md §2.4): run uniarc on a deck
+"""Branch switching and buckling modes (issue 11 item 5; docs/theory.md §2.5): run uniarc on a deck
 with `*PATH, SWITCH=1` and `*OUTPUT, MODES` and check the secondary branch and the mode.
 
 --case walker: Walker's whole arch (tests/regression/decks/walker_arch_full_switch.inp). The path leaves
@@ -10,7 +10,7 @@ the crown's sideways displacement grows from zero; the mode is antisymmetric abo
 --case strut: the pinned strut on a tensionless bed (strut_on_tensionless_bed_switch.inp). At the
 lift-off bifurcation (Euler's load) the path leaves along the mode on the admissible cone: the strut
 lifts off (no contact on the branch, the mode lifts every node), and the load stays at Euler's: the
-branch is flat, and rises as the elastica's P/P_E − 1 = π² w² / (8 L²) (Timoshenko & Gere 1961, §2.7).
+branch is flat, and rises as the elastica's P/P_E − 1 = π² w² / (8 L²) (Timoshenko & Gere 1961, ch. 2, large deflections of buckled bars).
 """
 import argparse
 import math
