@@ -18,6 +18,7 @@ module uniarc_run
    use uniarc_provenance, only: provenance_t
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
    use uniarc_path_branch, only: nodal_mode
+   use uniarc_path_imperfection, only: computed_imperfection
    use uniarc_critical_points, only: critical_event_t
    implicit none
    private
@@ -45,13 +46,20 @@ contains
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(result_directory_t) :: results
+      type(model_t) :: imperfect
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
       select case (model%analysis%kind)
       case (analysis_linear)
          call run_linear(model, options, results, error)
       case (analysis_nonlinear)
-         call run_path(model, options, results, error)
+         if (model%analysis%imperfection_bifurcation > 0) then
+            ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
+            call computed_imperfection(model, imperfect, error)
+            if (.not. allocated(error)) call run_path(imperfect, options, results, error)
+         else
+            call run_path(model, options, results, error)
+         end if
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select

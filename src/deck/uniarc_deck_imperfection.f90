@@ -3,12 +3,14 @@
 !> follow it past a bifurcation (Abaqus' *IMPERFECTION; EN 1993-1-6 §8.7 on equivalent geometric
 !> imperfections in the shape of the critical buckling mode).
 !>
-!>     *IMPERFECTION, FILE=modes_file [, BIFURCATION=n]
+!>     *IMPERFECTION [, FILE=modes_file] [, BIFURCATION=n]
 !>     amplitude
 !>
-!> The mode is block n (default 1) of a modes table `STEM.modes` written by an earlier run with
-!> `*OUTPUT, MODES` (uniarc_modes_output) on the same mesh — matched node by node through the labels,
-!> with the initial coordinates checked. The amplitude (length) is the largest nodal translation of
+!> With FILE=, the mode is block n (default 1) of a modes table `STEM.modes` written by an earlier run
+!> with `*OUTPUT, MODES` (uniarc_modes_output) on the same mesh — matched node by node through the
+!> labels, with the initial coordinates checked — and added here. Without it, the mode is that of the
+!> n-th bifurcation of the perfect structure's path, which the program computes in a first run before
+!> the analysis (uniarc_path_imperfection): the card records the request in the analysis options. The amplitude (length) is the largest nodal translation of
 !> the added shape, sqrt(dx² + dy²); a negative one flips the mode. Applied to the nodes when the card
 !> is read: the contact cards, which build their candidates from the coordinates, come after it.
 module uniarc_deck_imperfection
@@ -28,8 +30,8 @@ module uniarc_deck_imperfection
 
 contains
 
-   !> *IMPERFECTION, FILE= [, BIFURCATION=n] with one data line, the amplitude (module header).
-   !> Errors (file:line:col, exit 2): a missing FILE=, an unreadable file, no block n in it, a table
+   !> *IMPERFECTION [, FILE=] [, BIFURCATION=n] with one data line, the amplitude (module header).
+   !> Errors (file:line:col, exit 2): an unreadable file, no block n in it, a table
    !> without the columns bifurcation, node, x0, y0, ux, uy, a row that is not numbers, a node of the
    !> file that is not a node of the deck or lies elsewhere, a node of the deck without a row, a zero
    !> mode, a contact card before this one, a second *IMPERFECTION.
@@ -66,9 +68,6 @@ contains
          return
       end if
       deck%imperfection_line = card%line
-      call require_option(source, card, 'FILE', file_option, error)
-      if (allocated(error)) return
-      path_field = option_field(card, file_option)
       block = 1
       k = option_index(card, 'BIFURCATION')
       if (k > 0) then
@@ -92,6 +91,16 @@ contains
       if (allocated(error)) return
       call field_real(source, deck%parameters, card%data_lines(1), fields(1), 'an amplitude', amplitude, error)
       if (allocated(error)) return
+      file_option = option_index(card, 'FILE')
+      if (file_option == 0) then
+         ! The mode of the perfect structure's n-th bifurcation, computed by the program in a first run
+         ! (uniarc_path_imperfection); the deck's end checks that it can be (check_whole_deck).
+         if (amplitude == 0.0_dp) return
+         deck%model%analysis%imperfection_bifurcation = block
+         deck%model%analysis%imperfection_amplitude = amplitude
+         return
+      end if
+      path_field = option_field(card, file_option)
 
       ! A relative path is relative to the deck's folder, so that a deck and its modes file move together.
       path = path_field%text

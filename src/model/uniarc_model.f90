@@ -193,6 +193,11 @@ module uniarc_model
       !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
       !> primary path; docs/theory.md §2.5)
       integer :: switch_bifurcation = 0
+      !> *IMPERFECTION without FILE=: add the mode of the perfect structure's n-th located bifurcation,
+      !> computed in a first run, scaled to a largest nodal translation `imperfection_amplitude` (length)
+      !> (0: none; uniarc_path_imperfection)
+      integer :: imperfection_bifurcation = 0
+      real(dp) :: imperfection_amplitude = 0.0_dp
    end type analysis_options_t
 
    !> Extra result files a deck asks for with `*OUTPUT` (docs/input.md); the path, critical-point and
