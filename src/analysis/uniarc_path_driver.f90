@@ -24,6 +24,7 @@ module uniarc_path_driver
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
+   use uniarc_assembly, only: gather_nodal
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -154,7 +155,7 @@ contains
       type(step_outcome_t), intent(out) :: outcome
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
-      real(dp), allocatable :: tracked_before(:)
+      real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
       integer :: k
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
@@ -180,12 +181,25 @@ contains
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
       outcome%iterations = driver%state%point%iterations
-      call find_critical_events(previous, driver%state%point, outcome%events)
-      call find_contact_events(previous, driver%state%point, outcome%events)
+      if (driver%state%point%switched) then
+         ! The first point of a secondary branch (*PATH, SWITCH=n): the interval joins two branches,
+         ! and its one event is the switch, from the bifurcation's state (λ there) at its start.
+         outcome%events = [critical_event_t('branch_switch', driver%state%bifurcation%position, &
+                                            driver%state%point%switch_lambda, 0.0_dp)]
+      else
+         call find_critical_events(previous, driver%state%point, outcome%events)
+         call find_contact_events(previous, driver%state%point, outcome%events)
+      end if
       allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
       do k = 1, size(outcome%events)
          outcome%event_tracked(:, k) = tracked_before + outcome%events(k)%fraction*(driver%tracked - tracked_before)
       end do
+      if (driver%state%point%switched) then
+         ! The switch's tracked values: those of the state at the bifurcation it left from.
+         allocate (nodal_switch, mold=driver%displacement)
+         call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_switch)
+         outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
+      end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
       outcome%stop = driver%stop
    end subroutine driver_step

@@ -35,6 +35,7 @@ module uniarc_path_following
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
    use uniarc_path_mechanism, only: check_mechanism
+   use uniarc_path_branch, only: switch_branch
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -182,6 +183,14 @@ contains
       real(dp) :: length, factor, remaining
       integer :: attempt, halvings
       logical :: to_limit
+      ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
+      if (state%switch_due) then
+         call switch_branch(model, state, error, halvings)
+         if (present(cuts)) cuts = halvings
+         if (allocated(error)) call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+         return
+      end if
+      if (allocated(state%bifurcation)) deallocate (state%bifurcation)
       associate (options => model%analysis)
          ! The system of equations is the attempts' while they run: the committed state they read
          ! (intent(in)) cannot be written through it.
@@ -264,11 +273,16 @@ contains
                end if
             end select
             call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+            state%point%switched = .false.
             ! A converged state whose tangent is far from the step's chord, or a step that reverses
             ! the last one, is not on the branch the step followed.
             if (.not. off_branch(state%map, trial%increment, before%last_increment, state%tangent_displacement)) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length)
+               if (allocated(state%bifurcation)) then
+                  state%bifurcations = state%bifurcations + 1
+                  state%switch_due = state%bifurcations == options%switch_bifurcation
+               end if
                exit steps
             end if
             state = before

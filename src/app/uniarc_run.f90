@@ -23,6 +23,10 @@ module uniarc_run
    use uniarc_check, only: check_model, check_element_scales, print_model_summary
    use uniarc_strings, only: integer_to_string
    use uniarc_provenance, only: provenance_t
+   use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
+   use uniarc_path_branch, only: nodal_mode
+   use uniarc_path_imperfection, only: computed_imperfection
+   use uniarc_critical_points, only: critical_event_t
    implicit none
    private
    public :: run_options_t, run_model, check_deck
@@ -54,6 +58,7 @@ contains
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(result_directory_t) :: results
+      type(model_t) :: imperfect
       type(dof_map_t) :: map
       ! An interrupt while the deck was read: nothing computed, nothing written (main's exit code).
       if (interrupt_signal() /= 0) then
@@ -73,7 +78,13 @@ contains
       case (analysis_linear)
          call run_linear(model, options, results, error)
       case (analysis_nonlinear)
-         call run_path(model, options, results, error)
+         if (model%analysis%imperfection_bifurcation > 0) then
+            ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
+            call computed_imperfection(model, imperfect, error)
+            if (.not. allocated(error)) call run_path(imperfect, options, results, error)
+         else
+            call run_path(model, options, results, error)
+         end if
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select
@@ -193,6 +204,7 @@ contains
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
       type(step_record_t) :: record, last_written
+      type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       type(model_t) :: stepped
       real(dp), allocatable :: end_lambda(:)
@@ -258,6 +270,7 @@ contains
                   short_number(outcome%events(k)%lambda)//step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
+            if (model%output%modes) call keep_mode(model, driver, outcome%events, modes)
             if (mod(record%step, stepped%analysis%shape_every) == 0) then
                call write_shape(files, model, record, io_error)
                if (allocated(io_error)) exit
@@ -306,6 +319,8 @@ contains
       ! The last converged step closes the VTK series and the forces tables, also when the path failed after it.
       if (.not. allocated(io_error)) call write_forces(files, stepped, record, io_error)
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, record, io_error)
+      if (.not. allocated(io_error) .and. model%output%modes) &
+         call write_modes_file(modes, results, options%stem, options%provenance, model, model%output%vtk, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (interrupt_signal() /= 0 .and. driver%stop == stop_none) then
@@ -352,6 +367,23 @@ contains
       end if
       error%message = label//': '//error%message
    end subroutine name_analysis_step
+
+   !> The buckling mode of the bifurcation the last step located (driver%state%bifurcation), if any,
+   !> into the modes table (*OUTPUT, MODES), with the kind and position of its event in STEM.crit.
+   subroutine keep_mode(model, driver, events, modes)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(in) :: driver
+      type(critical_event_t), intent(in) :: events(:)
+      type(modes_table_t), intent(inout) :: modes
+      integer :: k
+      if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
+      do k = size(events), 1, -1
+         if (index(events(k)%kind, 'bifurcation') == 0) cycle
+         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, &
+                       nodal_mode(model, driver%state%map, driver%state%bifurcation%mode))
+         return
+      end do
+   end subroutine keep_mode
 
    !> End the result files of a run. Without an I/O error (`io_error`) they are closed and moved to
    !> their final names together, and `error` (the analysis' error, if any) is left as it is. After an

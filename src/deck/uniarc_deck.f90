@@ -16,7 +16,7 @@ module uniarc_deck
    use uniarc_expression, only: evaluate_expression, set_parameter, find_parameter, is_reserved_name
    use uniarc_deck_source, only: source_t, card_t, read_source, next_card, raise, raise_plain, clip, &
                                  check_options, field_real
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, analysis_nonlinear, control_arclength
    use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kinds
    use uniarc_deck_element, only: restrain_truss_nodes, read_release
    use uniarc_deck_state, only: parameter_override_t, deck_t
@@ -26,6 +26,7 @@ module uniarc_deck
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
    use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps
+   use uniarc_deck_imperfection, only: read_imperfection
    implicit none
    private
    public :: parameter_override_t, read_deck
@@ -128,10 +129,12 @@ contains
          call read_static(source, card, deck, error)
       case ('OUTPUT')
          call read_output(source, card, deck, error)
+      case ('IMPERFECTION')
+         call read_imperfection(source, card, deck, error)
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT, *STEP, *END STEP), found ''*'// &
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT, *IMPERFECTION, *STEP, *END STEP), found ''*'// &
                     clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch
@@ -264,6 +267,8 @@ contains
                           error)
          return
       end if
+      call check_computed_imperfection(source, deck, error)
+      if (allocated(error)) return
       bad = unused_node(deck%model)
       if (bad > 0) then
          call raise(source, deck%node_line(bad), deck%node_column(bad), 'expected every node in an ' // &
@@ -299,6 +304,25 @@ contains
                                    joints=model%end_joints)
       end associate
    end subroutine check_whole_deck
+
+   !> *IMPERFECTION without FILE= (uniarc_deck_imperfection): the first run that computes the mode
+   !> traces the deck's own path under arc-length control, and moves the nodes after the contact
+   !> candidates were built from them, so it needs *PATH with CONTROL=ARCLENGTH and no contact card.
+   subroutine check_computed_imperfection(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      if (deck%model%analysis%imperfection_bifurcation == 0) return
+      if (deck%model%analysis%kind /= analysis_nonlinear .or. deck%model%analysis%control /= control_arclength) then
+         call raise(source, deck%imperfection_line, 1, 'expected *PATH, CONTROL=ARCLENGTH with *IMPERFECTION '// &
+                    'without FILE= (its mode comes from the path of the perfect structure), found another '// &
+                    'analysis', error)
+      else if (deck%model%n_contacts > 0) then
+         call raise(source, deck%imperfection_line, 1, 'expected FILE= on *IMPERFECTION in a deck with contact '// &
+                    'cards (a mode computed in a first run would move the nodes after the contacts were built '// &
+                    'from them: write it with *OUTPUT, MODES and read it back)', error)
+      end if
+   end subroutine check_computed_imperfection
 
    !> Mark every override of parameter `name` used: of several -D of one name, the last is applied
    !> (find_override) and none is reported as unknown.

@@ -107,7 +107,8 @@ contains
       type(field_t) :: field
       real(dp) :: value
 
-      call check_options(source, card, [character(len=10) :: 'CONTROL=', 'ITERATION=', 'NODE=', 'DOF='], error)
+      call check_options(source, card, [character(len=10) :: 'CONTROL=', 'ITERATION=', 'NODE=', 'DOF=', 'SWITCH='], &
+                         error)
       if (allocated(error)) return
       call require_analysis_once(source, card, deck, error)
       if (allocated(error)) return
@@ -148,6 +149,8 @@ contains
             return
          end select
       end if
+      call read_switch(source, card, deck, error)
+      if (allocated(error)) return
       if (deck%model%analysis%control == control_displacement) then
          call require_option(source, card, 'NODE', k, error)
          if (allocated(error)) return
@@ -217,6 +220,32 @@ contains
       end if
    end subroutine read_path
 
+   !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (n >= 1), under
+   !> arc-length control (docs/theory.md §2.5).
+   subroutine read_switch(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k, n
+      k = option_index(card, 'SWITCH')
+      if (k == 0) return
+      call field_integer(source, deck%parameters, card%line, option_field(card, k), &
+                         'the number of the bifurcation for SWITCH=', n, error)
+      if (allocated(error)) return
+      if (n < 1) then
+         call raise(source, card%line, card%options(k)%value_column, 'expected SWITCH=n with n >= 1 (the '// &
+                    'n-th bifurcation located on the path), found '//integer_to_string(n), error)
+         return
+      end if
+      if (deck%model%analysis%control /= control_arclength) then
+         call raise(source, card%line, card%options(k)%column, 'expected CONTROL=ARCLENGTH with SWITCH= '// &
+                    '(a secondary branch is followed by its arc length), found another control', error)
+         return
+      end if
+      deck%model%analysis%switch_bifurcation = n
+   end subroutine read_switch
+
    !> One `key = value` of *PATH into the analysis options (keys in docs/input.md).
    subroutine set_path_value(source, line, key_column, value_column, key, value, analysis, error)
       type(source_t), intent(in) :: source
@@ -285,7 +314,9 @@ contains
    !> one option without a value, so that further formats are further names here:
    !> - VTK: ParaView snapshots (uniarc_vtk), no data lines;
    !> - FORCES: the tables of internal forces and contact pressures (uniarc_output, STEM.forces and
-   !>   STEM.contact); optional data lines list step numbers (whole numbers >= 0) at which to write them.
+   !>   STEM.contact); optional data lines list step numbers (whole numbers >= 0) at which to write them;
+   !> - MODES: the buckling mode at every located bifurcation (uniarc_modes_output, STEM.modes), no data
+   !>   lines, no EVERY=.
    !> EVERY= is the interval in steps; without it (and, for FORCES, without listed steps) the steps are
    !> those of the shape file (step 0 included). The last converged step is always written.
    subroutine read_output(source, card, deck, error)
@@ -303,7 +334,7 @@ contains
       do i = 1, size(card%options)
          if (card%options(i)%has_value .or. card%options(i)%name == 'EVERY') cycle
          select case (card%options(i)%name)
-         case ('VTK', 'FORCES')
+         case ('VTK', 'FORCES', 'MODES')
             if (len(format_name) == 0) then
                format_name = card%options(i)%name
                format_column = card%options(i)%column
@@ -314,12 +345,12 @@ contains
                return
             end if
          case default
-            call raise(source, card%line, card%options(i)%column, 'expected an output format (VTK, FORCES) '// &
+            call raise(source, card%line, card%options(i)%column, 'expected an output format (VTK, FORCES, MODES) '// &
                        'on *OUTPUT, found '''//clip(card%options(i)%name)//'''', error)
             return
          end select
       end do
-      call check_options(source, card, [character(len=6) :: 'VTK', 'FORCES', 'EVERY='], error)
+      call check_options(source, card, [character(len=6) :: 'VTK', 'FORCES', 'MODES', 'EVERY='], error)
       if (allocated(error)) return
       if (len(format_name) == 0) then
          call raise(source, card%line, card%column, 'expected an output format after *OUTPUT '// &
@@ -345,6 +376,19 @@ contains
       if (card%n_data > 0) then
          call raise(source, card%data_lines(1), verify(source%lines(card%data_lines(1))%text, ' '), &
                     'expected no data line after *OUTPUT, found one', error)
+         return
+      end if
+      if (format_name == 'MODES') then
+         if (k > 0) then
+            call raise(source, card%line, card%options(k)%column, 'expected no EVERY= on *OUTPUT, MODES (a mode '// &
+                       'is written at every located bifurcation)', error)
+            return
+         end if
+         if (deck%model%output%modes) then
+            call raise(source, card%line, format_column, 'expected one *OUTPUT, MODES card, found another', error)
+            return
+         end if
+         deck%model%output%modes = .true.
          return
       end if
       if (deck%vtk_line > 0) then

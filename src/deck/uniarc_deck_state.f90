@@ -51,6 +51,7 @@ module uniarc_deck_state
       integer :: loose_load_line = 0, loose_load_column = 0
       integer :: loose_analysis_line = 0, loose_analysis_column = 0
       integer :: analysis_column = 0                  !< column of the analysis card of the open step
+      integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
    end type deck_t
 
 contains

@@ -206,6 +206,14 @@ module uniarc_model
       integer :: control_node = 0            !< displacement control: node and DOF
       integer :: control_dof = 0
       integer :: shape_every = 10            !< write a shape snapshot every so many steps
+      !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
+      !> primary path; docs/theory.md §2.5)
+      integer :: switch_bifurcation = 0
+      !> *IMPERFECTION without FILE=: add the mode of the perfect structure's n-th located bifurcation,
+      !> computed in a first run, scaled to a largest nodal translation `imperfection_amplitude` (length)
+      !> (0: none; uniarc_path_imperfection)
+      integer :: imperfection_bifurcation = 0
+      real(dp) :: imperfection_amplitude = 0.0_dp
    end type analysis_options_t
 
    !> Extra result files a deck asks for with `*OUTPUT` (docs/input.md); the path, critical-point and
@@ -217,6 +225,8 @@ module uniarc_model
       logical :: forces = .false.
       integer :: forces_every = 0              !< every so many steps; 0: as the shape file, unless listed
       integer, allocatable :: forces_steps(:)  !< the steps listed on the card's data lines (may be unallocated)
+      !> The buckling modes at the located bifurcations, `STEM.modes` (*OUTPUT, MODES)
+      logical :: modes = .false.
    end type output_options_t
 
    !> The loads of one analysis step (*STEP, docs/input.md): its reference nodal loads, distributed loads

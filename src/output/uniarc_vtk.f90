@@ -49,6 +49,7 @@ module uniarc_vtk
    private
    public :: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, finish_vtk_series
    public :: vtk_file_name, element_forces
+   public :: write_xml_reals, write_xml_integers   ! the buckling modes' files (uniarc_modes_output)
 
    !> The two files of a snapshot: legacy `.vtk` and XML `.vtp`.
    integer, parameter :: legacy_format = 1, xml_format = 2

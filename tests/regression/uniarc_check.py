@@ -366,7 +366,7 @@ def main():
     # every table has its provenance lines and its counts written as integers.
     for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
         if name.startswith(stem + '.') and name.split('.')[-1] in ('path', 'crit', 'shape', 'surface', 'forces',
-                                                                    'contact'):
+                                                                    'contact', 'modes'):
             with open(os.path.join(args.out, name)) as f:
                 text = f.read()
             if '-0.000000000000E+000' in text:
@@ -378,7 +378,7 @@ def main():
 
 
 INTEGER_COLUMNS = ('step', 'node', 'n_contact', 'contact_regions', 'lcp_pivots', 'iterations', 'neg_pivots',
-                   'candidate', 'rigid', 'element', 'node_start', 'node_end')
+                   'candidate', 'rigid', 'element', 'node_start', 'node_end', 'bifurcation')
 
 
 def check_table_format(path, text, deck, defines):
@@ -399,7 +399,7 @@ def check_table_format(path, text, deck, defines):
             failures.append(f'{name}:{number}: {lines[number - 1]!r} is not the provenance line {pattern!r}')
     counts = [i for i, column in enumerate(names)
               if (column in INTEGER_COLUMNS or column.startswith(('n_contact_', 'contact_regions_')))
-              and not (column == 'step' and name.endswith('.crit'))]
+              and not (column == 'step' and name.endswith(('.crit', '.modes')))]
     for number, line in enumerate(lines[5:], start=6):
         fields = line.split()
         if line.startswith('#') or not fields:

@@ -16,7 +16,8 @@ module uniarc_path_locate
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, control_arclength
-   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm
+   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
+                                bifurcation_state_t
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -42,6 +43,10 @@ contains
    !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
    !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). No errors: a failure leaves the fields at −1.
+   !> A located bifurcation also sets after%bifurcation: the converged state at the located point (one
+   !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
+   !> magnitude) and its least eigenvector,
+   !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    subroutine locate_critical_points(model, before, after, system, length)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
@@ -49,7 +54,7 @@ contains
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       type(path_point_t) :: pa, pb, probe
-      type(path_state_t) :: restore
+      type(path_state_t) :: restore, probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
       type(error_t), allocatable :: error
       real(dp) :: ha, hb, h, fa, fb, fp, width, t
@@ -67,6 +72,10 @@ contains
       pb = after%point
       fa = indicator(pa)
       fb = indicator(pb)
+      if (bifurcation) then
+         state_a = before
+         state_b = after
+      end if
       probed = .false.
       last_side = 0
       same_side = 0
@@ -81,7 +90,7 @@ contains
             h = ha + width*fa/(fa - fb)
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
-         call re_solve(h, probe, converged)
+         call re_solve(h, probe, probe_state, converged)
          if (.not. converged) exit
          probed = .true.
          fp = indicator(probe)
@@ -90,11 +99,13 @@ contains
             pb = probe
             fb = fp
             side = 1
+            if (bifurcation) state_b = probe_state
          else
             ha = h
             pa = probe
             fa = fp
             side = -1
+            if (bifurcation) state_a = probe_state
          end if
          if (side == last_side) then
             same_side = same_side + 1
@@ -103,11 +114,6 @@ contains
          end if
          last_side = side
       end do
-      if (probed) then
-         ! The system holds the last probe's tangent: the committed one again for the next step.
-         restore = after
-         call commit_tangent(model, restore, system, .false., error)
-      end if
       ! The point on the final bracket. Its fraction of the step is measured in the step parameter h
       ! (the path length of the probes is not monotone in h where the tangent is near-singular: its
       ! round-off mode enters the increments). A limit: the interpolation of the detector between pa
@@ -140,6 +146,22 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+         ! The state at the located point itself, re-solved, for its mode and branch switching
+         ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
+         call re_solve(ha + t*(hb - ha), probe, probe_state, converged)
+         if (converged) then
+            probed = .true.
+            call keep_bifurcation(probe_state)
+         else if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
+            call keep_bifurcation(state_a)
+         else
+            call keep_bifurcation(state_b)
+         end if
+      end if
+      if (probed) then
+         ! The system holds the last probe's tangent: the committed one again for the next step.
+         restore = after
+         call commit_tangent(model, restore, system, .false., error)
       end if
 
    contains
@@ -165,13 +187,33 @@ contains
          end if
       end function passed
 
-      !> The converged state of a step of length step_h from `before`, as a point record.
-      subroutine re_solve(step_h, point, ok)
+      !> The bifurcation's nearest converged state `near` and its mode into after%bifurcation.
+      subroutine keep_bifurcation(near)
+         type(path_state_t), intent(in) :: near
+         allocate (after%bifurcation)
+         after%bifurcation%u = near%u
+         after%bifurcation%active = near%active
+         after%bifurcation%lambda = near%lambda
+         after%bifurcation%located_lambda = after%point%bifurcation_lambda
+         after%bifurcation%position = before%point%step + after%point%bifurcation_fraction
+         after%bifurcation%s = near%point%s
+         after%bifurcation%liftoff = near%point%liftoff
+         if (near%point%liftoff .and. allocated(near%liftoff_mode)) then
+            after%bifurcation%mode = near%liftoff_mode
+         else if (allocated(near%eigenvector)) then
+            after%bifurcation%mode = near%eigenvector
+         else
+            deallocate (after%bifurcation)
+         end if
+      end subroutine keep_bifurcation
+
+      !> The converged state of a step of length step_h from `before`, as a point record and a state.
+      subroutine re_solve(step_h, point, state, ok)
          real(dp), intent(in) :: step_h
          type(path_point_t), intent(out) :: point
+         type(path_state_t), intent(out) :: state
          logical, intent(out) :: ok
          type(step_trial_t) :: trial
-         type(path_state_t) :: state
          type(error_t), allocatable :: commit_error
          trial%length = step_h
          call attempt_step(model, before, system, trial)

@@ -115,11 +115,14 @@ contains
    !> says whether equilibrium and complementarity hold at state%u + trial%increment, state%lambda +
    !> trial%dlambda with the working set trial%active; if not, trial%reason says why. `system` is
    !> overwritten (its committed factors used first if it still holds them).
-   subroutine attempt_step(model, state, system, trial)
+   !> `start` (n, optional) replaces the tangent predictor: the increment the corrections start from, at
+   !> the committed λ (the predictor along a buckling mode onto a secondary branch, uniarc_path_branch).
+   subroutine attempt_step(model, state, system, trial, start)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
+      real(dp), intent(in), optional :: start(:)
       type(linearization_t) :: lin
       type(newton_test_t) :: test
       type(path_constraint_t) :: constraint
@@ -143,8 +146,13 @@ contains
       allocate (new_active(size(trial%active)))
       reuse_factors = .false.
       fresh_set = .false.
-      call predict(model, state, system, lin, trial, predicted)
-      if (.not. predicted) return
+      if (present(start)) then
+         system%holds_committed = .false.
+         trial%increment = start
+      else
+         call predict(model, state, system, lin, trial, predicted)
+         if (.not. predicted) return
+      end if
       associate (options => model%analysis)
          predictor = trial%increment
          trial%predictor = predictor

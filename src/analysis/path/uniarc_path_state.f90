@@ -21,7 +21,7 @@ module uniarc_path_state
    use uniarc_contact, only: assemble_contact
    implicit none
    private
-   public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t
+   public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
 
@@ -48,7 +48,26 @@ module uniarc_path_state
       !> (uniarc_path_locate): the fraction of that interval (−1: none located) and λ there.
       real(dp) :: limit_fraction = -1.0_dp, limit_lambda = 0.0_dp
       real(dp) :: bifurcation_fraction = -1.0_dp, bifurcation_lambda = 0.0_dp
+      !> This point is the first of a secondary branch, reached from a bifurcation (uniarc_path_branch):
+      !> the interval before it joins two branches and holds no critical point.
+      logical :: switched = .false.
+      real(dp) :: switch_lambda = 0.0_dp   !< when switched: λ of the state the branch left from
    end type path_point_t
+
+   !> A bifurcation located by re-solving a step (uniarc_path_locate): the converged state nearest to
+   !> it and its buckling mode, for the modes file and branch switching (uniarc_path_branch).
+   type :: bifurcation_state_t
+      real(dp), allocatable :: u(:)        !< (n) unknowns of the nearest converged state
+      logical, allocatable :: active(:)    !< its working set
+      real(dp) :: lambda = 0.0_dp          !< its load factor
+      real(dp) :: located_lambda = 0.0_dp  !< λ of the located bifurcation (point%bifurcation_lambda)
+      real(dp) :: position = 0.0_dp        !< where it lies: the fractional step of STEM.crit
+      real(dp) :: s = 0.0_dp               !< its path length
+      !> (n) least eigenvector there: of K_T, or with the touching contacts released when `liftoff`
+      !> (the mode on the admissible cone, docs/theory.md §2.2)
+      real(dp), allocatable :: mode(:)
+      logical :: liftoff = .false.
+   end type bifurcation_state_t
 
    !> The system of equations the steps work in: the augmented tangent K_T in band storage (n × n,
    !> n = map%n_equations), twice.
@@ -89,6 +108,11 @@ module uniarc_path_state
       integer :: control_equation = 0
       real(dp) :: length_scale = 1.0_dp         !< size of the model (gap tolerances)
       type(path_point_t) :: point
+      !> The bifurcation located by the last step, if it located one (else unallocated).
+      type(bifurcation_state_t), allocatable :: bifurcation
+      integer :: bifurcations = 0               !< bifurcations located so far
+      !> The next step leaves the primary path along the mode of `bifurcation` (*PATH, SWITCH=n).
+      logical :: switch_due = .false.
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.

@@ -1,0 +1,179 @@
+!> Branch switching at a simple bifurcation (docs/theory.md §2.5), and the buckling mode there as
+!> nodal displacements (the modes file, uniarc_modes_output).
+!>
+!> At a bifurcation located by re-solving (uniarc_path_locate), the converged state x_c nearest to it
+!> and the least eigenvector φ of its tangent are kept: φ approximates the null vector of K_T at the
+!> critical point — on the admissible cone at a lift-off (unilateral) bifurcation, where it is the
+!> least mode of the tangent with the contacts that touch without force released (uniarc_path_stability).
+!> The secondary branch leaves x_c along φ (Riks 1984, Int. J. Solids Struct. 20, 557–572; Wagner &
+!> Wriggers 1988, Eng. Comput. 5, 103–109): the predictor is x_c + ξ φ at λ_c, with φ made orthogonal
+!> to the primary path's tangent K⁻¹R (so that it does not lead back along the primary path) and ξ
+!> the path's current step length; the corrector is Newton with the updated normal plane (Riks):
+!> δλ = −Δuᵀδu_g / Δuᵀδu_t, which keeps the correction normal to the increment and so away from the
+!> primary path, whose points lie at distance ξ in that plane. Then the usual arc length goes on.
+module uniarc_path_branch
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_strings, only: real_to_string
+   use uniarc_model, only: model_t, dofs_per_node, iteration_riks
+   use uniarc_assembly, only: gather_nodal
+   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_contact, only: candidate_gap
+   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
+                                masked_norm, nodal_displacements
+   use uniarc_path_newton, only: attempt_step
+   use uniarc_path_stability, only: commit_tangent
+   use uniarc_path_point, only: describe_point
+   implicit none
+   private
+   public :: switch_branch, nodal_mode
+
+contains
+
+   !> The buckling mode `mode` (n equations) as nodal displacements (dofs_per_node, n_nodes), scaled
+   !> so that the largest nodal translation sqrt(ux² + uy²) is 1 (a rotation-only mode: the largest
+   !> rotation is 1) and signed so that the largest component is positive. Dimensionless shape.
+   function nodal_mode(model, map, mode) result(nodal)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: mode(:)
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: largest
+      integer :: where(2)
+      allocate (nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(map, mode, nodal)
+      largest = maxval(sqrt(nodal(1, :)**2 + nodal(2, :)**2))
+      if (.not. largest > 0.0_dp) largest = maxval(abs(nodal))
+      if (.not. largest > 0.0_dp) return
+      where = maxloc(abs(nodal))
+      if (nodal(where(1), where(2)) < 0.0_dp) largest = -largest
+      nodal = nodal/largest
+   end function nodal_mode
+
+   !> One step from the bifurcation kept in state%bifurcation onto the secondary branch: predictor
+   !> x_c + ξφ at λ_c (φ orthogonal to the primary tangent, unit in the displacement norm; at a lift-off
+   !> signed to open the contacts that touch without force, else its largest component positive; ξ the
+   !> current step length; orthogonal to the primary path's chord over the step that passed the
+   !> bifurcation), Riks' normal-plane corrections, the step halved on failure down to
+   !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
+   !> factorised into state%system) and the arc length goes on from it along the new branch;
+   !> state%bifurcation stays until the next step (the switch's row in STEM.crit).
+   !> `cuts` returns the halvings made. Errors (error_analysis): no bifurcation kept, a singular tangent
+   !> at x_c, or no convergence down to the smallest step.
+   subroutine switch_branch(model, state, error, cuts)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(out) :: cuts
+      type(path_state_t) :: critical
+      type(path_system_t), allocatable :: system
+      type(step_trial_t) :: trial
+      type(model_t) :: riks_model
+      real(dp), allocatable :: phi(:), primary(:)
+      real(dp) :: xi, t_norm
+      integer :: step
+      cuts = 0
+      state%switch_due = .false.
+      if (.not. allocated(state%bifurcation)) then
+         call make_error(error, 'no bifurcation to switch branches at', error_analysis)
+         return
+      end if
+      step = state%point%step
+      call move_alloc(state%system, system)
+      ! The step starts from the state at the bifurcation. Its tangent K⁻¹R is not used: K_T is
+      ! singular there to the located precision, and K⁻¹R is dominated by the mode (noise / μ). The
+      ! primary path's direction is the chord of the step that passed the bifurcation.
+      critical = state
+      critical%u = state%bifurcation%u
+      critical%active = state%bifurcation%active
+      critical%lambda = state%bifurcation%lambda
+      system%holds_committed = .false.
+      system%holds_converged = .false.
+      ! φ without reactions, orthogonal to the primary path, unit, signed.
+      primary = merge(state%last_increment, 0.0_dp, critical%map%metric > 0.0_dp)
+      phi = merge(state%bifurcation%mode, 0.0_dp, critical%map%metric > 0.0_dp)
+      t_norm = masked_norm(critical%map, primary)
+      if (t_norm > 0.0_dp) phi = phi - masked_dot(critical%map, phi, primary)/t_norm**2*primary
+      if (.not. masked_norm(critical%map, phi) > 1.0e-3_dp*masked_norm(critical%map, state%bifurcation%mode)) then
+         call move_alloc(system, state%system)
+         call make_error(error, 'the buckling mode at the bifurcation is along the primary path: no branch '// &
+                         'to switch to', error_analysis)
+         return
+      end if
+      phi = phi/masked_norm(critical%map, phi)
+      phi = phi*mode_sign(model, critical, state%bifurcation%liftoff, phi)
+      ! Riks' updated normal plane for the corrections of this step only.
+      riks_model = model
+      riks_model%analysis%iteration = iteration_riks
+      xi = state%step_length
+      do
+         trial%length = xi
+         call attempt_step(riks_model, critical, system, trial, start=xi*phi)
+         if (trial%converged) exit
+         xi = 0.5_dp*xi
+         cuts = cuts + 1
+         if (xi < model%analysis%min_increment*state%first_length .or. cuts > model%analysis%max_cuts) then
+            call move_alloc(system, state%system)
+            call make_error(error, 'branch switching at lambda = '//real_to_string(critical%lambda, '(es12.5)')// &
+                            ': no convergence ('//trial%reason//') down to the smallest step', error_analysis)
+            return
+         end if
+      end do
+      ! Commit: the first point of the secondary branch, numbered after the last one of the primary.
+      state = critical
+      state%u = critical%u + trial%increment
+      state%lambda = critical%lambda + trial%dlambda
+      state%active = trial%active
+      state%last_increment = trial%increment
+      state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+      state%step_length = xi
+      call commit_tangent(model, state, system, .false., error)
+      if (allocated(error)) then
+         call move_alloc(system, state%system)
+         error%message = 'branch switching (converged state): '//error%message
+         return
+      end if
+      call move_alloc(system, state%system)
+      if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
+         state%direction = -1
+      else
+         state%direction = 1
+      end if
+      call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots)
+      state%point%switched = .true.
+      state%point%switch_lambda = critical%lambda
+      state%point%limit_fraction = -1.0_dp
+      state%point%bifurcation_fraction = -1.0_dp
+   end subroutine switch_branch
+
+   !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that
+   !> touch without force (a lift-off), the sign that opens them (Σ a_cᵀφ ≥ 0 over the working set:
+   !> the other sign presses into the medium, where it resists); else the largest component positive.
+   real(dp) function mode_sign(model, state, liftoff, phi) result(sign_of)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: liftoff   !< the bifurcation is a lift-off (unilateral) one
+      real(dp), intent(in) :: phi(:)
+      real(dp), allocatable :: nodal(:, :), shape(:, :)
+      real(dp) :: g, gradient(2), hessian(2, 2), opening
+      integer :: c, node
+      sign_of = 1.0_dp
+      if (liftoff) then
+         call nodal_displacements(model, state, nodal)
+         allocate (shape(dofs_per_node, model%n_nodes))
+         call gather_nodal(state%map, phi, shape)
+         opening = 0.0_dp
+         do c = 1, size(state%active)
+            if (.not. state%active(c) .or. .not. candidate_live(state%map, c)) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
+                               hessian)
+            opening = opening + dot_product(gradient, shape(1:2, node))
+         end do
+         if (opening < 0.0_dp) sign_of = -1.0_dp
+         return
+      end if
+      if (phi(maxloc(abs(phi), 1)) < 0.0_dp) sign_of = -1.0_dp
+   end function mode_sign
+
+end module uniarc_path_branch
