@@ -22,7 +22,9 @@ module uniarc_path_newton
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
                                 has_contacts, new_linearization, candidate_values
    use uniarc_contact, only: toggle_contacts
-   use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda
+   use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
+                                     degenerate_tangent
+   use uniarc_model, only: control_arclength, control_displacement
    use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp
    implicit none
    private
@@ -138,6 +140,7 @@ contains
       trial%set_changes = 0
       trial%iterations = 0
       trial%dlambda = 0.0_dp
+      trial%load_step = .false.
       contacts = has_contacts(state)
       lin = new_linearization(model, state%map)
       allocate (new_active(size(trial%active)))
@@ -168,7 +171,10 @@ contains
                ! A step must go forward: a correction that lands behind the predictor (possible with
                ! Chan's constraint-free correction when the contact set changes within the step) would
                ! make the path turn back on itself. Such an attempt is cut instead.
-               if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp) then
+               ! (A predictor without displacement, a load step of a degenerate tangent, has no
+               ! direction to turn back from.)
+               if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp .and. .not. trial%load_step .and. &
+                   masked_norm(state%map, predictor) > 0.0_dp) then
                   trial%reason = 'the corrected step turned back'
                   exit
                end if
@@ -227,9 +233,18 @@ contains
                   trial%reason = 'singular tangent'
                   exit
                end if
-               call correction_constraint(options, state, trial%increment, constraint)
+               call correction_constraint(options, state, trial%increment, constraint, trial%load_step)
                call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
+               if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
+                  ! The arc length cannot fix δλ in a set whose contacts carry the whole reference
+                  ! load: the rest of the attempt is a load step (docs/theory.md §2.5). The LCP has
+                  ! overwritten the tangent: the iteration assembles it again at this state.
+                  trial%load_step = .true.
+                  reuse_factors = .false.
+                  fresh_set = .false.
+                  cycle
+               end if
                if (allocated(error)) then
                   trial%reason = error%message
                   exit
@@ -270,7 +285,7 @@ contains
             fresh_set = .false.
             ! rhs(:, 1) = δx_g (residual correction), rhs(:, 2) = δx_t (tangent correction)
             call iteration_dlambda(options, state, trial%increment, lin%rhs(:, 1), lin%rhs(:, 2), trial%length, &
-                                   dl, reason)
+                                   dl, reason, trial%load_step)
             if (len(reason) > 0) then
                trial%reason = reason
                exit
@@ -307,6 +322,17 @@ contains
       associate (options => model%analysis)
          ut = state%tangent_displacement
          trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+         ! A degenerate tangent (the contacts carry the whole reference load) makes the step a load
+         ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.5).
+         trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
+         if (options%control == control_displacement) then
+            if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
+               ! The contacts carry the reference load at the controlled DOF: no Δλ moves it.
+               trial%reason = 'the reference load does not move the controlled displacement with this contact '// &
+                              'set (the contacts carry it): trace it with CONTROL=ARCLENGTH or CONTROL=LOAD'
+               return
+            end if
+         end if
          if (has_contacts(state)) then
             lin%x = state%u
             call gather_nodal(state%map, state%u, lin%nodal)
@@ -328,9 +354,28 @@ contains
                trial%reason = 'singular tangent at the start of the step'
                return
             end if
-            call step_constraint(options, state, ut, trial%dlambda, constraint)
+            call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
             call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
             trial%lcp_pivots = trial%lcp_pivots + update%pivots
+            if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
+               ! The step reaches a set whose contacts carry the whole reference load (an obstacle
+               ! closing under the load): the arc length has no displacement left to measure there,
+               ! and the predictor's Δλ is taken as a load step (docs/theory.md §2.5). The LCP lent
+               ! the system's matrices: the committed tangent is assembled again.
+               trial%load_step = .true.
+               call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
+                                   lin%internal, lin%reference, lin%element_scale)
+               lin%residual = state%lambda*lin%reference - lin%internal
+               call band_copy(system%tangent, system%assembled)
+               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               if (allocated(error)) then
+                  trial%reason = 'singular tangent at the start of the step'
+                  return
+               end if
+               call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
+               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+               trial%lcp_pivots = trial%lcp_pivots + update%pivots
+            end if
             if (allocated(error)) then
                trial%reason = error%message
                return
@@ -351,7 +396,10 @@ contains
                   end if
                   ut = lin%rhs(:, 2)
                end if
-               trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+               if (.not. trial%load_step) then
+                  trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+                  trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
+               end if
             end if
          end if
          trial%increment = trial%dlambda*ut
