@@ -15,7 +15,7 @@ module uniarc_path_newton
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, analysis_options_t
    use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_solve, band_copy
+   use uniarc_band, only: band_matrix_t, band_solve, band_copy, band_factorize
    use uniarc_assembly, only: gather_nodal
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
@@ -184,6 +184,11 @@ contains
                   exit
                end if
                if (complementary(model, state, lin%x, lin%nodal, trial%active)) then
+                  if (.not. lands_degenerate(model, state, system, lin, trial)) then
+                     trial%reason = 'the arc-length step cannot be solved with this contact set (contact LCP: '// &
+                                    'no solution), and as a load step it does not end where the contacts carry the load'
+                     exit
+                  end if
                   trial%converged = .true.
                   call keep_converged(system, lin)
                   exit
@@ -297,6 +302,35 @@ contains
          end do
       end associate
    end subroutine attempt_step
+
+   !> Whether an attempt may end here as far as its load step goes: a load step begun from a regular
+   !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.5) must end
+   !> where the contacts carry the whole reference load, K_S⁻¹R without displacement; one that ends
+   !> elsewhere took another parametrisation of the path than the arc length asked for, and the attempt
+   !> is cut instead. Every other attempt may (true). `system%tangent` holds K_S at the state of `lin`,
+   !> unfactorised, and is left so (a copy is factorised).
+   logical function lands_degenerate(model, state, system, lin, trial) result(ok)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(in) :: system
+      type(linearization_t), intent(in) :: lin
+      type(step_trial_t), intent(in) :: trial
+      type(band_matrix_t) :: factors
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: response(:, :)
+      ok = .true.
+      if (.not. trial%load_step .or. model%analysis%control /= control_arclength) return
+      if (degenerate_tangent(state, state%tangent_displacement)) return
+      ok = .false.
+      call band_copy(system%tangent, factors)
+      call band_factorize(factors, error)
+      if (allocated(error)) return
+      allocate (response(size(lin%reference), 1))
+      response(:, 1) = lin%reference
+      call band_solve(factors, response, error)
+      if (allocated(error)) return
+      ok = degenerate_tangent(state, response(:, 1))
+   end function lands_degenerate
 
    !> The predictor of an attempt: trial%dlambda and trial%increment along the committed tangent K⁻¹R;
    !> with contact, the contact LCP at the committed state first chooses the working set trial%active
