@@ -6,7 +6,9 @@
 !> A general (not Cholesky) factorisation is used because the tangent is indefinite past limit points.
 module uniarc_band
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_strings, only: integer_to_string
+   use uniarc_memory, only: memory_text
    use uniarc_foreign, only: dgbtrf, dgbtrs, lapack_check
    implicit none
    private
@@ -30,16 +32,35 @@ module uniarc_band
 
 contains
 
-   !> Allocate an n×n band matrix with half-bandwidths kl, ku and set it to zero.
-   subroutine band_allocate(matrix, n, kl, ku)
+   !> Allocate an n×n band matrix with half-bandwidths kl, ku and set it to zero: (2 kl + ku + 1) n reals.
+   !> With `error` present, an allocation the system refuses is returned (error_input, exit code 2:
+   !> the model does not fit in memory) with the matrix's size, instead of ending the program.
+   subroutine band_allocate(matrix, n, kl, ku, error)
       type(band_matrix_t), intent(out) :: matrix
       integer, intent(in) :: n, kl, ku
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: status
+      character(len=200) :: message
       matrix%n = n
       matrix%kl = kl
       matrix%ku = ku
       matrix%ldab = 2*kl + ku + 1
-      allocate (matrix%ab(matrix%ldab, max(n, 1)), source=0.0_dp)
-      allocate (matrix%pivots(max(n, 1)), source=0)
+      if (.not. present(error)) then
+         allocate (matrix%ab(matrix%ldab, max(n, 1)), source=0.0_dp)
+         allocate (matrix%pivots(max(n, 1)), source=0)
+         return
+      end if
+      message = ''
+      allocate (matrix%ab(matrix%ldab, max(n, 1)), matrix%pivots(max(n, 1)), stat=status, errmsg=message)
+      if (status /= 0) then
+         call make_error(error, 'the model does not fit in memory: the band matrix of '// &
+                         integer_to_string(n)//' equations and half bandwidth '//integer_to_string(max(kl, ku))// &
+                         ' ('//memory_text(8.0_dp*real(matrix%ldab, dp)*real(max(n, 1), dp))// &
+                         ') cannot be allocated: '//trim(message), error_input)
+         return
+      end if
+      matrix%ab = 0.0_dp
+      matrix%pivots = 0
    end subroutine band_allocate
 
    !> target ← source, entries and factorisation state; the target's storage is reused when it has

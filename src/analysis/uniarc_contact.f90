@@ -13,6 +13,9 @@
 !>     [ 0                      1   ]        [ −r_c               ]   for c ∉ S (r_c = 0)
 !> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
 !>
+!> A foundation's tangential spring that follows its radial partner (contact_candidate_t%partner) is in
+!> the set only with it (`in_set`): never a variable of the LCP, it is switched with its partner.
+!>
 !> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
 !> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
@@ -27,6 +30,7 @@ module uniarc_contact
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
+   public :: in_set
 
 contains
 
@@ -47,7 +51,7 @@ contains
       do c = 1, size(map%candidate_equation)
          row = map%candidate_equation(c)
          if (map%condensed(c)) then
-            if (active(c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
+            if (in_set(model, active, c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
                                                      displacement(1:2, model%contacts(c)%node), &
                                                      map%equation(1:2, model%contacts(c)%node), tangent, internal)
             cycle
@@ -67,7 +71,7 @@ contains
                   if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), -reactions(c)*hessian(i, j))
                end do
             end do
-            if (active(c)) then
+            if (in_set(model, active, c)) then
                internal(row) = -(gap + candidate%flexibility*reactions(c))
                do i = 1, 2
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
@@ -83,7 +87,7 @@ contains
 
    !> Move the candidates `flip` in or out of the working set in an assembled augmented tangent and
    !> its residual λR − F_aug (n) at nodal displacements (3, n_nodes) and reactions (one per
-   !> candidate); `active` is the new set. The same result as assembling again with the new set
+   !> candidate); `active` is the new set. Tangential springs whose radial partner flips move with it. The same result as assembling again with the new set
    !> (assemble_contact; round-off apart), at the cost of the flipped candidates only.
    subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual)
       type(model_t), intent(in) :: model
@@ -93,18 +97,34 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
+      logical, allocatable :: before(:)
+      logical :: entering
       integer :: c, row, node
+      before = active .neqv. flip
       do c = 1, size(flip)
-         if (.not. flip(c)) cycle
+         ! a tangential spring moves with its radial partner (in_set)
+         entering = in_set(model, active, c)
+         if (entering .eqv. in_set(model, before, c)) cycle
          row = map%candidate_equation(c)
          if (row == 0 .and. .not. map%condensed(c)) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
                             gradient, hessian)
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
-                             reactions(c), active(c), tangent, residual)
+                             reactions(c), entering, tangent, residual)
       end do
    end subroutine toggle_contacts
+
+   !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag, and
+   !> for a tangential spring that follows a radial partner (contact_candidate_t%partner) the partner's
+   !> too, so that it acts only where the radial contact is closed.
+   pure logical function in_set(model, active, c)
+      type(model_t), intent(in) :: model
+      logical, intent(in) :: active(:)
+      integer, intent(in) :: c
+      in_set = active(c)
+      if (model%contacts(c)%partner > 0) in_set = in_set .and. active(model%contacts(c)%partner)
+   end function in_set
 
    !> One candidate entering (`entering`) or leaving the working set, in an assembled augmented tangent
    !> and its residual λR − F_aug: the one place that knows what membership means (module header).

@@ -18,7 +18,7 @@ module uniarc_contact_law
    use uniarc_kinds, only: dp
    use uniarc_model, only: contact_candidate_t, foundation_t, gap_fixed_direction, gap_circle_inside, &
                            gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction, &
-                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline
+                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact
    use uniarc_obstacle_shapes, only: ellipse_gap, polyline_gap
    implicit none
    private
@@ -153,6 +153,10 @@ contains
    !> The contact candidates of a foundation: one per node of its element set, in chain order
    !> (`chain_nodes`), with gap g = g0 + n·u, the Winkler flexibility of the node's tributary length,
    !> and the coordinate scale × (arc length along the nodes). A foundation of modulus 0 has none.
+   !> With a tangential modulus K_t > 0 the nodes get a second candidate each, after the radial ones in
+   !> the same order: a tangential spring K_t × (tributary length) along t = n turned by +90°, bonded
+   !> (tangential_bonded) or with `partner` = the index of its radial candidate in `candidates`
+   !> (tangential_contact).
    !>
    !> n is the foundation's direction (side_direction) or ± the nodal left normal: −(left normal) for a
    !> bed on the left, + on the right; for side_inner/side_outer the concave side is the left one when
@@ -169,7 +173,7 @@ contains
       integer, allocatable :: nodes(:)
       real(dp), allocatable :: lengths(:), normals(:, :), s(:)
       real(dp) :: turning, sign
-      integer :: i, bad
+      integer :: i, bad, n
 
       allocate (candidates(0))
       status = normals_valid
@@ -207,8 +211,9 @@ contains
       s = foundation%scale*path_coordinates(coordinates, nodes)
 
       deallocate (candidates)
-      allocate (candidates(size(nodes)))
-      do i = 1, size(nodes)
+      n = size(nodes)
+      allocate (candidates(merge(2*n, n, foundation%tangential_modulus > 0.0_dp)))
+      do i = 1, n
          candidates(i)%node = nodes(i)
          candidates(i)%gap_kind = gap_fixed_direction
          candidates(i)%direction = normals(:, i)
@@ -216,6 +221,23 @@ contains
          candidates(i)%flexibility = winkler_flexibility(foundation%modulus, lengths(i))
          candidates(i)%bilateral = foundation%bilateral
          candidates(i)%coordinate = s(i)
+      end do
+      if (.not. foundation%tangential_modulus > 0.0_dp) return
+      ! Tangential springs (the tangential subgrade modulus of bedded-beam lining models): at each node
+      ! a spring k_t = K_t × L along the tangent t = n turned by +90°, lumped as the radial bed; gap
+      ! g = t·u, so the force −k_t (t·u) t opposes the tangential displacement. Never a variable of the
+      ! contact LCP (bilateral): bonded, or following its radial partner i (local index here; the
+      ! builder makes it global) in and out of the working set.
+      do i = 1, n
+         candidates(n + i)%node = nodes(i)
+         candidates(n + i)%gap_kind = gap_fixed_direction
+         candidates(n + i)%direction = [-normals(2, i), normals(1, i)]
+         candidates(n + i)%offset = 0.0_dp
+         candidates(n + i)%flexibility = winkler_flexibility(foundation%tangential_modulus, lengths(i))
+         candidates(n + i)%bilateral = .true.
+         candidates(n + i)%tangential = .true.
+         if (foundation%tangential_law == tangential_contact) candidates(n + i)%partner = i
+         candidates(n + i)%coordinate = s(i)
       end do
    end subroutine foundation_candidates
 

@@ -21,7 +21,7 @@ module uniarc_contact_lcp
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
                           band_move, band_multiply
-   use uniarc_contact, only: candidate_gap, set_membership
+   use uniarc_contact, only: candidate_gap, set_membership, in_set
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
    use uniarc_lemke, only: lemke_solved, lemke_ray_termination
@@ -214,8 +214,12 @@ contains
       do j = 1, lcp%m
          selection%active(unilateral(j)) = reaction(j)/r_scale > gap(j)/w_scale
       end do
-      ! The factors of the final frame serve the caller when the new set is that frame.
-      if (all(selection%active(unilateral) .eqv. lcp%active)) then
+      ! The factors of the final frame serve the caller when the new set is that frame (and no
+      ! tangential spring follows a partner that changed: the frames keep them as they were).
+      if (all(selection%active(unilateral) .eqv. lcp%active) .and. &
+          .not. any([(model%contacts(c)%partner > 0 .and. &
+                      (in_set(model, selection%active, c) .neqv. in_set(model, active, c)), &
+                      c=1, size(active))])) then
          tangent%factorized = .true.
          selection%du_tangent = lcp%du_tangent
          selection%kept = .true.

@@ -20,7 +20,7 @@ module uniarc_linear_static
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
-   use uniarc_contact, only: candidate_gap, assemble_contact
+   use uniarc_contact, only: candidate_gap, assemble_contact, in_set
    use uniarc_path_mechanism, only: find_mechanism
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
@@ -82,14 +82,16 @@ contains
       ! (error_input, exit 2) before any solve, by the path following's start-up test
       ! (uniarc_path_mechanism: relative pivot test, then the rigid-body test).
       set = [(candidate_live(map, c), c=1, size(set))]
-      call assemble_set(model, map, zero_nodal, set, assembled, residual)
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+      if (allocated(error)) return
       call find_mechanism(model, map, assembled, error)
       if (allocated(error)) return
       call touching(model, map, length_scale, set)
       pivots = 0
       worst = 0.0_dp
       do round = 1, max_rounds
-         call assemble_set(model, map, zero_nodal, set, assembled, residual)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+         if (allocated(error)) return
          call band_copy(assembled, factors)
          call band_factorize(factors, error)
          if (allocated(error)) then
@@ -165,16 +167,19 @@ contains
 
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
-   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual)
+   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: zero_nodal(:, :)
       logical, intent(in) :: set(:)
       type(band_matrix_t), intent(inout) :: assembled
       real(dp), intent(out) :: residual(:)
+      type(error_t), allocatable, intent(out) :: error   !< a band matrix that cannot be allocated (band_allocate)
       real(dp), allocatable :: internal(:), no_reactions(:)
-      if (assembled%n /= map%n_equations) call band_allocate(assembled, map%n_equations, map%half_bandwidth, &
-                                                             map%half_bandwidth)
+      if (assembled%n /= map%n_equations) then
+         call band_allocate(assembled, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
+         if (allocated(error)) return
+      end if
       call assemble_linear_stiffness(model, map, assembled)
       allocate (internal(map%n_equations), source=0.0_dp)
       allocate (no_reactions(size(map%candidate_equation)), source=0.0_dp)
@@ -218,7 +223,7 @@ contains
          do i = 1, 2
             if (map%equation(i, node) > 0) g(c) = g(c) + gradient(i)*x(map%equation(i, node))
          end do
-         if (.not. set(c)) cycle
+         if (.not. in_set(model, set, c)) cycle   ! a tangential spring acts with its partner
          if (map%candidate_equation(c) > 0) then
             r(c) = x(map%candidate_equation(c))
          else

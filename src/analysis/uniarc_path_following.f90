@@ -59,7 +59,8 @@ contains
          call build_dof_map(model, state%map)
          allocate (system)
          call band_allocate(system%tangent, state%map%n_equations, state%map%half_bandwidth, &
-                            state%map%half_bandwidth)
+                            state%map%half_bandwidth, error)
+         if (allocated(error)) return
          allocate (state%u(state%map%n_equations), source=0.0_dp)
          allocate (state%last_increment(state%map%n_equations), source=0.0_dp)
          allocate (state%fixed_load(state%map%n_equations))

@@ -1,13 +1,14 @@
 !> uniarc: the thin main program. Reads the command line and the deck, runs the analysis, and maps
-!> errors to exit codes (docs/contracts.md: 0 success, 1 analysis failed, 2 bad input or usage).
+!> errors to exit codes (docs/contracts.md: 0 success, 1 analysis failed, 2 bad input or usage,
+!> 128 + N interrupted by signal N: 130 SIGINT, 143 SIGTERM).
 program main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_error, only: error_t, error_input, error_analysis
-   use uniarc_foreign, only: exit_program, ignore_file_size_signal
+   use uniarc_foreign, only: exit_program, ignore_file_size_signal, catch_interrupts, interrupt_signal
    use uniarc_model, only: model_t
    use uniarc_deck, only: read_deck
    use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
-   use uniarc_run, only: run_options_t, run_model
+   use uniarc_run, only: run_options_t, run_model, check_deck
    use uniarc_provenance, only: make_provenance
    implicit none
    type(cli_options_t) :: cli
@@ -17,6 +18,9 @@ program main
 
    ! A file size limit (ulimit -f) makes writes fail with EFBIG, reported like a full file system.
    call ignore_file_size_signal()
+   ! SIGINT and SIGTERM end a path after its current step, with the files of the steps traced
+   ! (docs/contracts.md, "Interrupts"); the exit code is then 128 + the signal's number.
+   call catch_interrupts()
    call parse_command_line(cli, error)
    if (allocated(error)) call fail(error)
    if (cli%help) then
@@ -31,6 +35,12 @@ program main
    call read_deck(cli%deck, cli%overrides, model, error)
    if (allocated(error)) call fail(error)
 
+   if (cli%check) then
+      call check_deck(model, error)
+      if (allocated(error)) call fail(error)
+      call exit_program(0)
+   end if
+
    run_options%output_directory = cli%output_directory
    run_options%stem = deck_stem(cli%deck)
    run_options%quiet = cli%quiet
@@ -39,6 +49,7 @@ program main
    run_options%provenance = make_provenance(version_text, cli%deck, cli%overrides)
    call run_model(model, run_options, error)
    if (allocated(error)) call fail(error)
+   if (interrupt_signal() /= 0) call exit_program(128 + interrupt_signal())
 
 contains
 

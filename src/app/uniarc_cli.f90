@@ -1,5 +1,5 @@
 !> The command line of docs/contracts.md:
-!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv]
+!>   uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv] [--check]
 !>   uniarc --help | --version
 module uniarc_cli
    use uniarc_error, only: error_t, make_error, error_input
@@ -21,6 +21,7 @@ module uniarc_cli
       logical :: quiet = .false.
       logical :: verbose = .false.
       logical :: csv = .false.       !< --csv: the tables also as comma-separated STEM.*.csv
+      logical :: check = .false.   !< --check: read, build and summarise the model; no analysis
    end type cli_options_t
 
 contains
@@ -49,6 +50,8 @@ contains
             options%verbose = .true.
          case ('--csv')
             options%csv = .true.
+         case ('--check')
+            options%check = .true.
          case ('-o', '--output')
             if (i == n) then
                call make_error(error, 'option '//argument//' needs a directory', error_input)
@@ -107,7 +110,7 @@ contains
    pure function usage_text() result(text)
       character(len=:), allocatable :: text
       character(len=*), parameter :: nl = new_line('a')
-      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv]'//nl// &
+      text = 'usage: uniarc DECK [-o OUTDIR] [-D NAME=VALUE]... [-q|--quiet] [-v|--verbose] [--csv] [--check]'//nl// &
              '       uniarc --help | --version'//nl//nl// &
              'Traces the equilibrium path of the structure described by the input deck DECK'//nl// &
              '(keyword cards, see docs/input.md) and writes, named after the deck''s stem:'//nl// &
@@ -123,10 +126,15 @@ contains
              '  -q, --quiet      no progress on stderr'//nl// &
              '  -v, --verbose    more progress on stderr (every step)'//nl// &
              '      --csv        also write the tables comma-separated: STEM.path.csv, ...'//nl// &
+             '      --check      read the deck, build the model and print its summary (counts,'//nl// &
+             '                   supports, loads, contact groups, analysis, estimated memory);'//nl// &
+             '                   no analysis, no file; exit status 0 or 2'//nl// &
              '  -h, --help       this text'//nl// &
              '      --version    the version'//nl//nl// &
              'exit status: 0 success; 1 analysis failed (steps traced so far are kept);'//nl// &
-             '             2 bad input or usage (no output file is written)'
+             '             2 bad input or usage, or a model too large for the memory (no output'//nl// &
+             '             file is written); 130/143 interrupted by SIGINT/SIGTERM (the steps'//nl// &
+             '             traced so far are written, as for 1)'
    end function usage_text
 
    !> Add `-D NAME=VALUE` to the overrides, in the order given (the provenance lists them so); of

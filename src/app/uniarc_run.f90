@@ -2,12 +2,12 @@
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_internal
+   use uniarc_error, only: error_t, make_error, error_internal, error_analysis
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: candidate_reactions
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
-                                 stop_load_limit, stop_track_limit, stop_step_limit
+                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure
    use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
@@ -15,10 +15,14 @@ module uniarc_run
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results
+   use uniarc_foreign, only: interrupt_signal, signal_name
+   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_check, only: check_model, check_element_scales, print_model_summary
+   use uniarc_strings, only: integer_to_string
    use uniarc_provenance, only: provenance_t
    implicit none
    private
-   public :: run_options_t, run_model
+   public :: run_options_t, run_model, check_deck
 
    !> How to run: where the files go and how much to say.
    type :: run_options_t
@@ -36,12 +40,30 @@ contains
    !> claimed first (an unusable or locked OUTDIR is bad input, and nothing is computed), then written
    !> in the run's work directory and moved to their final names together when every file is complete
    !> — when the analysis succeeds and when it fails part-way (docs/contracts.md: exit code 1, every
-   !> converged step). An I/O error stops the run and removes its unfinished files.
+   !> converged step). An I/O error stops the run and removes its unfinished files. A SIGINT or SIGTERM
+   !> (uniarc_foreign: catch_interrupts) ends a path after the step in progress, with the files of the
+   !> steps traced; the caller reads interrupt_signal() for the exit code (docs/contracts.md).
+   !> Errors: those of check_model (error_input: memory, stiffness), of the result directory, of the
+   !> analysis; a non-finite displacement, λ or reaction ends the run (error_analysis) before it is
+   !> written.
    subroutine run_model(model, options, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(result_directory_t) :: results
+      type(dof_map_t) :: map
+      ! An interrupt while the deck was read: nothing computed, nothing written (main's exit code).
+      if (interrupt_signal() /= 0) then
+         write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
+            ' before the analysis started; no result file written'
+         return
+      end if
+      ! Memory and stiffness checks (uniarc_check) before any large array or result file.
+      call check_element_scales(model, error)
+      if (allocated(error)) return
+      call build_dof_map(model, map)
+      call check_model(model, map, error)
+      if (allocated(error)) return
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
       select case (model%analysis%kind)
@@ -55,6 +77,20 @@ contains
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
       call abandon_results(results)
    end subroutine run_model
+
+   !> `uniarc --check`: the checks of run_model (uniarc_check: memory, stiffness) and the model's
+   !> summary on stdout, without an analysis and without any file. Errors: those of check_model.
+   subroutine check_deck(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(out) :: error
+      type(dof_map_t) :: map
+      call check_element_scales(model, error)
+      if (allocated(error)) return
+      call build_dof_map(model, map)
+      call print_model_summary(model, map)
+      call check_model(model, map, error)
+      if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
+   end subroutine check_deck
 
    subroutine run_linear(model, options, results, error)
       type(model_t), intent(in) :: model
@@ -77,6 +113,12 @@ contains
       record%s_contact = summary%s_contact
       record%reaction_max = summary%reaction_max
       record%reaction_sum = summary%reaction_sum
+      if (.not. finite_record(record)) then
+         call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large for the '// &
+                         'stiffnesses, or the stiffness matrix is singular or badly scaled; no result file '// &
+                         'written', error_analysis)
+         return
+      end if
       record%step = 1
       record%lambda = 1.0_dp
       record%iterations = 1
@@ -88,13 +130,17 @@ contains
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
+      if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
+         ' during the linear analysis, which ended all the same: its result files are complete'
       if (.not. options%quiet) call print_tracks(model, record)
    end subroutine run_linear
 
    !> Follow the equilibrium path with the path driver (uniarc_path_driver: the steps, the stop rules,
    !> the critical points between steps), writing each converged step, its critical points and the
    !> progress messages. An error of the analysis ends the path with the files of the steps so far; an
-   !> error of the result files ends it at once.
+   !> error of the result files ends it at once. A step whose λ, displacements or reactions are not
+   !> finite is not written: it ends the path as an analysis error. An interrupt (SIGINT, SIGTERM) is
+   !> polled after every written step: the path ends there, and its files are completed and committed.
    subroutine run_path(model, options, results, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
@@ -104,10 +150,10 @@ contains
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
-      type(step_record_t) :: record
+      type(step_record_t) :: record, last_written
       type(error_t), allocatable :: io_error
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
-      integer :: k, n_events
+      integer :: k, n_critical, n_contact_events
       logical :: done
       call system_clock(clock_start, clock_rate)
       clock_last = clock_start
@@ -120,22 +166,36 @@ contains
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_vtk_snapshot(vtk, results, model, record, io_error)
       if (.not. allocated(io_error) .and. forces_due(model, record%step)) call write_forces(files, model, record, io_error)
-      n_events = 0
-      done = allocated(io_error)
+      n_critical = 0
+      n_contact_events = 0
+      done = allocated(io_error) .or. interrupt_signal() /= 0
       do while (.not. done)
          call driver_step(model, driver, outcome, error)
          if (allocated(error)) exit
+         last_written = record
          call record_state(model, driver, record)
+         if (.not. finite_record(record)) then
+            call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
+                            trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
+                            'overflow in lambda, the displacements or the reactions); it is not written, '// &
+                            'the path ends at step '//integer_to_string(last_written%step), error_analysis)
+            record = last_written
+            exit
+         end if
          call write_path_row(files, model, record, io_error)
          if (allocated(io_error)) exit
          do k = 1, size(outcome%events)
             call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
                                 outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
             if (allocated(io_error)) exit
-            n_events = n_events + 1
-            if (.not. options%quiet) write (output_unit, '(a,a,a,a,a,a)') '  ', outcome%events(k)%kind, &
-               ' at step ', trim(format_number(outcome%events(k)%position)), ': lambda = ', &
-               trim(format_number(outcome%events(k)%lambda))
+            if (is_contact_event(outcome%events(k)%kind)) then
+               n_contact_events = n_contact_events + 1
+            else
+               n_critical = n_critical + 1
+            end if
+            if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
+               event_place(outcome%events(k)%position, record%step)//', lambda = '// &
+               short_number(outcome%events(k)%lambda)
          end do
          if (allocated(io_error)) exit
          if (mod(record%step, model%analysis%shape_every) == 0) then
@@ -148,14 +208,11 @@ contains
          end if
          if (forces_due(model, record%step)) call write_forces(files, model, record, io_error)
          if (allocated(io_error)) exit
-         done = driver%stop /= stop_none
+         done = driver%stop /= stop_none .or. interrupt_signal() /= 0
          call system_clock(clock_now)
          if (.not. options%quiet .and. (options%verbose .or. &
              (clock_now - clock_start > clock_rate .and. clock_now - clock_last > clock_rate/4))) then
-            write (error_unit, '(a,i0,a,a,a,i0,a,i0,a,i0,a,f0.1,a)') 'step ', record%step, '  lambda ', &
-               trim(format_number(record%lambda)), '  iterations ', record%iterations, &
-               '  contacts ', record%n_contact, '  neg_pivots ', record%neg_pivots, '  (', &
-               real(record%step, dp)/max(real(clock_now - clock_start, dp)/real(clock_rate, dp), 1.0e-3_dp), ' steps/s)'
+            write (error_unit, '(a)') progress_line(driver, record, real(clock_now - clock_start, dp)/real(clock_rate, dp))
             ! stderr redirected to a file is buffered: the progress of a long run must show as it goes.
             flush (error_unit)
             clock_last = clock_now
@@ -168,10 +225,16 @@ contains
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, model, record, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
+      if (interrupt_signal() /= 0 .and. driver%stop == stop_none) then
+         write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())//' after step '// &
+            integer_to_string(record%step)//' (lambda = '//short_number(record%lambda)//'): the '// &
+            integer_to_string(record%step)//' steps traced are in '//results%directory//'/'//options%stem//'.path'
+      end if
       if (.not. options%quiet) then
-         write (output_unit, '(a,i0,a,a,a,a)') 'path traced: ', record%step, ' steps, lambda = ', &
-            trim(format_number(record%lambda)), '; stopped by ', stop_message(model, driver)
-         write (output_unit, '(a,i0,a)') '  ', n_events, ' critical points in '//options%stem//'.crit'
+         write (output_unit, '(a)') 'path traced: '//integer_to_string(record%step)//' steps, lambda = '// &
+            trim(format_number(record%lambda))//'; '//stop_message(model, driver)
+         write (output_unit, '(a)') '  '//counted(n_critical, 'critical point')//' and '// &
+            counted(n_contact_events, 'contact event')//' in '//options%stem//'.crit'
       end if
    end subroutine run_path
 
@@ -224,22 +287,180 @@ contains
       record%reaction_sum = summary%reaction_sum
    end subroutine record_state
 
-   !> Which stop rule ended the path, for the closing message.
+   !> Which stop rule ended the path, with the limit that was met, for the closing message.
    function stop_message(model, driver) result(message)
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(in) :: driver
       character(len=:), allocatable :: message
       select case (driver%stop)
       case (stop_load_limit)
-         message = 'the load limit'
+         message = 'stopped by the load limit: |lambda| = '//short_number(abs(driver%state%lambda))// &
+                   ' reached lambda_max = '//short_number(driver%rules%lambda_max)
       case (stop_track_limit)
-         message = 'the limit on '//model%tracks(driver%rules%track)%name
+         associate (name => model%tracks(driver%rules%track)%name)
+            message = 'stopped by the limit on '//name//': |'//name//'| = '// &
+                      short_number(abs(driver%tracked(driver%rules%track)))//' reached stop_value = '// &
+                      short_number(driver%rules%track_limit)
+         end associate
       case (stop_step_limit)
-         message = 'the maximum number of steps'
+         message = 'stopped by the step limit: max_steps = '//integer_to_string(driver%rules%max_steps)//' reached'
+      case (stop_failure)
+         message = 'stopped by an error'
       case default
-         message = 'an error'
+         message = 'stopped by an interrupt'
       end select
    end function stop_message
+
+   !> Where a critical point lies: "at step N" on a converged step, else "between steps N and N+1".
+   function event_place(position, step) result(text)
+      real(dp), intent(in) :: position
+      integer, intent(in) :: step
+      character(len=:), allocatable :: text
+      if (position >= real(step, dp)) then
+         text = 'at step '//integer_to_string(step)
+      else
+         text = 'between steps '//integer_to_string(step - 1)//' and '//integer_to_string(step)
+      end if
+   end function event_place
+
+   !> Contact events (contact_start, contact_lost) as opposed to critical points of the path.
+   pure logical function is_contact_event(kind)
+      character(len=*), intent(in) :: kind
+      is_contact_event = kind == 'contact_start' .or. kind == 'contact_lost'
+   end function is_contact_event
+
+   !> Every number of a step's row is finite (λ, displacements, reactions, contact summaries).
+   pure logical function finite_record(record)
+      type(step_record_t), intent(in) :: record
+      finite_record = abs(record%lambda) <= huge(1.0_dp) .and. all(abs(record%displacement) <= huge(1.0_dp))
+      if (allocated(record%reactions)) finite_record = finite_record .and. all(abs(record%reactions) <= huge(1.0_dp))
+      finite_record = finite_record .and. abs(record%reaction_max) <= huge(1.0_dp) .and. &
+                      abs(record%reaction_sum) <= huge(1.0_dp)
+   end function finite_record
+
+   !> The progress line of a step on stderr: the step, λ, Newton iterations, contacts, negative pivots,
+   !> the share of the target done — the largest of step/max_steps, |λ|/lambda_max and |track|/stop_value,
+   !> the stop rule nearest to ending the path — and, from the rate so far, the time left to it (an
+   !> estimate: the path may turn or slow down).
+   function progress_line(driver, record, elapsed) result(text)
+      type(path_driver_t), intent(in) :: driver
+      type(step_record_t), intent(in) :: record
+      real(dp), intent(in) :: elapsed   !< seconds since the path started
+      character(len=:), allocatable :: text
+      real(dp) :: done, rate
+      done = real(record%step, dp)/real(max(driver%rules%max_steps, 1), dp)
+      if (driver%rules%lambda_max < huge(1.0_dp)) done = max(done, abs(record%lambda)/driver%rules%lambda_max)
+      if (driver%rules%track > 0) then
+         if (driver%rules%track_limit > 0.0_dp) done = max(done, abs(driver%tracked(driver%rules%track))/ &
+                                                               driver%rules%track_limit)
+      end if
+      done = min(done, 1.0_dp)
+      rate = real(record%step, dp)/max(elapsed, 1.0e-3_dp)
+      text = 'step '//integer_to_string(record%step)//'  lambda '//trim(format_number(record%lambda))// &
+             '  iterations '//integer_to_string(record%iterations)//'  contacts '// &
+             integer_to_string(record%n_contact)//'  neg_pivots '//integer_to_string(record%neg_pivots)// &
+             '  ('//integer_to_string(int(100.0_dp*done))//'% of the target, '//rate_text(rate)//' steps/s'
+      if (done > 0.0_dp .and. done < 1.0_dp) then
+         if (elapsed*(1.0_dp - done)/done < 0.5_dp) then
+            text = text//', less than 1 s left)'
+         else
+            text = text//', about '//duration_text(elapsed*(1.0_dp - done)/done)//' left)'
+         end if
+      else
+         text = text//')'
+      end if
+   end function progress_line
+
+   !> A duration in seconds as "42 s", "3 min 20 s" or "2 h 05 min".
+   function duration_text(seconds) result(text)
+      real(dp), intent(in) :: seconds
+      character(len=:), allocatable :: text
+      integer :: s
+      character(len=8) :: minutes
+      if (.not. (seconds < 3.6e7_dp)) then
+         text = 'more than 10000 h'
+         return
+      end if
+      s = nint(seconds)
+      if (s < 60) then
+         text = integer_to_string(s)//' s'
+      else if (s < 3600) then
+         text = integer_to_string(s/60)//' min '//integer_to_string(mod(s, 60))//' s'
+      else
+         write (minutes, '(i2.2)') mod(s, 3600)/60
+         text = integer_to_string(s/3600)//' h '//trim(minutes)//' min'
+      end if
+   end function duration_text
+
+   !> "1 critical point", "2 critical points": a count and its noun.
+   pure function counted(n, noun) result(text)
+      integer, intent(in) :: n
+      character(len=*), intent(in) :: noun
+      character(len=:), allocatable :: text
+      text = integer_to_string(n)//' '//noun
+      if (n /= 1) text = text//'s'
+   end function counted
+
+   !> A rate (steps per second) with three significant digits at most: "727", "52.3", "0.215".
+   function rate_text(rate) result(text)
+      real(dp), intent(in) :: rate
+      character(len=:), allocatable :: text
+      if (rate >= 999.5_dp) then
+         text = integer_to_string(nint(min(rate, 1.0e9_dp)))
+      else if (rate > 0.0_dp) then
+         text = short_number(real(nint(rate*10.0_dp**(2 - floor(log10(rate)))), dp)/10.0_dp**(2 - floor(log10(rate))))
+      else
+         text = '0'
+      end if
+   end function rate_text
+
+   !> A number for a message with six significant digits and no trailing zeros, in fixed notation from
+   !> 1e-4 to 1e6 ("76.219", "0.25", "-208.31"), else in scientific ("1.5e-07").
+   function short_number(value) result(text)
+      real(dp), intent(in) :: value
+      character(len=:), allocatable :: text
+      character(len=40) :: buffer
+      integer :: magnitude, decimals, e, exponent
+      if (.not. (abs(value) <= huge(1.0_dp))) then
+         write (buffer, '(g0)') value
+         text = trim(adjustl(buffer))
+         return
+      end if
+      if (value == 0.0_dp) then
+         text = '0'
+         return
+      end if
+      magnitude = floor(log10(abs(value)))
+      if (magnitude >= -4 .and. magnitude < 6) then
+         decimals = max(5 - magnitude, 0)
+         write (buffer, '(f0.'//integer_to_string(decimals)//')') value
+         text = trim(adjustl(buffer))
+         if (index(text, '.') > 0) then
+            do while (text(len(text):len(text)) == '0')
+               text = text(:len(text) - 1)
+            end do
+            if (text(len(text):len(text)) == '.') text = text(:len(text) - 1)
+         end if
+         if (text(1:1) == '.') text = '0'//text
+         if (text(1:min(2, len(text))) == '-.') text = '-0'//text(2:)
+      else
+         write (buffer, '(es13.5e3)') value
+         text = trim(adjustl(buffer))
+         e = index(text, 'E')
+         read (text(e + 1:), *) exponent
+         text = strip_zeros(text(:e - 1))//'e'//integer_to_string(exponent)
+      end if
+   contains
+      function strip_zeros(mantissa) result(stripped)
+         character(len=*), intent(in) :: mantissa
+         character(len=:), allocatable :: stripped
+         stripped = mantissa
+         do while (stripped(len(stripped):len(stripped)) == '0')
+            stripped = stripped(:len(stripped) - 1)
+         end do
+         if (stripped(len(stripped):len(stripped)) == '.') stripped = stripped(:len(stripped) - 1)
+      end function strip_zeros
+   end function short_number
 
    subroutine print_tracks(model, record)
       type(model_t), intent(in) :: model

@@ -22,6 +22,7 @@ module uniarc_foreign
    public :: stream_t, stream_open, stream_write, stream_flush, stream_close
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
    public :: file_status
+   public :: catch_interrupts, interrupt_signal, signal_name
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
    type :: stream_t
@@ -166,6 +167,22 @@ module uniarc_foreign
          integer(c_int), value, intent(in) :: number
          type(c_ptr) :: text
       end function c_strerror
+
+      function c_catch_interrupts() bind(c, name='uniarc_catch_interrupts') result(status)
+         import :: c_int
+         integer(c_int) :: status
+      end function c_catch_interrupts
+
+      function c_interrupt_signal() bind(c, name='uniarc_interrupt_signal') result(number)
+         import :: c_int
+         integer(c_int) :: number
+      end function c_interrupt_signal
+
+      function c_signal_number(which) bind(c, name='uniarc_signal_number') result(number)
+         import :: c_int
+         integer(c_int), value, intent(in) :: which
+         integer(c_int) :: number
+      end function c_signal_number
 
       function c_strlen(text) bind(c, name='strlen') result(length)
          import :: c_ptr, c_size_t
@@ -343,6 +360,35 @@ contains
       ! SIG_IGN is the handler address 1 in every C library uniarc is built with (glibc, musl).
       previous = c_signal(signal_file_size, transfer(1_c_intptr_t, c_null_funptr))
    end subroutine ignore_file_size_signal
+
+   !> Catch SIGINT and SIGTERM (src/common/uniarc_signals.c): from now on they only set a flag, read by
+   !> interrupt_signal, and the step loop ends the run with the steps traced (docs/contracts.md,
+   !> "Interrupts"). A second signal of the same kind ends the program at once. Signals ignored at
+   !> start stay ignored. `caught` is false when the system refused (the signals then kill as before).
+   subroutine catch_interrupts(caught)
+      logical, intent(out), optional :: caught
+      integer(c_int) :: status
+      status = c_catch_interrupts()
+      if (present(caught)) caught = status == 0
+   end subroutine catch_interrupts
+
+   !> The number of the SIGINT or SIGTERM received since catch_interrupts, or 0 when none was.
+   integer function interrupt_signal()
+      interrupt_signal = int(c_interrupt_signal())
+   end function interrupt_signal
+
+   !> "SIGINT" or "SIGTERM" for the number of either, else "signal N".
+   function signal_name(number) result(name)
+      integer, intent(in) :: number
+      character(len=:), allocatable :: name
+      if (number == int(c_signal_number(0_c_int))) then
+         name = 'SIGINT'
+      else if (number == int(c_signal_number(1_c_int))) then
+         name = 'SIGTERM'
+      else
+         name = 'signal '//integer_to_string(number)
+      end if
+   end function signal_name
 
    !> The system's words for the current errno (strerror), right after a failed C call.
    function system_error_text() result(text)

@@ -13,7 +13,8 @@ module uniarc_deck_contact
                                  data_fields, require_field_count, field_real
    use uniarc_model, only: foundation_t, foundation_winkler, side_left, side_right, side_inner, side_outer, &
                            side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside, &
-                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline
+                           gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact, &
+                           tangential_bonded
    use uniarc_model_builder, only: add_foundation, add_springs, add_obstacle
    use uniarc_contact_law, only: foundation_straight, foundation_problem
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
@@ -29,7 +30,8 @@ module uniarc_deck_contact
 contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
-   !> [, NAME=name] [, SCALE=s]: a Winkler foundation along an element set, lumped to its nodes.
+   !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]]: a Winkler foundation along an
+   !> element set, lumped to its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`).
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
    !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
@@ -48,8 +50,8 @@ contains
       type(foundation_t) :: foundation
       character(len=:), allocatable :: side
 
-      call check_options(source, card, [character(len=10) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
-                                        'BILATERAL', 'NAME=', 'SCALE='], error)
+      call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
+                                        'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -74,6 +76,8 @@ contains
                     'expected a MODULUS >= 0 (0: no foundation), found '//real_to_string(foundation%modulus), error)
          return
       end if
+      call tangential_springs(source, card, deck, foundation, error)
+      if (allocated(error)) return
       call contact_scale(source, card, deck, foundation%scale, error)
       if (allocated(error)) return
       side_option = option_index(card, 'SIDE')
@@ -495,5 +499,50 @@ contains
          end if
       end do
    end subroutine contact_group_name
+
+   !> KT=K_t [, TANGENTIAL=CONTACT|BONDED] of *FOUNDATION: the modulus K_t ≥ 0 of tangential springs
+   !> (force per unit length per unit tangential displacement; 0 when absent: frictionless) and their
+   !> law: acting where the node's radial contact is closed (CONTACT, the default), or always (BONDED).
+   !> TANGENTIAL= needs KT=; K_t > 0 needs a radial MODULUS > 0 (the springs sit on the bed's nodes).
+   subroutine tangential_springs(source, card, deck, foundation, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      type(foundation_t), intent(inout) :: foundation  !< its MODULUS already read
+      type(error_t), allocatable, intent(out) :: error
+      integer :: kt_option, law_option
+      foundation%tangential_modulus = 0.0_dp
+      foundation%tangential_law = tangential_contact
+      kt_option = option_index(card, 'KT')
+      law_option = option_index(card, 'TANGENTIAL')
+      if (law_option > 0) then
+         if (kt_option == 0) then
+            call raise(source, card%line, card%options(law_option)%column, 'expected KT=modulus with ' // &
+                       'TANGENTIAL= on *FOUNDATION, found TANGENTIAL= alone', error)
+            return
+         end if
+         select case (to_upper(card%options(law_option)%value))
+         case ('CONTACT')
+            foundation%tangential_law = tangential_contact
+         case ('BONDED')
+            foundation%tangential_law = tangential_bonded
+         case default
+            call raise(source, card%line, card%options(law_option)%value_column, 'expected TANGENTIAL=' // &
+                       'CONTACT or BONDED, found '''//clip(card%options(law_option)%value)//'''', error)
+            return
+         end select
+      end if
+      if (kt_option == 0) return
+      call option_real(source, card, deck, kt_option, 'a tangential modulus', foundation%tangential_modulus, error)
+      if (allocated(error)) return
+      if (foundation%tangential_modulus < 0.0_dp .or. .not. foundation%tangential_modulus < huge(1.0_dp)) then
+         call raise(source, card%line, card%options(kt_option)%value_column, &
+                    'expected KT >= 0 (0: frictionless), found '//real_to_string(foundation%tangential_modulus), error)
+      else if (foundation%tangential_modulus > 0.0_dp .and. .not. foundation%modulus > 0.0_dp) then
+         call raise(source, card%line, card%options(kt_option)%value_column, 'expected KT=0 with MODULUS=0 ' // &
+                    '(the tangential springs sit on the nodes of the bed), found KT='// &
+                    real_to_string(foundation%tangential_modulus), error)
+      end if
+   end subroutine tangential_springs
 
 end module uniarc_deck_contact

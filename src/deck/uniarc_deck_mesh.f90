@@ -12,6 +12,7 @@ module uniarc_deck_mesh
                                    node_index, element_index, section_index, node_set_index, element_set_index, &
                                   set_element_kind
    use uniarc_deck_element, only: read_element_type, check_element_section
+   use uniarc_memory, only: memory_shortfall, model_memory_bytes
    use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements
    implicit none
    private
@@ -39,6 +40,8 @@ contains
       real(dp) :: values(5)
       character(len=5), parameter :: material_names(5) = ['E    ', 'A    ', 'I    ', 'G    ', 'kappa']
       character(len=3), parameter :: stiffness_names(3) = ['EA ', 'EI ', 'GAs']
+      real(dp), parameter :: stiffness_limit = 1.0e100_dp
+      real(dp) :: stiffnesses(2)
       character(len=:), allocatable :: name, what
 
       call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS'], error)
@@ -105,6 +108,18 @@ contains
          end if
       end do
 
+      ! Stiffnesses beyond 1e100 overflow double precision in the equations (12 EI/L^3 and the squares of
+      ! the convergence test; docs/contracts.md, "Non-finite results").
+      stiffnesses = values(1:2)
+      if (.not. stiffness_form) stiffnesses = [values(1)*values(2), values(1)*values(3)]
+      do i = 1, 2
+         if (.not. stiffnesses(i) <= stiffness_limit) then
+            call raise(source, line, fields(merge(i, i + 1, stiffness_form))%column, 'expected '// &
+                       trim(stiffness_names(i))//' at most 1e100 (larger stiffnesses overflow the equations '// &
+                       'in double precision: rescale the units), found '//real_to_string(stiffnesses(i)), error)
+            return
+         end if
+      end do
       if (stiffness_form .and. n_values == 3) then
          call add_section(deck%model, name, ea=values(1), ei=values(2), gas=values(3))
       else if (stiffness_form) then
@@ -251,7 +266,7 @@ contains
       real(dp) :: values(5), size_scale, angle, sweep, tolerance
       real(dp), allocatable :: points(:, :)
       integer, allocatable :: nodes(:), elements(:), candidates(:)
-      character(len=:), allocatable :: name, layout
+      character(len=:), allocatable :: name, layout, shortfall
       logical :: closed
 
       call check_options(source, card, [character(len=8) :: 'ELSET=', 'SECTION=', 'TYPE='], error)
@@ -302,6 +317,15 @@ contains
          return
       end if
 
+      ! A generator whose analysis cannot fit in memory is refused before its arrays grow (uniarc_memory;
+      ! a chain of n elements: n + 1 nodes, 3 equations each, half bandwidth 5).
+      call memory_shortfall(model_memory_bytes(real(n, dp) + 1.0_dp, real(n, dp), 3.0_dp*(real(n, dp) + 1.0_dp), &
+                                               5.0_dp, 0.0_dp), shortfall)
+      if (allocated(shortfall)) then
+         call raise(source, line, fields(field_n)%column, 'expected a number of elements whose analysis fits in '// &
+                    'memory: '//integer_to_string(n)//' elements '//shortfall, error)
+         return
+      end if
       nodes_layout = n + 1
       if (closed) nodes_layout = n
       allocate (points(2, nodes_layout))

@@ -20,6 +20,7 @@ module uniarc_model
    public :: contact_candidate_t, contact_group_t
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
    public :: foundation_t, foundation_winkler
+   public :: tangential_contact, tangential_bonded
    public :: side_left, side_right, side_inner, side_outer, side_direction
    public :: thermal_load_t
    public :: element_timoshenko, end_joint_t, end_joints_of
@@ -126,6 +127,12 @@ module uniarc_model
       logical :: bilateral = .false.     !< bonded: reacts in tension too (always active)
       integer :: group = 0               !< the foundation/obstacle card that made it
       real(dp) :: coordinate = 0.0_dp    !< position along its group for the contact-region output
+      !> a tangential (shear) spring of a foundation, along the tangent of its node; not a contact
+      !> reaction, so not counted in the contact output. It is `bilateral` (never a variable of the
+      !> contact LCP): bonded when `partner` = 0, else acting only while candidate `partner` (its radial
+      !> spring) is in the working set
+      logical :: tangential = .false.
+      integer :: partner = 0
    end type contact_candidate_t
 
    !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
@@ -136,6 +143,10 @@ module uniarc_model
 
    !> Laws of a foundation (the reaction of the bed against the deflection toward it).
    integer, parameter :: foundation_winkler = 1  !< Winkler (1867): independent springs, K per unit length
+
+   !> Laws of a foundation's tangential springs (*FOUNDATION, TANGENTIAL=).
+   integer, parameter :: tangential_contact = 1  !< acting where the node's radial spring is in contact
+   integer, parameter :: tangential_bonded = 2   !< always acting
 
    !> Where a foundation lies, which fixes the direction n in which it pushes (docs/input.md, *FOUNDATION).
    integer, parameter :: side_left = 1       !< on the left of the elements: n = −(nodal left normal)
@@ -159,6 +170,10 @@ module uniarc_model
       real(dp) :: gap = 0.0_dp                     !< initial gap g0 at every node (0: in touch at start)
       real(dp) :: scale = 1.0_dp                   !< arc length → coordinate of the contact output
       integer :: group = 0                         !< the contact group of its candidates
+      !> K_t: modulus of tangential springs (force per unit length per unit tangential displacement,
+      !> ≥ 0; 0: frictionless, the default), acting as `tangential_law` says
+      real(dp) :: tangential_modulus = 0.0_dp
+      integer :: tangential_law = tangential_contact
    end type foundation_t
 
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).

@@ -550,6 +550,10 @@ contains
       first = builder%n_contacts + 1
       builder%contacts(first:first + size(candidates) - 1) = candidates
       builder%contacts(first:first + size(candidates) - 1)%group = group
+      ! a partner (a tangential spring's radial candidate) is given within `candidates`: made global
+      where (builder%contacts(first:first + size(candidates) - 1)%partner > 0) &
+         builder%contacts(first:first + size(candidates) - 1)%partner = &
+         builder%contacts(first:first + size(candidates) - 1)%partner + first - 1
       builder%n_contacts = builder%n_contacts + size(candidates)
       builder%contact_groups(group)%name = name
       builder%contact_groups(group)%candidates = [(i, i = first, builder%n_contacts)]

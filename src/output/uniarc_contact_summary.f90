@@ -46,6 +46,7 @@ contains
          ! the reactions summed in one sequence over all candidates, in group order
          do k = 1, size(model%contact_groups(g)%candidates)
             c = model%contact_groups(g)%candidates(k)
+            if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: not a contact
             if (.not. (active(c) .and. reactions(c) > 0.0_dp)) cycle
             summary%n_contact = summary%n_contact + 1
             summary%reaction_max = max(summary%reaction_max, reactions(c))
@@ -86,11 +87,12 @@ contains
       logical, intent(in) :: active(:)
       type(contact_summary_t) :: summary
       integer :: k, c, m, run_start
-      logical :: touching(size(model%contact_groups(g)%candidates))
-      real(dp) :: s(size(model%contact_groups(g)%candidates))
+      logical, allocatable :: touching(:)
+      real(dp), allocatable :: s(:)
       logical :: wraps
 
-      associate (candidates => model%contact_groups(g)%candidates)
+      associate (candidates => contacts_of_group(model, g))
+         allocate (touching(size(candidates)), s(size(candidates)))
          m = size(candidates)
          do k = 1, m
             c = candidates(k)
@@ -143,7 +145,7 @@ contains
       integer, intent(in) :: g
       integer :: e, first, last
       closed = .false.
-      associate (candidates => model%contact_groups(g)%candidates)
+      associate (candidates => contacts_of_group(model, g))
          if (size(candidates) < 3) return
          first = model%contacts(candidates(1))%node
          last = model%contacts(candidates(size(candidates)))%node
@@ -157,5 +159,17 @@ contains
          end associate
       end do
    end function closed_group
+
+   !> The candidates of contact group `g` that are contacts, in the group's order: all of them but a
+   !> foundation's tangential springs (`KT=`), which carry shear along the surface, not contact.
+   pure function contacts_of_group(model, g) result(candidates)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: g
+      integer, allocatable :: candidates(:)
+      integer :: k
+      candidates = pack(model%contact_groups(g)%candidates, &
+                        [(.not. model%contacts(model%contact_groups(g)%candidates(k))%tangential, &
+                          k=1, size(model%contact_groups(g)%candidates))])
+   end function contacts_of_group
 
 end module uniarc_contact_summary

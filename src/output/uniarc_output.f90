@@ -125,6 +125,7 @@ contains
                       csv, error)
       if (allocated(error)) return
       do c = 1, size(model%contacts)
+         if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring: no surface of its own
          point = surface_point(model, c)
          rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp)
          call put_row(surface, medium_name(model, model%contacts(c)%group)//' '//integer_to_string(c)//' '// &
@@ -339,6 +340,7 @@ contains
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
       do c = 1, size(model%contacts)
+         if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: not a contact
          call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                       integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                       numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
@@ -349,7 +351,8 @@ contains
       call flush_table(files%contact, error)
    end subroutine write_forces
 
-   !> Sum of the contact reactions at each node (a node may carry candidates of several groups).
+   !> Sum of the contact reactions at each node (a node may carry candidates of several groups); the
+   !> tangential springs of a foundation are not contact reactions and are left out.
    pure function nodal_reactions(model, reactions) result(nodal)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(in) :: reactions(:)
@@ -358,6 +361,7 @@ contains
       nodal = 0.0_dp
       if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
       do c = 1, min(size(reactions), size(model%contacts))
+         if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring, not a contact reaction
          nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
       end do
    end function nodal_reactions

@@ -10,7 +10,7 @@ module uniarc_path_contact_set
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
-   use uniarc_contact, only: candidate_gap
+   use uniarc_contact, only: candidate_gap, in_set
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -187,7 +187,7 @@ contains
          reaction(c) = 0.0_dp
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))
-         else if (map%condensed(c) .and. active(c)) then
+         else if (map%condensed(c) .and. in_set(model, active, c)) then
             reaction(c) = -gap(c)/model%contacts(c)%flexibility
          end if
       end do

@@ -161,7 +161,9 @@ contains
                                 lin%reference, lin%element_scale, lin%roundoff)
             lin%rhs(:, 1) = lambda*lin%reference - lin%internal
             force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
-            if (.not. (norm2(lin%rhs(:, 1)) < huge(1.0_dp))) then   ! NaN or overflow
+            ! NaN or overflow; a scale that overflowed would make any residual pass the test.
+            if (.not. (norm2(lin%rhs(:, 1)) < huge(1.0_dp) .and. force_scale < huge(1.0_dp) .and. &
+                       lin%roundoff < huge(1.0_dp))) then
                trial%reason = 'the residual is not finite'
                exit
             end if

@@ -1,0 +1,182 @@
+#!/usr/bin/env python3
+"""A segmental lining on a bedded ring: uniarc's contact LCP against OpenSees with the engineers' loop.
+
+A verification peer of the tangential springs of `*FOUNDATION` (docs/theory.md §3.8), not a test
+dependency: it needs openseespy (PyPI; `pip install openseespy`). The ring of
+bench/segmental_lining_peer.py (Timoshenko elements, five rotational-spring joints and a hinge) is
+bedded in the ground, without supports:
+
+- radial springs of modulus K_R on the outer side, acting in compression only, and tangential springs
+  of modulus K_T acting only where the radial one is in contact (`TANGENTIAL=CONTACT`, the default),
+  both lumped to the nodes as uniarc lumps them: k = K × (the chord length of a node's two half
+  elements);
+- the ground pressure of a lining at depth: p = GAMMA (H − y)(K0 + (1 − K0) sin²θ) normal to the ring,
+  given at the nodes as forces p × chord toward the centre (the same nodal loads in both programs).
+
+uniarc solves it with `*STATIC` (its contact LCP with Lemke's method). OpenSees solves the linear ring
+with the springs of a contact set, and the set is found by the loop of bedded-ring design programs:
+drop the radial (and with it the tangential) spring of every node that pulls, put back every node that
+moves into the ground, and solve again until the set stops changing. Two different algorithms for the
+same complementarity problem: they must find the same set and the same displacements.
+
+It prints the sets' sizes and the largest difference of the nodal displacements and rotations,
+relative to the largest of each kind, and exits 1 if the sets differ or a difference exceeds
+TOLERANCE (round-off and the 13 digits of uniarc's shape file).
+
+    python3 bench/bedded_lining_peer.py --uniarc build/uniarc
+"""
+import argparse
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+R = 3.0
+EA = 1.0e5
+EI = 50.0
+GAS = 4.0e3
+K_JOINT = 200.0
+N_ELEMENTS = 48
+JOINT_NODES = [3, 11, 19, 27, 43]
+HINGE_NODE = 35
+K_R = 2.0e3          # radial subgrade modulus (force per length per length)
+K_T = K_R / 3.0      # tangential subgrade modulus
+GAMMA = 20.0
+H = 10.0             # depth of the ring's centre below the surface (y = H at the surface)
+K0 = 0.5
+TOLERANCE = 1e-9
+
+CHORD = 2.0 * R * math.sin(math.pi / N_ELEMENTS)
+
+
+def angle(i):
+    return 2.0 * math.pi * (i - 1) / N_ELEMENTS
+
+
+def nodal_loads():
+    """Inward nodal forces (fx, fy) by node: p(theta) times the chord length a node carries."""
+    loads = {}
+    for i in range(1, N_ELEMENTS + 1):
+        t = angle(i)
+        y = R * math.sin(t)
+        p = GAMMA * (H - y) * (K0 + (1.0 - K0) * math.sin(t) ** 2)
+        loads[i] = (-p * CHORD * math.cos(t), -p * CHORD * math.sin(t))
+    return loads
+
+
+def deck():
+    loads = nodal_loads()
+    return f"""** Bedded segmental lining (bench/bedded_lining_peer.py)
+*SECTION, NAME=lining, STIFFNESS
+{EA!r}, {EI!r}, {GAS!r}
+*RING, ELSET=ring, SECTION=lining, TYPE=TIMOSHENKO
+0, 0, {R!r}, {N_ELEMENTS}
+*RELEASE
+{chr(10).join(f'{j}, 1, {K_JOINT!r}' for j in JOINT_NODES)}
+{HINGE_NODE}, 1
+*FOUNDATION, ELSET=ring, MODULUS={K_R!r}, SIDE=OUTER, KT={K_T!r}, NAME=ground
+*CLOAD
+{chr(10).join(f'{i}, FX, {fx!r}' + chr(10) + f'{i}, FY, {fy!r}' for i, (fx, fy) in loads.items())}
+*STATIC
+"""
+
+
+def uniarc_solution(uniarc):
+    """Nodal (ux, uy, rz) and contact reaction by node label from uniarc's shape file."""
+    with tempfile.TemporaryDirectory() as work:
+        path = os.path.join(work, 'lining.inp')
+        with open(path, 'w') as f:
+            f.write(deck())
+        subprocess.run([uniarc, path, '-o', os.path.join(work, 'out'), '-q'], check=True)
+        displacement, reaction = {}, {}
+        with open(os.path.join(work, 'out', 'lining.shape')) as f:
+            for line in f:
+                if line.startswith('#') or not line.strip() or line.startswith('step'):
+                    continue
+                words = line.split()
+                displacement[int(words[2])] = tuple(float(x) for x in words[5:8])
+                reaction[int(words[2])] = float(words[10])
+        return displacement, reaction
+
+
+def opensees_solve(in_contact):
+    """The linear ring with radial and tangential springs at the nodes of `in_contact`."""
+    import openseespy.opensees as ops
+    ops.wipe()
+    ops.model('basic', '-ndm', 2, '-ndf', 3)
+    for i in range(1, N_ELEMENTS + 1):
+        ops.node(i, R * math.cos(angle(i)), R * math.sin(angle(i)))
+    ops.geomTransf('Linear', 1)
+    ops.uniaxialMaterial('Elastic', 1, K_JOINT)
+    ops.uniaxialMaterial('Elastic', 2, K_R * CHORD)
+    ops.uniaxialMaterial('Elastic', 3, K_T * CHORD)
+    released = JOINT_NODES + [HINGE_NODE]
+    for j in released:
+        ops.node(1000 + j, *ops.nodeCoord(j))
+        ops.equalDOF(j, 1000 + j, 1, 2)
+    for j in JOINT_NODES:
+        ops.element('zeroLength', 2000 + j, j, 1000 + j, '-mat', 1, '-dir', 3)
+    for i in range(1, N_ELEMENTS + 1):
+        start = 1000 + i if i in released else i
+        end = i % N_ELEMENTS + 1
+        ops.element('ElasticTimoshenkoBeam', i, start, end, 1.0, 1.0, EA, EI, GAS, 1)
+    for i in in_contact:
+        t = angle(i)
+        ops.node(3000 + i, *ops.nodeCoord(i))
+        ops.fix(3000 + i, 1, 1, 1)
+        # local x radial (outward), local y tangential: springs in both
+        ops.element('zeroLength', 4000 + i, 3000 + i, i, '-mat', 2, 3, '-dir', 1, 2,
+                    '-orient', math.cos(t), math.sin(t), 0.0, -math.sin(t), math.cos(t), 0.0)
+    ops.timeSeries('Linear', 1)
+    ops.pattern('Plain', 1, 1)
+    for i, (fx, fy) in nodal_loads().items():
+        ops.load(i, fx, fy, 0.0)
+    ops.system('FullGeneral')
+    ops.numberer('Plain')
+    ops.constraints('Transformation')
+    ops.integrator('LoadControl', 1.0)
+    ops.algorithm('Linear')
+    ops.analysis('Static')
+    if ops.analyze(1) != 0:
+        raise RuntimeError('OpenSees analysis failed')
+    return {i: tuple(ops.nodeDisp(i)) for i in range(1, N_ELEMENTS + 1)}
+
+
+def opensees_solution():
+    """The engineers' loop: start with every node in contact, drop the nodes whose radial spring
+    pulls (the ring moved inward there), put back the free nodes that move into the ground."""
+    in_contact = set(range(1, N_ELEMENTS + 1))
+    for _ in range(100):
+        displacement = opensees_solve(sorted(in_contact))
+        outward = {i: displacement[i][0] * math.cos(angle(i)) + displacement[i][1] * math.sin(angle(i))
+                   for i in displacement}
+        new = {i for i in outward if outward[i] > 0.0}
+        if new == in_contact:
+            return displacement, in_contact
+        in_contact = new
+    raise RuntimeError('the contact set did not settle')
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--uniarc', required=True)
+    args = parser.parse_args()
+    ours, reaction = uniarc_solution(args.uniarc)
+    peer, peer_contact = opensees_solution()
+    our_contact = {i for i in reaction if reaction[i] > 0.0}
+    print(f'nodes in contact: uniarc {len(our_contact)}, OpenSees loop {len(peer_contact)}'
+          f' ({"the same" if our_contact == peer_contact else "DIFFERENT"})')
+    worst = []
+    for k, name in enumerate(['translation', 'rotation']):
+        components = [0, 1] if k == 0 else [2]
+        scale = max(abs(peer[i][c]) for i in peer for c in components)
+        difference = max(abs(ours[i][c] - peer[i][c]) for i in peer for c in components)
+        worst.append(difference / scale)
+        print(f'{name}: largest |uniarc - OpenSees| = {difference:.3e}, relative to the largest '
+              f'{scale:.6e}: {difference / scale:.2e}')
+    return 0 if our_contact == peer_contact and max(worst) <= TOLERANCE else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,242 @@
+!> What is checked of a model before it is analysed, and the summary of `uniarc --check DECK`
+!> (docs/contracts.md, "Checking a deck", "Memory"): the memory the analysis needs against the memory
+!> available, and element stiffnesses that double precision can assemble. A model that fails either is
+!> refused as bad input (exit code 2) before any result file or large array is made.
+module uniarc_check
+   use, intrinsic :: iso_fortran_env, only: output_unit
+   use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_strings, only: integer_to_string, real_to_string
+   use uniarc_model, only: model_t, analysis_linear, control_load, control_displacement, dofs_per_node, &
+                           element_kind_of, element_truss, element_length, load_pressure
+   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_element, only: element_stiffness_scale, element_coordinates
+   use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text
+   implicit none
+   private
+   public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
+
+   !> The largest element stiffness times coordinate size (force) the analysis accepts: the round-off
+   !> floor and the force scale of the convergence test sum squares of such products
+   !> (uniarc_equilibrium), which must stay below the largest double, 1.8e308; 1e150 leaves a margin of
+   !> 1e8 for the sums over elements.
+   real(dp), parameter :: stiffness_bound = 1.0e150_dp
+   !> Coordinates and element lengths the analysis accepts: within 1e±100 the cubes of lengths and the
+   !> products of coordinates with stiffnesses (EA, EI ≤ 1e100, uniarc_deck_mesh) stay finite and normal.
+   real(dp), parameter :: coordinate_bound = 1.0e100_dp, length_floor = 1.0e-100_dp
+
+contains
+
+   !> Estimated peak memory (bytes) of the analysis of `model` (uniarc_memory: from the counts of
+   !> nodes, elements, contact candidates, and the equations and half bandwidth of its DOF numbering).
+   function model_memory_estimate(model, map) result(bytes)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp) :: bytes
+      integer :: n_candidates
+      n_candidates = 0
+      if (allocated(model%contacts)) n_candidates = size(model%contacts)
+      bytes = model_memory_bytes(real(model%n_nodes, dp), real(model%n_elements, dp), real(map%n_equations, dp), &
+                                 real(map%half_bandwidth, dp), real(n_candidates, dp))
+   end function model_memory_estimate
+
+   !> The geometry and stiffness checks of a model, before its DOF numbering (which already forms
+   !> stiffness scales): every coordinate within ±`coordinate_bound`, every element at least
+   !> `length_floor` long, and every element's stiffness scale k_e (EA/L + 12 EI/L³, uniarc_element)
+   !> times its size |x| (the larger of its coordinates and its length) at most `stiffness_bound`. k_e
+   !> is compared through its logarithm, so that the check itself cannot overflow (EI = 1e100 over
+   !> L = 1e-100 would). Errors (error_input, exit code 2): the first element that fails, named with
+   !> its section, EA, EI and L.
+   subroutine check_element_scales(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: x(2, 2), length, size_x, log_k, t_axial, t_bending
+      integer :: e, label
+      character(len=:), allocatable :: what
+      do e = 1, model%n_elements
+         x = element_coordinates(model, e)
+         what = ''
+         if (.not. (maxval(abs(x)) <= coordinate_bound)) then
+            what = 'a coordinate beyond 1e100 in magnitude'
+         else
+            length = norm2(x(:, 2) - x(:, 1))
+            size_x = max(maxval(abs(x)), length)
+            associate (section => model%sections(model%element_section(e)))
+               if (.not. (length >= length_floor)) then
+                  what = 'a length below 1e-100'
+               else
+                  t_axial = -huge(1.0_dp)
+                  t_bending = -huge(1.0_dp)
+                  if (section%ea > 0.0_dp) t_axial = log(section%ea) - log(length)
+                  if (section%ei > 0.0_dp .and. element_kind_of(model, e) /= element_truss) &
+                     t_bending = log(12.0_dp*section%ei) - 3.0_dp*log(length)
+                  ! log(exp(a) + exp(b)) without forming either
+                  log_k = max(t_axial, t_bending) + log(1.0_dp + exp(-abs(t_axial - t_bending)))
+                  if (log_k + log(size_x) > log(stiffness_bound)) &
+                     what = 'a stiffness EA/L + 12 EI/L^3 that times its size (coordinates, length) exceeds 1e150'
+               end if
+            end associate
+         end if
+         if (len(what) == 0) cycle
+         label = e
+         if (allocated(model%element_label)) label = model%element_label(e)
+         associate (section => model%sections(model%element_section(e)))
+            call make_error(error, model%deck_path//': element '//integer_to_string(label)//' (section '// &
+                            section%name//', EA = '//real_to_string(section%ea)//', EI = '// &
+                            real_to_string(section%ei)//') has '//what//', beyond which the equations '// &
+                            'overflow double precision; rescale the units of the deck', error_input)
+         end associate
+         return
+      end do
+   end subroutine check_element_scales
+
+   !> The memory check of a model before its analysis (after its DOF numbering). Errors (error_input,
+   !> exit code 2): the estimated memory exceeds what is available (the message gives both and what
+   !> they count).
+   subroutine check_model(model, map, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: shortfall
+      call memory_shortfall(model_memory_estimate(model, map), shortfall)
+      if (allocated(shortfall)) then
+         call make_error(error, model%deck_path//': the model does not fit in memory: its analysis ('// &
+                         counts_text(model, map)//') would '//shortfall, error_input)
+      end if
+   end subroutine check_model
+
+   !> The summary of `uniarc --check` on stdout: counts, supports, loads and their totals, contact
+   !> groups, the analysis and the memory estimate.
+   subroutine print_model_summary(model, map)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp) :: total(dofs_per_node), distributed(2), available
+      character(len=:), allocatable :: origin
+      integer :: i, n_truss, held_nodes, held_dofs, loaded_nodes
+      write (output_unit, '(a)') 'deck '//model%deck_path//': read and checked, not analysed'
+      n_truss = 0
+      do i = 1, model%n_elements
+         if (element_kind_of(model, i) == element_truss) n_truss = n_truss + 1
+      end do
+      call line('nodes', integer_to_string(model%n_nodes))
+      call line('elements', integer_to_string(model%n_elements)//' ('//integer_to_string(model%n_elements - n_truss)// &
+                ' beam-columns, '//integer_to_string(n_truss)//' trusses)')
+      call line('node sets', integer_to_string(count_sets_nodes())//';  element sets '// &
+                integer_to_string(count_sets_elements()))
+      if (allocated(model%sections)) then
+         call line('sections', integer_to_string(size(model%sections)))
+         do i = 1, size(model%sections)
+            call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
+                      real_to_string(model%sections(i)%ei))
+         end do
+      end if
+      held_nodes = 0
+      held_dofs = 0
+      if (allocated(model%fixed)) then
+         held_nodes = count(any(model%fixed, dim=1))
+         held_dofs = count(model%fixed)
+      end if
+      call line('supports', counted(held_nodes, 'node')//', '//counted(held_dofs, 'DOF')//' held')
+      total = 0.0_dp
+      loaded_nodes = 0
+      if (allocated(model%nodal_load)) then
+         total = sum(model%nodal_load, dim=2)
+         loaded_nodes = count(any(model%nodal_load /= 0.0_dp, dim=1))
+      end if
+      call line('nodal loads', 'on '//counted(loaded_nodes, 'node')//'; total FX = '//real_to_string(total(1))// &
+                ', FY = '//real_to_string(total(2))//', MZ = '//real_to_string(total(3))//' (times lambda)')
+      distributed = 0.0_dp
+      if (allocated(model%distributed_loads)) then
+         do i = 1, size(model%distributed_loads)
+            associate (load => model%distributed_loads(i))
+               if (load%kind /= load_pressure) distributed = distributed + [load%qx, load%qy]*element_length(model, load%element)
+            end associate
+         end do
+         call line('distributed', integer_to_string(size(model%distributed_loads))//' element loads; total FX = '// &
+                   real_to_string(distributed(1))//', FY = '//real_to_string(distributed(2))// &
+                   ' (fixed-direction; pressures act along the normals)')
+      end if
+      if (allocated(model%contact_groups)) then
+         call line('contact groups', integer_to_string(size(model%contact_groups))//', '// &
+                   integer_to_string(size(model%contacts))//' candidates')
+         do i = 1, size(model%contact_groups)
+            call line('', model%contact_groups(i)%name//': '// &
+                      integer_to_string(size(model%contact_groups(i)%candidates))//' candidates')
+         end do
+      else
+         call line('contact groups', '0')
+      end if
+      if (allocated(model%tracks)) then
+         call line('tracks', integer_to_string(size(model%tracks)))
+      end if
+      call line('analysis', analysis_text())
+      call line('equations', integer_to_string(map%n_equations)//', half bandwidth '// &
+                integer_to_string(map%half_bandwidth))
+      call available_memory(available, origin)
+      if (available >= 0.0_dp) then
+         call line('memory', 'about '//memory_text(model_memory_estimate(model, map))//' estimated; '// &
+                   memory_text(available)//' available ('//origin//')')
+      else
+         call line('memory', 'about '//memory_text(model_memory_estimate(model, map))//' estimated')
+      end if
+   contains
+      subroutine line(label, text)
+         character(len=*), intent(in) :: label, text
+         character(len=16) :: padded
+         padded = label
+         write (output_unit, '(2x,a,a)') padded, text
+      end subroutine line
+      integer function count_sets_nodes()
+         count_sets_nodes = 0
+         if (allocated(model%node_sets)) count_sets_nodes = size(model%node_sets)
+      end function count_sets_nodes
+      integer function count_sets_elements()
+         count_sets_elements = 0
+         if (allocated(model%element_sets)) count_sets_elements = size(model%element_sets)
+      end function count_sets_elements
+      function analysis_text() result(text)
+         character(len=:), allocatable :: text
+         if (model%analysis%kind == analysis_linear) then
+            text = 'linear static (one load case, lambda = 1)'
+            return
+         end if
+         select case (model%analysis%control)
+         case (control_load)
+            text = 'path, load control'
+         case (control_displacement)
+            text = 'path, displacement control'
+         case default
+            text = 'path, arc length'
+         end select
+         text = text//'; first increment '//real_to_string(model%analysis%first_increment)//'; stops at '// &
+                integer_to_string(model%analysis%max_steps)//' steps'
+         if (model%analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '// &
+                                                                real_to_string(model%analysis%lambda_max)
+         if (model%analysis%stop_track > 0) text = text//', |'//model%tracks(model%analysis%stop_track)%name// &
+                                                   '| >= '//real_to_string(model%analysis%stop_value)
+      end function analysis_text
+   end subroutine print_model_summary
+
+   !> "1 node", "2 nodes": a count and its noun.
+   pure function counted(n, noun) result(text)
+      integer, intent(in) :: n
+      character(len=*), intent(in) :: noun
+      character(len=:), allocatable :: text
+      text = integer_to_string(n)//' '//noun
+      if (n /= 1) text = text//'s'
+   end function counted
+
+   !> "N nodes, M elements, K contact candidates; E equations, half bandwidth B".
+   function counts_text(model, map) result(text)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      character(len=:), allocatable :: text
+      integer :: n_candidates
+      n_candidates = 0
+      if (allocated(model%contacts)) n_candidates = size(model%contacts)
+      text = integer_to_string(model%n_nodes)//' nodes, '//integer_to_string(model%n_elements)//' elements, '// &
+             integer_to_string(n_candidates)//' contact candidates; '//integer_to_string(map%n_equations)// &
+             ' equations, half bandwidth '//integer_to_string(map%half_bandwidth)
+   end function counts_text
+
+end module uniarc_check

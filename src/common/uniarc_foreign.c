@@ -1,0 +1,52 @@
+/* The C side of uniarc_foreign (src/common/uniarc_foreign.f90): what Fortran cannot do itself.
+ *
+ * Interrupts (SIGINT, SIGTERM) as a request to stop, polled by the step loop (docs/contracts.md,
+ * "Interrupts"). The handler only records the signal's number in a volatile sig_atomic_t, the one
+ * kind of object a handler may write (C11 7.14.1.1, POSIX signal-safety); the program reads it
+ * between steps through uniarc_interrupt_signal and ends the run itself, with the steps traced.
+ *
+ * SA_RESETHAND: a second signal of the same kind has its default action (the program ends at once,
+ * leaving its work directory and lock, as a SIGKILL does). SA_RESTART: system calls the signal
+ * interrupts (write, fflush) are restarted, so a signal never turns into an I/O error.
+ * A signal ignored when the program starts (nohup, a background job of a non-interactive shell)
+ * stays ignored. */
+#define _POSIX_C_SOURCE 200809L
+#include <signal.h>
+#include <string.h>
+
+static volatile sig_atomic_t received_signal = 0;
+
+static void record_signal(int number) { received_signal = number; }
+
+static int catch_one(int number) {
+    struct sigaction action, previous;
+    if (sigaction(number, NULL, &previous) != 0) return -1;
+    if (previous.sa_handler == SIG_IGN) return 0;
+    memset(&action, 0, sizeof action);
+    action.sa_handler = record_signal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND | SA_RESTART;
+    return sigaction(number, &action, NULL);
+}
+
+/* Install the handler for SIGINT and SIGTERM; 0 on success, -1 if the system refused. */
+int uniarc_catch_interrupts(void) {
+    int status = catch_one(SIGINT);
+    if (catch_one(SIGTERM) != 0) status = -1;
+    return status;
+}
+
+/* The number of the last SIGINT or SIGTERM received since uniarc_catch_interrupts, or 0. */
+int uniarc_interrupt_signal(void) { return (int)received_signal; }
+
+/* The numbers of SIGINT and SIGTERM on this system (2 and 15 on Linux). */
+int uniarc_signal_number(int which) { return which == 0 ? SIGINT : SIGTERM; }
+
+#include <sys/resource.h>
+
+/* The soft limit on the address space (RLIMIT_AS, `ulimit -v`) in bytes, or -1 when there is none. */
+long long uniarc_address_space_limit(void) {
+    struct rlimit limit;
+    if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return -1;
+    return (long long)limit.rlim_cur;
+}
