@@ -148,7 +148,7 @@ contains
       real(dp) :: element_scale, scale
       logical, allocatable :: bonded(:)
       integer :: c
-      state%lambda_scale = displacement_norm(state%map, state%tangent_displacement)
+      state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       if (.not. any(state%active)) return
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
       ! the committed factors stay for the first predictor.
@@ -165,38 +165,18 @@ contains
       if (.not. allocated(singular)) then
          rhs(:, 1) = reference
          call band_solve(released%tangent, rhs, singular)
-         if (.not. allocated(singular)) scale = displacement_norm(state%map, rhs(:, 1))
+         if (.not. allocated(singular)) scale = masked_norm(state%map, rhs(:, 1))
          if (.not. (scale < huge(1.0_dp))) scale = 0.0_dp
       end if
       state%lambda_scale = scale
       if (.not. degenerate_tangent(state, state%tangent_displacement)) then
-         state%lambda_scale = displacement_norm(state%map, state%tangent_displacement)
+         state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
          call make_error(error, 'unloaded state: the contacts that touch at the start carry the whole reference '// &
                          'load, and without them the structure is a mechanism: an arc length has nothing '// &
                          'to measure; trace it with CONTROL=LOAD', error_analysis)
       end if
    end subroutine start_lambda_scale
-
-   !> masked_norm of v (n), safe from overflow: where some entry (a reaction too, which masked_norm
-   !> squares before masking) is beyond 1e150 (a deck of absurd numbers), scaled before squaring, a
-   !> number or +huge rather than an overflow trap; masked_norm itself, bit for bit, otherwise.
-   pure real(dp) function displacement_norm(map, v) result(norm)
-      type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: v(:)
-      real(dp) :: largest
-      if (all(abs(v) <= 1.0e150_dp)) then
-         norm = masked_norm(map, v)
-         return
-      end if
-      norm = 0.0_dp
-      largest = maxval(abs(map%metric*v), mask=abs(v) <= huge(1.0_dp))
-      if (.not. all(abs(map%metric*v) <= huge(1.0_dp))) then
-         norm = huge(1.0_dp)
-      else if (largest > 0.0_dp) then
-         norm = largest*norm2(map%metric*v/largest)
-      end if
-   end function displacement_norm
 
    !> Advance one converged step, cutting the step length on failure; error if it cannot be done.
    !>

@@ -258,12 +258,19 @@ contains
       masked_dot = sum(map%metric*a*b)
    end function masked_dot
 
-   !> Norm over the displacement unknowns only. (Masked before squaring: a reaction beyond 1e154 must
-   !> not overflow a norm it takes no part in; the same bits as metric·a² for a metric of 0 and 1.)
+   !> Norm over the displacement unknowns only. Masked before squaring (a reaction takes no part, the
+   !> same bits as metric·a² for a metric of 0 and 1); entries beyond 1e150 (a deck of absurd numbers,
+   !> forces of 1e300) are scaled before squaring: a number or +Inf, never an overflow trap.
    pure real(dp) function masked_norm(map, a)
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: a(:)
-      masked_norm = sqrt(sum((map%metric*a)**2))
+      real(dp) :: largest
+      largest = maxval(abs(map%metric*a))
+      if (largest > 1.0e150_dp .and. largest <= huge(1.0_dp)) then
+         masked_norm = largest*sqrt(sum((map%metric*a/largest)**2))
+      else
+         masked_norm = sqrt(sum((map%metric*a)**2))
+      end if
    end function masked_norm
 
    !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
