@@ -330,15 +330,15 @@ contains
       end associate
    end subroutine path_advance
 
-   !> Whether a converged attempt is a load step whose displacement is round-off (the contacts carry
-   !> the whole reference load, docs/theory.md §2.5): it has no direction for the angle and distance
-   !> tests of a step.
+   !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
+   !> whole reference load, docs/theory.md §2.5: a load step, or a step under load control): it has
+   !> no direction for the angle and distance tests of a step.
    pure logical function degenerate_step(state, trial)
       type(path_state_t), intent(in) :: state
       type(step_trial_t), intent(in) :: trial
       degenerate_step = .false.
-      if (.not. trial%load_step) return
-      degenerate_step = degenerate_tangent(state, trial%increment/max(abs(trial%dlambda), tiny(1.0_dp)))
+      if (.not. (abs(trial%dlambda) > 0.0_dp)) return
+      degenerate_step = degenerate_tangent(state, trial%increment/abs(trial%dlambda))
    end function degenerate_step
 
    !> Whether a converged attempt landed farther from its predictor than the predictor's own length

@@ -173,10 +173,10 @@ contains
                ! A step must go forward: a correction that lands behind the predictor (possible with
                ! Chan's constraint-free correction when the contact set changes within the step) would
                ! make the path turn back on itself. Such an attempt is cut instead.
-               ! (A predictor without displacement, a load step of a degenerate tangent, has no
-               ! direction to turn back from.)
+               ! (A predictor without displacement — a load step, or any step of a degenerate tangent,
+               ! docs/theory.md §2.5 — has no direction to turn back from.)
                if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp .and. .not. trial%load_step .and. &
-                   masked_norm(state%map, predictor) > 0.0_dp) then
+                   .not. degenerate_tangent(state, predictor/max(abs(trial%predictor_dlambda), tiny(1.0_dp)))) then
                   trial%reason = 'the corrected step turned back'
                   exit
                end if
