@@ -17,6 +17,7 @@ module uniarc_run
                                       abandon_results
    use uniarc_foreign, only: interrupt_signal, signal_name
    use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, print_model_summary
    use uniarc_strings, only: integer_to_string
    use uniarc_provenance, only: provenance_t
@@ -89,6 +90,7 @@ contains
       call build_dof_map(model, map)
       call print_model_summary(model, map)
       call check_model(model, map, error)
+      if (.not. allocated(error)) call check_model_mechanism(model, map, error)
       if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
    end subroutine check_deck
 

@@ -23,11 +23,15 @@ module uniarc_path_mechanism
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
-   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_add, band_get
+   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_allocate, &
+                          band_add, band_get
+   use uniarc_assembly, only: assemble_linear_stiffness
+   use uniarc_contact, only: assemble_contact
+   use uniarc_model, only: dofs_per_node
    use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at
    implicit none
    private
-   public :: find_mechanism, check_mechanism, floating_motions
+   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions
 
    !> Stage 1: a pivot at most this fraction of its row's diagonal calls for stage 2.
    real(dp), parameter :: pivot_tolerance = 1.0e-10_dp
@@ -127,6 +131,32 @@ contains
                       component_name(dof)//'; hold it with supports (*BOUNDARY)', error_input)
 
    end subroutine find_mechanism
+
+   !> The check of a model on its own, before any analysis (`uniarc --check`, *STATIC): the linear
+   !> stiffness of the unloaded structure — the tangent of the path's unloaded state, which carries no
+   !> stress — with every contact candidate closed, through find_mechanism. Errors: a band matrix that
+   !> cannot be allocated (band_allocate); find_mechanism's (error_input, exit code 2).
+   subroutine check_model_mechanism(model, map, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(error_t), allocatable, intent(out) :: error
+      type(band_matrix_t) :: stiffness
+      real(dp), allocatable :: at_rest(:, :), no_reactions(:), internal(:)
+      logical, allocatable :: closed(:)
+      integer :: c
+      if (map%n_equations == 0) return
+      call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
+      if (allocated(error)) return
+      call assemble_linear_stiffness(model, map, stiffness)
+      if (size(map%candidate_equation) > 0) then
+         allocate (at_rest(dofs_per_node, model%n_nodes), source=0.0_dp)
+         allocate (no_reactions(size(map%candidate_equation)), source=0.0_dp)
+         allocate (internal(map%n_equations), source=0.0_dp)
+         closed = [(candidate_live(map, c), c=1, size(map%candidate_equation))]
+         call assemble_contact(model, map, at_rest, no_reactions, closed, stiffness, internal)
+      end if
+      call find_mechanism(model, map, stiffness, error)
+   end subroutine check_model_mechanism
 
    !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
