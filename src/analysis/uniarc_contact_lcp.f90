@@ -24,11 +24,17 @@ module uniarc_contact_lcp
    use uniarc_contact, only: candidate_gap, set_membership, in_set
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
-   use uniarc_lemke, only: lemke_solved
+   use uniarc_lemke, only: lemke_solved, lemke_ray_termination
    implicit none
    private
    public :: path_constraint_t, contact_scales_t, contact_linearization_t, contact_selection_t, select_contact_set
-   public :: constraint_arclength, constraint_load, constraint_displacement
+   public :: constraint_arclength, constraint_load, constraint_displacement, degenerate_fraction
+
+   !> A response to the reference load whose displacement is at most this fraction of ψ (the
+   !> displacement a unit of λ moves at the unloaded state, path_constraint_t%lambda_scale) moves
+   !> nothing: the contacts carry the whole load. A rigid contact under the load leaves round-off of
+   !> the solve only; a structure that merely stiffens stays far above (docs/theory.md §2.5).
+   real(dp), parameter :: degenerate_fraction = 1.0e-12_dp
 
    integer, parameter :: constraint_arclength = 1     !< tᵀδu = target (δu the displacement part)
    integer, parameter :: constraint_load = 2          !< δλ = target
@@ -40,6 +46,9 @@ module uniarc_contact_lcp
       real(dp), allocatable :: t(:)   !< arc length: direction in displacement space (masked)
       real(dp) :: target = 0.0_dp
       integer :: equation = 0         !< displacement control
+      !> arc length: ψ, the displacement norm a unit of λ moves at the start (0: not known); a frame
+      !> whose K_S⁻¹R moves at most degenerate_fraction of it along t is degenerate
+      real(dp) :: lambda_scale = 0.0_dp
    end type path_constraint_t
 
    !> Units of the contact quantities: a gap (length) and a reaction (force) are round-off below
@@ -69,6 +78,9 @@ module uniarc_contact_lcp
       !> the LCP ended in), with du_tangent = K_S⁻¹R for it: no assembly or factorisation is needed.
       logical :: kept = .false.
       real(dp), allocatable :: du_tangent(:)     !< (n) when kept
+      !> the LCP failed in a frame where the path constraint does not fix δλ (its contacts carry the
+      !> whole reference load): the caller may pose it again with the load constraint
+      logical :: degenerate = .false.
    end type contact_selection_t
 
    !> The contact LCP at a state, in the frame of a working set (module header).
@@ -155,6 +167,7 @@ contains
       ! the frame itself and nothing more is needed (the warm start that the paper's form cannot have).
       allocate (q(lcp%m), scale(lcp%m), w(lcp%m))
       call lcp%frame_q(q, error)
+      selection%degenerate = lcp%degenerate
       if (allocated(error)) return
       call lcp%scales(scale)
       if (all(q >= -options%tolerance*scale)) then
@@ -171,6 +184,12 @@ contains
       call band_move(lcp%matrix, assembled)
       call band_move(lcp%factors, tangent)
       tangent%factorized = .false.
+      ! Under an arc-length constraint a ray is the same degeneracy seen from a frame without the
+      ! contacts that would carry the load: the bordered M of those candidates is singular (its
+      ! determinant is that of the bordered K_S of the frame with them, a Schur complement; Cottle,
+      ! Pang & Stone 1992, §2.3), and the step is longer than the displacement left to reach them.
+      selection%degenerate = lcp%degenerate .or. (lcp%constraint%kind == constraint_arclength .and. &
+                                                  selection%report%status == lemke_ray_termination)
       if (allocated(error)) return
       if (selection%report%status /= lemke_solved) then
          ! The report's message names the outcome (a ray, the pivot cap, a breakdown) and its cause.
@@ -491,6 +510,10 @@ contains
       case (constraint_arclength)
          denominator = dot_product(self%constraint%t, self%du_tangent)
          magnitude = norm2(self%constraint%t)*norm2(self%du_tangent)
+         ! Measured against ψ too: K_S⁻¹R of a frame whose contacts carry the load is round-off,
+         ! and so is its own norm (docs/theory.md §2.5).
+         if (.not. (abs(denominator) > degenerate_fraction*norm2(self%constraint%t)*self%constraint%lambda_scale)) &
+            denominator = 0.0_dp
       case (constraint_displacement)
          denominator = self%du_tangent(self%constraint%equation)
          magnitude = maxval(abs(self%du_tangent))

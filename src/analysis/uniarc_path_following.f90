@@ -24,7 +24,7 @@ module uniarc_path_following
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load
-   use uniarc_dof_map, only: build_dof_map, dof_map_t
+   use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
@@ -34,7 +34,8 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
-   use uniarc_path_mechanism, only: check_mechanism
+   use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
+   use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
    implicit none
    private
@@ -83,6 +84,7 @@ contains
          ! A model that no contact can hold is refused before the path starts (exit code 2).
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
+         call find_floating(model, state, system, nodal)
          call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
@@ -143,9 +145,11 @@ contains
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
       associate (options => model%analysis)
+         call start_lambda_scale(model, state, error)
+         if (allocated(error)) return
          select case (options%control)
          case (control_arclength)
-            state%first_length = abs(options%first_increment)*masked_norm(state%map, state%tangent_displacement)
+            state%first_length = abs(options%first_increment)*state%lambda_scale
          case default
             state%first_length = abs(options%first_increment)
          end select
@@ -161,6 +165,73 @@ contains
          end if
       end associate
    end subroutine size_first_step
+
+   !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
+   !> contact touches, docs/theory.md §2.6): the stiffness at the unloaded state with the unilateral
+   !> candidates open (`system` is work space). Models without unilateral candidates have none (a
+   !> mechanism was refused before).
+   subroutine find_floating(model, state, system, nodal)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp), allocatable :: internal(:), reference(:)
+      logical, allocatable :: bonded(:)
+      real(dp) :: element_scale
+      integer :: c
+      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
+      if (size(bonded) == 0) return
+      if (.not. any([(candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral, &
+                      c=1, size(state%active))])) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
+   end subroutine find_floating
+
+   !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
+   !> where the contacts touching at the start carry the whole reference load (K⁻¹R has no
+   !> displacement: a heated bar against a rigid stop), the structure's own ||K⁻¹R|| with those contacts
+   !> released (docs/theory.md §2.5). Errors (error_analysis): an arc length asked for where neither
+   !> measures anything (the released structure is a mechanism).
+   subroutine start_lambda_scale(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      type(path_system_t) :: released
+      type(error_t), allocatable :: singular
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
+      real(dp) :: element_scale, scale
+      logical, allocatable :: bonded(:)
+      integer :: c
+      state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
+      if (.not. any(state%active)) return
+      ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
+      ! the committed factors stay for the first predictor.
+      bonded = [(state%active(c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
+      if (all(bonded .eqv. state%active)) return
+      call band_allocate(released%tangent, state%map%n_equations, state%map%half_bandwidth, &
+                         state%map%half_bandwidth)
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), rhs(state%map%n_equations, 1))
+      call nodal_displacements(model, state, nodal)
+      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      scale = 0.0_dp
+      call find_mechanism(model, state%map, released%tangent, singular)
+      if (.not. allocated(singular)) call band_factorize(released%tangent, singular)
+      if (.not. allocated(singular)) then
+         rhs(:, 1) = reference
+         call band_solve(released%tangent, rhs, singular)
+         if (.not. allocated(singular)) scale = masked_norm(state%map, rhs(:, 1))
+         if (.not. (scale < huge(1.0_dp))) scale = 0.0_dp
+      end if
+      state%lambda_scale = scale
+      if (.not. degenerate_tangent(state, state%tangent_displacement)) then
+         state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
+      else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
+         call make_error(error, 'unloaded state: the contacts that touch at the start carry the whole reference '// &
+                         'load, and without them the structure is a mechanism: an arc length has nothing '// &
+                         'to measure; trace it with CONTROL=LOAD', error_analysis)
+      end if
+   end subroutine start_lambda_scale
 
    !> Advance one converged step, cutting the step length on failure; error if it cannot be done.
    !>
@@ -181,6 +252,7 @@ contains
       type(step_trial_t) :: trial
       type(path_state_t) :: before
       real(dp) :: length, factor, remaining
+      real(dp), allocatable :: landing(:)
       integer :: attempt, halvings
       logical :: to_limit
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
@@ -221,6 +293,8 @@ contains
                   ! O(Δl²) (a tip stopped by an obstacle moves far less than the free predictor said);
                   ! such a step is judged by the angle tests of its commit (off_branch) alone.
                   if (any(trial%active .neqv. state%active)) exit
+                  ! A load step of a degenerate tangent has no displacement predictor to be near.
+                  if (degenerate_step(state, trial)) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
@@ -256,6 +330,9 @@ contains
             if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
             state%active = trial%active
             state%last_increment = trial%increment
+            ! A load step's displacement is round-off where the contacts carry the load: no direction
+            ! for the next step's angle tests.
+            if (degenerate_step(before, trial)) state%last_increment = 0.0_dp
             state%point%s = state%point%s + masked_norm(state%map, trial%increment)
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
@@ -266,7 +343,11 @@ contains
             select case (options%control)
             case (control_arclength)
                ! Keep travelling forward: positive angle between the new tangent and the last increment.
-               if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
+               if (degenerate_tangent(state, state%tangent_displacement)) then
+                  ! No displacement to take the angle with: forward is the way λ went (a load step).
+                  state%direction = 1
+                  if (trial%dlambda < 0.0_dp) state%direction = -1
+               else if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
                   state%direction = -1
                else
                   state%direction = 1
@@ -276,7 +357,13 @@ contains
             state%point%switched = .false.
             ! A converged state whose tangent is far from the step's chord, or a step that reverses
             ! the last one, is not on the branch the step followed.
-            if (.not. off_branch(state%map, trial%increment, before%last_increment, state%tangent_displacement)) then
+            ! (A degenerate landing tangent, round-off of a load carried by the contacts, has no
+            ! direction to compare with.)
+            landing = state%tangent_displacement
+            if (degenerate_tangent(state, landing)) landing = 0.0_dp
+            ! A load step (docs/theory.md §2.5) went in λ alone: its chord has no direction either.
+            if (degenerate_step(before, trial) .or. &
+                .not. off_branch(state%map, trial%increment, before%last_increment, landing)) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length)
                if (allocated(state%bifurcation)) then
@@ -310,6 +397,17 @@ contains
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
+
+   !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
+   !> whole reference load, docs/theory.md §2.5: a load step, or a step under load control): it has
+   !> no direction for the angle and distance tests of a step.
+   pure logical function degenerate_step(state, trial)
+      type(path_state_t), intent(in) :: state
+      type(step_trial_t), intent(in) :: trial
+      degenerate_step = .false.
+      if (.not. (abs(trial%dlambda) > 0.0_dp)) return
+      degenerate_step = degenerate_tangent(state, trial%increment/abs(trial%dlambda))
+   end function degenerate_step
 
    !> Whether a converged attempt landed farther from its predictor than the predictor's own length
    !> (displacement norm): Newton's corrections are O(Δl²) on the branch the predictor follows, while

@@ -29,6 +29,9 @@ module uniarc_path_contact_set
       logical :: kept = .false.
       real(dp), allocatable :: du_tangent(:)
       integer :: pivots = 0                    !< Lemke pivots spent
+      !> the LCP failed because the path constraint does not fix δλ in a set whose contacts carry the
+      !> whole reference load (the caller may take the step as a load step)
+      logical :: degenerate = .false.
    end type set_update_t
 
 contains
@@ -63,6 +66,7 @@ contains
       update%kept = selection%kept
       if (selection%kept) update%du_tangent = selection%du_tangent
       update%pivots = selection%report%pivots
+      update%degenerate = selection%degenerate
       if (allocated(error)) return
       update%changed = any(update%active .neqv. active)
    end subroutine solve_contact_lcp

@@ -23,14 +23,15 @@ module uniarc_path_mechanism
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
-   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_allocate
+   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_allocate, &
+                          band_add, band_get
    use uniarc_assembly, only: assemble_linear_stiffness
    use uniarc_contact, only: assemble_contact
    use uniarc_model, only: dofs_per_node
    use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at
    implicit none
    private
-   public :: find_mechanism, check_mechanism, check_model_mechanism
+   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions
 
    !> Stage 1: a pivot at most this fraction of its row's diagonal calls for stage 2.
    real(dp), parameter :: pivot_tolerance = 1.0e-10_dp
@@ -60,6 +61,42 @@ contains
       call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale)
       call find_mechanism(model, state%map, system%tangent, error)
    end subroutine check_mechanism
+
+   !> The rigid motions (n, k ≤ 3) that `stiffness` (unfactorised, n × n: the structure with its supports
+   !> and bilateral contacts, the unilateral ones open) leaves free — a liner floating in a cavity, held
+   !> only by its contacts once they touch (docs/theory.md §2.6) — and for each the equation where it
+   !> moves most, at which the tangent holds it while no contact does. Found one at a time by the
+   !> module's test (free_rigid_motion), each held at its equation (a spring of the size of the
+   !> diagonal there) before the next is looked for. `motions` unallocated: none.
+   subroutine floating_motions(model, map, stiffness, motions, equations)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(in) :: stiffness
+      real(dp), allocatable, intent(out) :: motions(:, :)
+      integer, allocatable, intent(out) :: equations(:)
+      type(band_matrix_t) :: work
+      real(dp), allocatable :: motion(:), found(:, :)
+      real(dp) :: ratio, diagonal
+      character(len=:), allocatable :: what
+      integer :: row, k, j
+      work = stiffness
+      allocate (found(map%n_equations, 3), equations(0))
+      do k = 1, 3
+         call free_rigid_motion(model, map, work, motion, ratio, row, what)
+         if (.not. allocated(motion)) exit
+         j = maxloc(abs(map%metric*motion), 1)
+         found(:, k) = motion
+         equations = [equations, j]
+         diagonal = abs(band_get(work, j, j))
+         if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
+         call band_add(work, j, j, diagonal)
+      end do
+      if (size(equations) == 0) then
+         deallocate (equations)
+         return
+      end if
+      motions = found(:, 1:size(equations))
+   end subroutine floating_motions
 
    !> Refuse a model whose unfactorised stiffness `stiffness` (n × n, n = map%n_equations, with the
    !> supports, springs and contacts that hold the model) lets it move as a rigid body.

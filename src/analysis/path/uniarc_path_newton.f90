@@ -15,14 +15,16 @@ module uniarc_path_newton
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, analysis_options_t
    use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_solve, band_copy
+   use uniarc_band, only: band_matrix_t, band_solve, band_copy, band_factorize
    use uniarc_assembly, only: gather_nodal
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
                                 has_contacts, new_linearization, candidate_values
    use uniarc_contact, only: toggle_contacts
-   use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda
+   use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
+                                     degenerate_tangent
+   use uniarc_model, only: control_arclength, control_displacement
    use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp
    implicit none
    private
@@ -141,6 +143,7 @@ contains
       trial%set_changes = 0
       trial%iterations = 0
       trial%dlambda = 0.0_dp
+      trial%load_step = .false.
       contacts = has_contacts(state)
       lin = new_linearization(model, state%map)
       allocate (new_active(size(trial%active)))
@@ -178,7 +181,10 @@ contains
                ! A step must go forward: a correction that lands behind the predictor (possible with
                ! Chan's constraint-free correction when the contact set changes within the step) would
                ! make the path turn back on itself. Such an attempt is cut instead.
-               if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp) then
+               ! (A predictor without displacement — a load step, or any step of a degenerate tangent,
+               ! docs/theory.md §2.5 — has no direction to turn back from.)
+               if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp .and. .not. trial%load_step .and. &
+                   .not. degenerate_tangent(state, predictor/max(abs(trial%predictor_dlambda), tiny(1.0_dp)))) then
                   trial%reason = 'the corrected step turned back'
                   exit
                end if
@@ -188,6 +194,11 @@ contains
                   exit
                end if
                if (complementary(model, state, lin%x, lin%nodal, trial%active)) then
+                  if (.not. lands_degenerate(model, state, system, lin, trial)) then
+                     trial%reason = 'the arc-length step cannot be solved with this contact set (contact LCP: '// &
+                                    'no solution), and as a load step it does not end where the contacts carry the load'
+                     exit
+                  end if
                   trial%converged = .true.
                   call keep_converged(system, lin)
                   exit
@@ -237,9 +248,18 @@ contains
                   trial%reason = 'singular tangent'
                   exit
                end if
-               call correction_constraint(options, state, trial%increment, constraint)
+               call correction_constraint(options, state, trial%increment, constraint, trial%load_step)
                call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
+               if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
+                  ! The arc length cannot fix δλ in a set whose contacts carry the whole reference
+                  ! load: the rest of the attempt is a load step (docs/theory.md §2.5). The LCP has
+                  ! overwritten the tangent: the iteration assembles it again at this state.
+                  trial%load_step = .true.
+                  reuse_factors = .false.
+                  fresh_set = .false.
+                  cycle
+               end if
                if (allocated(error)) then
                   trial%reason = error%message
                   exit
@@ -280,7 +300,7 @@ contains
             fresh_set = .false.
             ! rhs(:, 1) = δx_g (residual correction), rhs(:, 2) = δx_t (tangent correction)
             call iteration_dlambda(options, state, trial%increment, lin%rhs(:, 1), lin%rhs(:, 2), trial%length, &
-                                   dl, reason)
+                                   dl, reason, trial%load_step)
             if (len(reason) > 0) then
                trial%reason = reason
                exit
@@ -292,6 +312,35 @@ contains
          end do
       end associate
    end subroutine attempt_step
+
+   !> Whether an attempt may end here as far as its load step goes: a load step begun from a regular
+   !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.5) must end
+   !> where the contacts carry the whole reference load, K_S⁻¹R without displacement; one that ends
+   !> elsewhere took another parametrisation of the path than the arc length asked for, and the attempt
+   !> is cut instead. Every other attempt may (true). `system%tangent` holds K_S at the state of `lin`,
+   !> unfactorised, and is left so (a copy is factorised).
+   logical function lands_degenerate(model, state, system, lin, trial) result(ok)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(in) :: system
+      type(linearization_t), intent(in) :: lin
+      type(step_trial_t), intent(in) :: trial
+      type(band_matrix_t) :: factors
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: response(:, :)
+      ok = .true.
+      if (.not. trial%load_step .or. model%analysis%control /= control_arclength) return
+      if (degenerate_tangent(state, state%tangent_displacement)) return
+      ok = .false.
+      call band_copy(system%tangent, factors)
+      call band_factorize(factors, error)
+      if (allocated(error)) return
+      allocate (response(size(lin%reference), 1))
+      response(:, 1) = lin%reference
+      call band_solve(factors, response, error)
+      if (allocated(error)) return
+      ok = degenerate_tangent(state, response(:, 1))
+   end function lands_degenerate
 
    !> The predictor of an attempt: trial%dlambda and trial%increment along the committed tangent K⁻¹R;
    !> with contact, the contact LCP at the committed state first chooses the working set trial%active
@@ -317,6 +366,17 @@ contains
       associate (options => model%analysis)
          ut = state%tangent_displacement
          trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+         ! A degenerate tangent (the contacts carry the whole reference load) makes the step a load
+         ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.5).
+         trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
+         if (options%control == control_displacement) then
+            if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
+               ! The contacts carry the reference load at the controlled DOF: no Δλ moves it.
+               trial%reason = 'the reference load does not move the controlled displacement with this contact '// &
+                              'set (the contacts carry it): trace it with CONTROL=ARCLENGTH or CONTROL=LOAD'
+               return
+            end if
+         end if
          if (has_contacts(state)) then
             lin%x = state%u
             call gather_nodal(state%map, state%u, lin%nodal)
@@ -338,9 +398,28 @@ contains
                trial%reason = 'singular tangent at the start of the step'
                return
             end if
-            call step_constraint(options, state, ut, trial%dlambda, constraint)
+            call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
             call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
             trial%lcp_pivots = trial%lcp_pivots + update%pivots
+            if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
+               ! The step reaches a set whose contacts carry the whole reference load (an obstacle
+               ! closing under the load): the arc length has no displacement left to measure there,
+               ! and the predictor's Δλ is taken as a load step (docs/theory.md §2.5). The LCP lent
+               ! the system's matrices: the committed tangent is assembled again.
+               trial%load_step = .true.
+               call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
+                                   lin%internal, lin%reference, lin%element_scale)
+               lin%residual = state%lambda*lin%reference - lin%internal
+               call band_copy(system%tangent, system%assembled)
+               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               if (allocated(error)) then
+                  trial%reason = 'singular tangent at the start of the step'
+                  return
+               end if
+               call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
+               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+               trial%lcp_pivots = trial%lcp_pivots + update%pivots
+            end if
             if (allocated(error)) then
                trial%reason = error%message
                return
@@ -361,7 +440,10 @@ contains
                   end if
                   ut = lin%rhs(:, 2)
                end if
-               trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+               if (.not. trial%load_step) then
+                  trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
+                  trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
+               end if
             end if
          end if
          trial%increment = trial%dlambda*ut

@@ -9,6 +9,7 @@ module uniarc_path_point
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, masked_norm, nodal_displacements
    use uniarc_path_contact_set, only: candidate_state, violation
+   use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
    public :: describe_point
@@ -32,8 +33,17 @@ contains
       ! Unit tangent of the path in (u, λ) with the arc-length metric ds² = ||du||² (cylindrical):
       ! du/ds = ±K⁻¹R/||K⁻¹R||, dλ/ds = ±1/||K⁻¹R||, signed by the direction of travel.
       norm = masked_norm(state%map, state%tangent_displacement)
+      if (degenerate_tangent(state, state%tangent_displacement)) then
+         ! The contacts carry the whole reference load: the path goes in λ alone, measured by ψ
+         ! (docs/theory.md §2.5): du/ds = 0, dλ/ds = ±1/ψ (±1 if ψ is 0: λ itself is the parameter),
+         ! and the reactions grow at K⁻¹R's rate per unit s.
+         norm = state%lambda_scale
+         if (.not. (norm > 0.0_dp)) norm = 1.0_dp
+         state%point%rate = 0.0_dp*state%tangent_displacement
+      else
+         state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
+      end if
       state%point%dlambda_ds = real(state%direction, dp)/norm
-      state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
       state%point%lcp_residual = 0.0_dp
       m = size(state%map%candidate_equation)
       state%point%in_contact = [(.false., c=1, m)]

@@ -14,11 +14,11 @@ module uniarc_path_state
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, dofs_per_node
-   use uniarc_dof_map, only: dof_map_t
-   use uniarc_band, only: band_matrix_t, band_factorize, band_solve
+   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact
+   use uniarc_contact, only: assemble_contact, candidate_gap
    implicit none
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
@@ -103,10 +103,19 @@ module uniarc_path_state
       real(dp), allocatable :: last_increment(:)
       real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
       real(dp) :: first_length = 0.0_dp
+      !> ψ: the displacement norm one unit of λ moves (length per unit λ), ||K⁻¹R|| at the unloaded state
+      !> (or with its touching contacts released when they carry the whole reference load). It
+      !> measures a step in λ where the reference load moves no displacement (docs/theory.md §2.5).
+      real(dp) :: lambda_scale = 0.0_dp
       real(dp) :: load_norm = 0.0_dp            !< ||R_r|| · first Δλ: the force scale of the problem
       integer :: direction = 1                  !< +1/−1: predictor along ±K⁻¹R
       integer :: control_equation = 0
       real(dp) :: length_scale = 1.0_dp         !< size of the model (gap tolerances)
+      !> A structure held only by its contacts (docs/theory.md §2.6): the rigid motions (n, k ≤ 3) its
+      !> supports leave free, and the equation each is held at in the tangent while no contact of the
+      !> working set holds it (uniarc_path_mechanism, floating_motions). Unallocated: none.
+      real(dp), allocatable :: floating_motion(:, :)
+      integer, allocatable :: floating_equation(:)
       type(path_point_t) :: point
       !> The bifurcation located by the last step, if it located one (else unallocated).
       type(bifurcation_state_t), allocatable :: bifurcation
@@ -122,6 +131,9 @@ module uniarc_path_state
       real(dp) :: dlambda = 0.0_dp              !< Δλ: load factor minus the committed one
       real(dp), allocatable :: predictor(:)     !< (n) Δx of the predictor (before any correction)
       real(dp) :: predictor_dlambda = 0.0_dp    !< Δλ of the predictor
+      !> the attempt is a load step (Δλ fixed, no arc-length constraint): the reference load moves
+      !> no displacement with its working set (docs/theory.md §2.5)
+      logical :: load_step = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       integer :: iterations = 0                 !< Newton corrections
       integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs
@@ -142,6 +154,11 @@ module uniarc_path_state
       real(dp) :: element_scale = 0.0_dp       !< largest element force (assemble_equilibrium)
       real(dp) :: roundoff = 0.0_dp            !< round-off of the assembled residual (force units)
    end type linearization_t
+
+   !> A contact holds a free rigid motion v when |a_cᵀv| exceeds this fraction of |a_c| max|v|: the
+   !> motion then moves the contact's gap at first order (a contact whose normal is across the motion
+   !> to 1e-6 rad holds it 1e-6 as firmly as one along it).
+   real(dp), parameter :: floating_tolerance = 1.0e-6_dp
 
 contains
 
@@ -179,7 +196,50 @@ contains
          call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
                                system%tangent, internal)
       end if
+      if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
    end subroutine equilibrium_at
+
+   !> The tangent of a structure held only by its contacts, where the working set `active` does not
+   !> hold one of its free rigid motions v (no candidate of the set has a_cᵀv ≠ 0 at its node): the
+   !> tangent is singular along v, and a solve would add round-off over round-off times v to every
+   !> correction. The motion is held at its equation j by a spring of the size of K_jj, in the tangent
+   !> only: the residual is untouched, so a converged state is in exact equilibrium, and a right-hand
+   !> side with no component along v (every self-equilibrated one: no contact force) is solved exactly,
+   !> with δx_j = 0 — the structure does not drift while nothing pushes it (docs/theory.md §2.6).
+   subroutine hold_floating(model, state, active, nodal, tangent)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: active(:)
+      real(dp), intent(in) :: nodal(:, :)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp) :: g, gradient(2), hessian(2, 2), along, size_v, diagonal
+      integer :: i, c, node, k, j
+      logical :: held
+      do i = 1, size(state%floating_equation)
+         held = .false.
+         size_v = maxval(abs(state%floating_motion(:, i)))
+         do c = 1, size(active)
+            if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+            along = 0.0_dp
+            do k = 1, 2
+               if (state%map%equation(k, node) > 0) along = along + &
+                  gradient(k)*state%floating_motion(state%map%equation(k, node), i)
+            end do
+            ! Held by a contact whose normal sees the motion (above round-off of a direction).
+            if (abs(along) > floating_tolerance*norm2(gradient)*size_v) then
+               held = .true.
+               exit
+            end if
+         end do
+         if (held) cycle
+         j = state%floating_equation(i)
+         diagonal = abs(band_get(tangent, j, j))
+         if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
+         call band_add(tangent, j, j, diagonal)
+      end do
+   end subroutine hold_floating
 
    !> The reaction unknowns of x, one per candidate (0 for inert ones).
    pure function candidate_values(map, x) result(values)
@@ -222,11 +282,19 @@ contains
       masked_dot = sum(map%metric*a*b)
    end function masked_dot
 
-   !> Norm over the displacement unknowns only.
+   !> Norm over the displacement unknowns only. Masked before squaring (a reaction takes no part, the
+   !> same bits as metric·a² for a metric of 0 and 1); entries beyond 1e150 (a deck of absurd numbers,
+   !> forces of 1e300) are scaled before squaring: a number or +Inf, never an overflow trap.
    pure real(dp) function masked_norm(map, a)
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: a(:)
-      masked_norm = sqrt(sum(map%metric*a**2))
+      real(dp) :: largest
+      largest = maxval(abs(map%metric*a))
+      if (largest > 1.0e150_dp .and. largest <= huge(1.0_dp)) then
+         masked_norm = largest*sqrt(sum((map%metric*a/largest)**2))
+      else
+         masked_norm = sqrt(sum((map%metric*a)**2))
+      end if
    end function masked_norm
 
    !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
