@@ -40,7 +40,9 @@ cmake --build "$build" -j"$jobs"
 # halt_on_error: the first report ends the process with a non-zero status. No leak detection: the
 # variables of a Fortran main program are never deallocated (the standard does not ask it at END
 # PROGRAM), and LeakSanitizer reports each of them.
-export ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0:exitcode=86
+# allocator_may_return_null: an allocation too large for memory fails as the program expects (allocate
+# with stat=, a message, exit code 2) instead of ASan aborting.
+export ASAN_OPTIONS=halt_on_error=1:detect_leaks=0:abort_on_error=0:exitcode=86:allocator_may_return_null=1
 # UBSan reports and goes on (halt_on_error=0), so that one report does not hide the next: the summary
 # counts the reports of each source line, and any report makes the status non-zero.
 export UBSAN_OPTIONS=halt_on_error=0:print_stacktrace=1

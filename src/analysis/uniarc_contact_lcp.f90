@@ -33,7 +33,7 @@ module uniarc_contact_lcp
    !> A response to the reference load whose displacement is at most this fraction of ψ (the
    !> displacement a unit of λ moves at the unloaded state, path_constraint_t%lambda_scale) moves
    !> nothing: the contacts carry the whole load. A rigid contact under the load leaves round-off of
-   !> the solve only; a structure that merely stiffens stays far above (docs/theory.md §2.5).
+   !> the solve only; a structure that merely stiffens stays far above (docs/theory.md §2.7).
    real(dp), parameter :: degenerate_fraction = 1.0e-12_dp
 
    integer, parameter :: constraint_arclength = 1     !< tᵀδu = target (δu the displacement part)
@@ -511,7 +511,7 @@ contains
          denominator = dot_product(self%constraint%t, self%du_tangent)
          magnitude = norm2(self%constraint%t)*norm2(self%du_tangent)
          ! Measured against ψ too: K_S⁻¹R of a frame whose contacts carry the load is round-off,
-         ! and so is its own norm (docs/theory.md §2.5).
+         ! and so is its own norm (docs/theory.md §2.7).
          if (.not. (abs(denominator) > degenerate_fraction*norm2(self%constraint%t)*self%constraint%lambda_scale)) &
             denominator = 0.0_dp
       case (constraint_displacement)

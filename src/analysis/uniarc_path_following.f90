@@ -167,7 +167,7 @@ contains
    end subroutine size_first_step
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
-   !> contact touches, docs/theory.md §2.6): the stiffness at the unloaded state with the unilateral
+   !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
    !> candidates open (`system` is work space). Models without unilateral candidates have none (a
    !> mechanism was refused before).
    subroutine find_floating(model, state, system, nodal)
@@ -191,7 +191,7 @@ contains
    !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
    !> where the contacts touching at the start carry the whole reference load (K⁻¹R has no
    !> displacement: a heated bar against a rigid stop), the structure's own ||K⁻¹R|| with those contacts
-   !> released (docs/theory.md §2.5). Errors (error_analysis): an arc length asked for where neither
+   !> released (docs/theory.md §2.7). Errors (error_analysis): an arc length asked for where neither
    !> measures anything (the released structure is a mechanism).
    subroutine start_lambda_scale(model, state, error)
       type(model_t), intent(in) :: model
@@ -361,7 +361,7 @@ contains
             ! direction to compare with.)
             landing = state%tangent_displacement
             if (degenerate_tangent(state, landing)) landing = 0.0_dp
-            ! A load step (docs/theory.md §2.5) went in λ alone: its chord has no direction either.
+            ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either.
             if (degenerate_step(before, trial) .or. &
                 .not. off_branch(state%map, trial%increment, before%last_increment, landing)) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
@@ -399,7 +399,7 @@ contains
    end subroutine path_advance
 
    !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
-   !> whole reference load, docs/theory.md §2.5: a load step, or a step under load control): it has
+   !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has
    !> no direction for the angle and distance tests of a step.
    pure logical function degenerate_step(state, trial)
       type(path_state_t), intent(in) :: state

@@ -1,4 +1,4 @@
-!> The imperfection of `*IMPERFECTION` without FILE= (docs/input.md, docs/theory.md §2.5): the buckling
+!> The imperfection of `*IMPERFECTION` without FILE= (docs/input.md, docs/theory.md §2.6): the buckling
 !> mode of the perfect structure's n-th located bifurcation, computed by a first run of the deck's own
 !> path, scaled so that its largest nodal translation is the amplitude and added to the initial
 !> coordinates — what `*OUTPUT, MODES` and `*IMPERFECTION, FILE=` do in two runs, in one.

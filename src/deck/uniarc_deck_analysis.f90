@@ -221,7 +221,7 @@ contains
    end subroutine read_path
 
    !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (n >= 1), under
-   !> arc-length control (docs/theory.md §2.5).
+   !> arc-length control (docs/theory.md §2.6).
    subroutine read_switch(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card

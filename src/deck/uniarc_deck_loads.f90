@@ -4,7 +4,7 @@
 module uniarc_deck_loads
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string
+   use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string
    use uniarc_expression, only: find_parameter, parameter_table_t, set_parameter, sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
@@ -97,6 +97,8 @@ contains
                call field_real(source, deck%parameters, line, fields(4), 'a prescribed displacement', settlement, &
                                error)
                if (allocated(error)) return
+               call check_magnitude(source, line, fields(4), settlement, error)
+               if (allocated(error)) return
                do j = 1, size(nodes)
                   do k = first_dof, last_dof
                      call add_prescribed_displacement(deck%model, nodes(j), k, settlement)
@@ -147,6 +149,8 @@ contains
             if (allocated(error)) return
          end select
          call field_real(source, deck%parameters, line, fields(3), 'a load value', value, error)
+         if (allocated(error)) return
+         call check_magnitude(source, line, fields(3), value, error)
          if (allocated(error)) return
          do j = 1, size(nodes)
             call add_nodal_load(deck%model, nodes(j), dof, value)
@@ -240,6 +244,8 @@ contains
             call set_parameter(table, 'theta', position(4, j))
             call field_real(source, table, line, fields(3), 'a load value', value, error)
             if (allocated(error)) return
+            call check_magnitude(source, line, fields(3), value, error)
+            if (allocated(error)) return
             select case (load_type)
             case ('PX')
                call add_line_load(deck%model, elements(j), dof_ux, value)
@@ -326,6 +332,8 @@ contains
             if (allocated(error)) return
             call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error)
             if (allocated(error)) return
+            call check_magnitude(source, line, fields(3), delta_t, error)
+            if (allocated(error)) return
             difference = 0.0_dp
             depth = 0.0_dp
             if (size(fields) == 5) then
@@ -349,5 +357,20 @@ contains
          end do
       end do
    end subroutine read_temperature
+
+   !> A load, temperature change or prescribed displacement beyond 1e100 in magnitude is refused at its
+   !> field (file:line:col, exit code 2), as stiffnesses beyond 1e100 are (uniarc_deck_mesh): the
+   !> displacements it drives would overflow double precision in the equations.
+   subroutine check_magnitude(source, line, field, value, error)
+      type(source_t), intent(in) :: source
+      integer, intent(in) :: line
+      type(field_t), intent(in) :: field
+      real(dp), intent(in) :: value
+      type(error_t), allocatable, intent(out) :: error
+      if (abs(value) <= 1.0e100_dp) return
+      call raise(source, line, field%column, 'expected a value at most 1e100 in magnitude (larger loads '// &
+                 'overflow the equations in double precision: rescale the units), found '// &
+                 real_to_string(value), error)
+   end subroutine check_magnitude
 
 end module uniarc_deck_loads

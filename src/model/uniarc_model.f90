@@ -207,7 +207,7 @@ module uniarc_model
       integer :: control_dof = 0
       integer :: shape_every = 10            !< write a shape snapshot every so many steps
       !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
-      !> primary path; docs/theory.md §2.5)
+      !> primary path; docs/theory.md §2.6)
       integer :: switch_bifurcation = 0
       !> *IMPERFECTION without FILE=: add the mode of the perfect structure's n-th located bifurcation,
       !> computed in a first run, scaled to a largest nodal translation `imperfection_amplitude` (length)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Branch switching and buckling modes (issue 11 item 5; docs/theory.md §2.5): run uniarc on a deck
+"""Branch switching and buckling modes (issue 11 item 5; docs/theory.md §2.6): run uniarc on a deck
 with `*PATH, SWITCH=1` and `*OUTPUT, MODES` and check the secondary branch and the mode.
 
 --case walker: Walker's whole arch (tests/regression/decks/walker_arch_full_switch.inp). The path leaves

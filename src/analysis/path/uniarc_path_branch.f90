@@ -1,4 +1,4 @@
-!> Branch switching at a simple bifurcation (docs/theory.md §2.5), and the buckling mode there as
+!> Branch switching at a simple bifurcation (docs/theory.md §2.6), and the buckling mode there as
 !> nodal displacements (the modes file, uniarc_modes_output).
 !>
 !> At a bifurcation located by re-solving (uniarc_path_locate), the converged state x_c nearest to it

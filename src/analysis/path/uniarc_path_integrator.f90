@@ -42,7 +42,7 @@ contains
       select case (options%control)
       case (control_arclength)
          if (degenerate_tangent(state, ut)) then
-            ! The reference load moves nothing: a load step, Δλ = Δl/ψ (docs/theory.md §2.5).
+            ! The reference load moves nothing: a load step, Δλ = Δl/ψ (docs/theory.md §2.7).
             dlambda = state%direction*length/state%lambda_scale
             return
          end if
@@ -61,7 +61,7 @@ contains
 
    !> The constraint of the predictor LCP: the linearised step (normal plane to the tangent at distance
    !> Δl for arc length, the load or displacement increment otherwise).
-   !> A load step (`load_step`, docs/theory.md §2.5) is constrained by its Δλ under any control.
+   !> A load step (`load_step`, docs/theory.md §2.7) is constrained by its Δλ under any control.
    pure subroutine step_constraint(options, state, ut, dlambda, constraint, load_step)
       type(analysis_options_t), intent(in) :: options
       type(path_state_t), intent(in) :: state

@@ -64,7 +64,7 @@ contains
 
    !> The rigid motions (n, k ≤ 3) that `stiffness` (unfactorised, n × n: the structure with its supports
    !> and bilateral contacts, the unilateral ones open) leaves free — a liner floating in a cavity, held
-   !> only by its contacts once they touch (docs/theory.md §2.6) — and for each the equation where it
+   !> only by its contacts once they touch (docs/theory.md §2.8) — and for each the equation where it
    !> moves most, at which the tangent holds it while no contact does. Found one at a time by the
    !> module's test (free_rigid_motion), each held at its equation (a spring of the size of the
    !> diagonal there) before the next is looked for. `motions` unallocated: none.

@@ -182,7 +182,7 @@ contains
                ! Chan's constraint-free correction when the contact set changes within the step) would
                ! make the path turn back on itself. Such an attempt is cut instead.
                ! (A predictor without displacement — a load step, or any step of a degenerate tangent,
-               ! docs/theory.md §2.5 — has no direction to turn back from.)
+               ! docs/theory.md §2.7 — has no direction to turn back from.)
                if (masked_dot(state%map, trial%increment, predictor) <= 0.0_dp .and. .not. trial%load_step .and. &
                    .not. degenerate_tangent(state, predictor/max(abs(trial%predictor_dlambda), tiny(1.0_dp)))) then
                   trial%reason = 'the corrected step turned back'
@@ -253,7 +253,7 @@ contains
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
                if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
                   ! The arc length cannot fix δλ in a set whose contacts carry the whole reference
-                  ! load: the rest of the attempt is a load step (docs/theory.md §2.5). The LCP has
+                  ! load: the rest of the attempt is a load step (docs/theory.md §2.7). The LCP has
                   ! overwritten the tangent: the iteration assembles it again at this state.
                   trial%load_step = .true.
                   reuse_factors = .false.
@@ -314,7 +314,7 @@ contains
    end subroutine attempt_step
 
    !> Whether an attempt may end here as far as its load step goes: a load step begun from a regular
-   !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.5) must end
+   !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.7) must end
    !> where the contacts carry the whole reference load, K_S⁻¹R without displacement; one that ends
    !> elsewhere took another parametrisation of the path than the arc length asked for, and the attempt
    !> is cut instead. Every other attempt may (true). `system%tangent` holds K_S at the state of `lin`,
@@ -367,7 +367,7 @@ contains
          ut = state%tangent_displacement
          trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
          ! A degenerate tangent (the contacts carry the whole reference load) makes the step a load
-         ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.5).
+         ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.7).
          trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
          if (options%control == control_displacement) then
             if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
@@ -404,7 +404,7 @@ contains
             if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
                ! The step reaches a set whose contacts carry the whole reference load (an obstacle
                ! closing under the load): the arc length has no displacement left to measure there,
-               ! and the predictor's Δλ is taken as a load step (docs/theory.md §2.5). The LCP lent
+               ! and the predictor's Δλ is taken as a load step (docs/theory.md §2.7). The LCP lent
                ! the system's matrices: the committed tangent is assembled again.
                trial%load_step = .true.
                call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &

@@ -35,7 +35,7 @@ contains
       norm = masked_norm(state%map, state%tangent_displacement)
       if (degenerate_tangent(state, state%tangent_displacement)) then
          ! The contacts carry the whole reference load: the path goes in λ alone, measured by ψ
-         ! (docs/theory.md §2.5): du/ds = 0, dλ/ds = ±1/ψ (±1 if ψ is 0: λ itself is the parameter),
+         ! (docs/theory.md §2.7): du/ds = 0, dλ/ds = ±1/ψ (±1 if ψ is 0: λ itself is the parameter),
          ! and the reactions grow at K⁻¹R's rate per unit s.
          norm = state%lambda_scale
          if (.not. (norm > 0.0_dp)) norm = 1.0_dp

@@ -105,13 +105,13 @@ module uniarc_path_state
       real(dp) :: first_length = 0.0_dp
       !> ψ: the displacement norm one unit of λ moves (length per unit λ), ||K⁻¹R|| at the unloaded state
       !> (or with its touching contacts released when they carry the whole reference load). It
-      !> measures a step in λ where the reference load moves no displacement (docs/theory.md §2.5).
+      !> measures a step in λ where the reference load moves no displacement (docs/theory.md §2.7).
       real(dp) :: lambda_scale = 0.0_dp
       real(dp) :: load_norm = 0.0_dp            !< ||R_r|| · first Δλ: the force scale of the problem
       integer :: direction = 1                  !< +1/−1: predictor along ±K⁻¹R
       integer :: control_equation = 0
       real(dp) :: length_scale = 1.0_dp         !< size of the model (gap tolerances)
-      !> A structure held only by its contacts (docs/theory.md §2.6): the rigid motions (n, k ≤ 3) its
+      !> A structure held only by its contacts (docs/theory.md §2.8): the rigid motions (n, k ≤ 3) its
       !> supports leave free, and the equation each is held at in the tangent while no contact of the
       !> working set holds it (uniarc_path_mechanism, floating_motions). Unallocated: none.
       real(dp), allocatable :: floating_motion(:, :)
@@ -132,7 +132,7 @@ module uniarc_path_state
       real(dp), allocatable :: predictor(:)     !< (n) Δx of the predictor (before any correction)
       real(dp) :: predictor_dlambda = 0.0_dp    !< Δλ of the predictor
       !> the attempt is a load step (Δλ fixed, no arc-length constraint): the reference load moves
-      !> no displacement with its working set (docs/theory.md §2.5)
+      !> no displacement with its working set (docs/theory.md §2.7)
       logical :: load_step = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       integer :: iterations = 0                 !< Newton corrections
@@ -205,7 +205,7 @@ contains
    !> correction. The motion is held at its equation j by a spring of the size of K_jj, in the tangent
    !> only: the residual is untouched, so a converged state is in exact equilibrium, and a right-hand
    !> side with no component along v (every self-equilibrated one: no contact force) is solved exactly,
-   !> with δx_j = 0 — the structure does not drift while nothing pushes it (docs/theory.md §2.6).
+   !> with δx_j = 0 — the structure does not drift while nothing pushes it (docs/theory.md §2.8).
    subroutine hold_floating(model, state, active, nodal, tangent)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
