@@ -32,14 +32,8 @@ import subprocess
 import sys
 import tempfile
 
-R = 3.0
-EA = 1.0e5
-EI = 50.0
-GAS = 4.0e3
-K_JOINT = 200.0
-N_ELEMENTS = 48
-JOINT_NODES = [3, 11, 19, 27, 43]
-HINGE_NODE = 35
+# The ring of segmental_lining_peer.py (radius, section, joints and hinge), bedded here.
+from segmental_lining_peer import R, EA, EI, GAS, K_JOINT, N_ELEMENTS, JOINT_NODES, HINGE_NODE  # noqa: E402
 K_R = 2.0e3          # radial subgrade modulus (force per length per length)
 K_T = K_R / 3.0      # tangential subgrade modulus
 GAMMA = 20.0
