@@ -463,7 +463,7 @@ try:
     plot_shapes('ex1_shapes.png', results['contact_ex1_ring_rigid_cavity']['shape'], ['-f', '5', '-t', 'Ex. 1, rigid cavity'])
     names, files = path_files('contact_ex2')
     walker = results['nonlinear_walker_arch_half']['path']
-    plot_path('ex2_paths.png', [walker] + files, 'w_over_rise', ['k = 0 (walker_arch.inp), n = 40'] +
+    plot_path('ex2_paths.png', [walker] + files, 'w_over_rise', ['walker_arch.inp (no foundation), n = 40'] +
               [label_of(n, 'k', '') for n in names], ['-t', 'Ex. 2: foundation below, crown deflection / rise'])
     plot_shapes('ex2_shapes.png', results['contact_ex2_arch_below_k1e4']['shape'], ['-F', '-t', 'Ex. 2, k = 1e4'])
     names, files = path_files('contact_ex3')
