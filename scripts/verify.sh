@@ -66,7 +66,10 @@ def cmake_calls(text, command):
         begin = text.find(command + '(', position)
         if begin < 0:
             return calls
-        end = text.find(')', begin)
+        end, quoted = begin + len(command) + 1, False   # the closing parenthesis outside quotes
+        while end < len(text) and (quoted or text[end] != ')'):
+            quoted = quoted != (text[end] == '"')
+            end += 1
         calls.append(shlex.split(text[begin + len(command) + 1:end]))
         position = end + 1
 
