@@ -82,7 +82,7 @@ def substitute(word):
 parser = argparse.ArgumentParser()
 for option in ('--define', '--expect', '--expect-row-where', '--expect-max', '--expect-min',
                '--expect-snap-back', '--expect-crit', '--expect-crit-column', '--expect-crit-count',
-               '--expect-crit-before', '--expect-crit-path', '--expect-all'):
+               '--expect-crit-before', '--expect-crit-path', '--expect-all', '--expect-stderr'):
     parser.add_argument(option, action='append', default=[])
 parser.add_argument('--where-exact', action='store_true')
 parser.add_argument('--reference')
@@ -245,6 +245,10 @@ def evaluate(test, result):
     if result['code'] != args.expect_exit:
         checks.append((f'uniarc exit code {result["code"]}, expected {args.expect_exit}: {result["stderr"][-300:]}', False))
         return numbers, checks
+    for text in args.expect_stderr:
+        checks.append((f'stderr has "{text}"', text in result['stderr']))
+    if args.expect_exit != 0 and not os.path.isfile(result['path']):   # refused before its first step
+        return numbers, checks
     names, rows = read_table(result['path'])
     for expectation in args.expect:
         column, expected = expectation.split('=', 1)
@@ -323,7 +327,9 @@ SECTIONS = [
          ['ex1_path.png', 'ex1_phi.png', 'ex1_shapes.png']),
         ('Ex. 2 — Walker\'s arch on a tensionless foundation below', 'contact_ex2',
          'Deck `input/arch_foundation_below.inp`: Walker\'s pinned shallow arch (R/h = 500, half-opening 10°), '
-         'crown load, Winkler foundation on the concave side, k = K_f R⁴/EI, half arch; λ = K = PR²/EI.',
+         'crown load, Winkler foundation on the concave side, k = K_f R⁴/EI, half arch; λ = K = PR²/EI. '
+         'The path of `input/walker_arch.inp` (no foundation) lies on the k = 0 path all along and is '
+         'drawn over it, thin with open circles: a foundation of zero stiffness changes nothing.',
          ['ex2_paths.png', 'ex2_shapes.png']),
         ('Ex. 3 — the same arch under a foundation above', 'contact_ex3',
          'Deck `input/arch_foundation_above.inp`: the foundation on the convex side, so a central region '
