@@ -17,8 +17,12 @@
 #               edit it and run `gnuplot FILE.gp`
 #
 # Legend: the -D values of each run (from the `# defines:` line of its path file) that differ between
-# the files, as "k = 1e4"; the deck stem too when the files come from different decks; the stem alone
-# when nothing differs. A branch is unstable where the path's neg_pivots > 0 (the tangent stiffness
+# the files, as "k = 1e4"; a run without one of them gets no such part (its deck's value is not known
+# here), but the deck stem; the deck stem too when the files come from different decks; the stem
+# alone when nothing differs. A path that lies on another file's curve all along (within 1e-3 of the
+# plot's extent) is drawn last, thin and with open circles, so that both stay visible. When the x or
+# y column is a contact-region coordinate (s_contact_N), the rows without contact (n_contact = 0,
+# where uniarc writes s = 0) are left out and the curve is broken there. A branch is unstable where the path's neg_pivots > 0 (the tangent stiffness
 # with the contacts has a negative pivot); a branch changes style at the critical point between the
 # two steps, or half-way when the file has none there. Events are placed at the fractional step
 # STEM.crit gives: its own value where the x column is tracked there, else the path column
@@ -104,7 +108,8 @@ def legend(number):
     if number < len(labels):
         return labels[number]
     t = tables[number]
-    parts = [f'{n} = {t.defines[n]}' if n in t.defines else f'{n} as in the deck' for n in varying]
+    parts = [f'{n} = {t.defines[n]}' for n in varying if n in t.defines]
+    lacking = any(n not in t.defines for n in varying)   # its deck's value: not known here
     # a run of scripts/sweep.sh: what its --label says the value means (e.g. k = 0: rigid)
     sweep = os.path.dirname(os.path.dirname(os.path.abspath(t.path)))
     if os.path.isfile(os.path.join(sweep, 'labels.txt')) and os.path.isfile(os.path.join(sweep, 'sweep.conf')):
@@ -113,7 +118,7 @@ def legend(number):
         value = t.defines.get(conf.get('name'))
         if value in meaning:
             parts = [p + f' ({meaning[value]})' if p.startswith(conf['name'] + ' = ') else p for p in parts]
-    if len(set(stems)) > 1 or not parts:
+    if len(set(stems)) > 1 or not parts or lacking:
         same_stem = [i for i, s in enumerate(stems) if s == t.stem]
         stem = t.stem
         if len(same_stem) > 1 and not parts:   # same deck, same -D: the folders tell them apart
@@ -130,8 +135,56 @@ kinds = {'limit_max': 'limit point', 'limit_min': 'limit point', 'bifurcation': 
 critical = set(kinds)
 if contact == 'yes':
     kinds.update({'contact_start': 'contact starts', 'contact_lost': 'contact lost'})
+# the contact events open, larger and drawn after the critical points: at a limit point that is also
+# a contact event both markers show (the open triangle around the dot)
 styles = {'limit point': 'pt 7 ps 1.6', 'bifurcation': 'pt 13 ps 1.9', 'lift-off bifurcation': 'pt 12 ps 1.9',
-          'contact starts': 'pt 8 ps 1.5', 'contact lost': 'pt 10 ps 1.5'}
+          'contact starts': 'pt 8 ps 2.6', 'contact lost': 'pt 10 ps 2.6'}
+order = ['limit point', 'bifurcation', 'lift-off bifurcation', 'contact starts', 'contact lost']
+
+
+def drawn_rows(table, ix, iy):
+    """The rows of a path drawn, each with whether the curve breaks before it: without the rows out of
+    contact when x or y is a contact-region coordinate (s_contact_N is 0 there, not a position)."""
+    names = table.names
+    region = names[ix].startswith('s_contact_') or names[iy].startswith('s_contact_')
+    icontact = table.column('n_contact') if region else None
+    result, gap = [], False
+    for row in ([float(x) for x in r] for r in table.rows):
+        if icontact is not None and row[icontact] <= 0:
+            gap = bool(result)
+            continue
+        result.append((row, gap))
+        gap = False
+    return result
+
+
+def on_curve(points, curve, extent):
+    """Whether every point lies within 1e-3 of the plot's extent (per axis) of the polyline curve."""
+    if not points or len(curve) < 2:
+        return False
+    sx, sy = extent
+
+    def distance(p, a, b):
+        px, py, ax, ay, bx, by = p[0] / sx, p[1] / sy, a[0] / sx, a[1] / sy, b[0] / sx, b[1] / sy
+        dx, dy = bx - ax, by - ay
+        length = dx * dx + dy * dy
+        t = 0.0 if length == 0.0 else max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / length))
+        return ((px - ax - t * dx) ** 2 + (py - ay - t * dy) ** 2) ** 0.5
+    return all(min(distance(p, a, b) for a, b in zip(curve, curve[1:])) < 1e-3 for p in points)
+
+
+# which file's curve lies on another file's all along: drawn last, thin, with open circles
+curves = []
+for path, table in zip(files, tables):
+    ix, iy = resolve(table.names, xcolumn, path), resolve(table.names, ycolumn, path)
+    curves.append([(row[ix], row[iy]) for row, _ in drawn_rows(table, ix, iy)])
+every = [p for c in curves for p in c]
+extent = ((max(p[0] for p in every) - min(p[0] for p in every)) or 1.0,
+          (max(p[1] for p in every) - min(p[1] for p in every)) or 1.0) if every else (1.0, 1.0)
+coincident = [any(other != number and on_curve(curve, curves[other], extent) and
+                  not (other > number and on_curve(curves[other], curve, extent)) for other in range(len(curves)))
+              for number, curve in enumerate(curves)]
+last_plots, marker_kind = [], {}
 plots, blocks, used, label_lines = [], [], [], []
 wanted_labels, all_points = [], []   # (x, y, side, text, colour) of the critical points; every point drawn
 headroom, footroom = 0.0, 0.0         # how far labels reach above and below the frame (graph fractions)
@@ -141,7 +194,8 @@ for number, (path, table) in enumerate(zip(files, tables)):
     ix, iy = resolve(names, xcolumn, path), resolve(names, ycolumn, path)
     colour = colours[number % len(colours)]
     rows = [[float(x) for x in row] for row in table.rows]
-    ineg = table.column('neg_pivots')
+    kept = drawn_rows(table, ix, iy)
+    ineg, icontact = table.column('neg_pivots'), table.column('n_contact')
     # events of STEM.crit: (kind, fractional step, x, y)
     events = []
     crit = os.path.splitext(path)[0] + '.crit'
@@ -156,9 +210,14 @@ for number, (path, table) in enumerate(zip(files, tables)):
                 name = names[column_index]
                 if name in numbers:
                     return numbers[name]
+                region = name.startswith('s_contact_') and icontact is not None
                 for a, b in zip(rows, rows[1:]):
                     if a[0] <= step <= b[0]:
                         t = (step - a[0]) / (b[0] - a[0]) if b[0] > a[0] else 0.0
+                        if region and (a[icontact] <= 0) != (b[icontact] <= 0):
+                            t = 0.0 if b[icontact] <= 0 else 1.0   # the end in contact (s = 0 is no position)
+                        elif region and a[icontact] <= 0:
+                            return None
                         return a[column_index] + t * (b[column_index] - a[column_index])
                 return None
             x, y = value(ix), value(iy)
@@ -168,11 +227,14 @@ for number, (path, table) in enumerate(zip(files, tables)):
     # around a change of neg_pivots (half-way when STEM.crit has none there)
     stable_rows, unstable_rows = [], []
     previous = None
-    for k, row in enumerate(rows):
+    for k, (row, gap) in enumerate(kept):
+        if gap and previous is not None:   # rows out of contact left out: the curve breaks here
+            (unstable_rows if previous[1] else stable_rows).append('')
+            previous = None
         point = (row[ix], row[iy])
         unstable = ineg is not None and row[ineg] > 0
         if previous is not None and unstable != previous[1]:
-            inside = [e for e in events if e[0] in critical and rows[k - 1][0] <= e[1] <= row[0]]
+            inside = [e for e in events if e[0] in critical and kept[k - 1][0][0] <= e[1] <= row[0]]
             cut = (inside[0][2], inside[0][3]) if inside else tuple((a + b) / 2 for a, b in zip(previous[0], point))
             (unstable_rows if previous[1] else stable_rows).append(f'{cut[0]!r} {cut[1]!r}')
             (unstable_rows if previous[1] else stable_rows).append('')
@@ -185,8 +247,12 @@ for number, (path, table) in enumerate(zip(files, tables)):
             continue
         block = f'$path{number}_{kind_of_branch}'
         blocks.append(block + ' << EOD\n' + '\n'.join(block_rows) + '\nEOD')
-        plots.append(f'{block} using 1:2 with lines lw 2 dt {dash} lc rgb "{colour}" '
-                     f'title {title_text} noenhanced')
+        if coincident[number]:
+            last_plots.append(f'{block} using 1:2 with linespoints lw 1 dt {dash} pt 6 ps 1.3 '
+                              f'pi {max(1, len(kept) // 20)} lc rgb "{colour}" title {title_text} noenhanced')
+        else:
+            plots.append(f'{block} using 1:2 with lines lw 2 dt {dash} lc rgb "{colour}" '
+                         f'title {title_text} noenhanced')
         title_text = '""'     # one legend entry per file
         any_unstable = any_unstable or kind_of_branch == 'unstable'
     points = {}
@@ -197,11 +263,12 @@ for number, (path, table) in enumerate(zip(files, tables)):
             # the critical point's lambda beside its marker, in the colour of its path
             # above a maximum, below a minimum, staggered by file so that nearby paths' labels part
             wanted_labels.append((x, y, -1 if kind == 'limit_min' else 1, "{/Symbol l} = " + f"{y:.4g}", colour))
-    all_points += [(row[ix], row[iy]) for row in rows]
-    for kind, found in points.items():
+    all_points += [(row[ix], row[iy]) for row, _ in kept]
+    for kind, found in sorted(points.items(), key=lambda item: order.index(item[0])):
         block = f'$events{number}_{len(blocks)}'
         blocks.append(block + ' << EOD\n' + '\n'.join(f'{x!r} {y!r}' for x, y in found) + '\nEOD')
         plots.append(f'{block} using 1:2 with points {styles[kind]} lc rgb "{colour}" notitle')
+        marker_kind[plots[-1]] = kind
         if kind not in used:
             used.append(kind)
 # Each label above its maximum (below a minimum), raised further, a line at a time, until it overlaps
@@ -228,6 +295,9 @@ if wanted_labels and all_points:
         footroom = max(footroom, 0.03 - box[2])
         label_lines.append(f'set label {quote(text)} at {x!r},{y!r} center offset 0,{rise:g} '
                            f'tc rgb "{colour}" boxed front')
+# drawn in this order: the lines, the coincident lines, then the markers (critical points, contact events)
+markers = sorted((p for p in plots if ' with points ' in p), key=lambda p: order.index(marker_kind[p]))
+plots = [p for p in plots if ' with points ' not in p] + last_plots + markers
 if any_unstable:
     plots.append('NaN with lines lw 2 dt 1 lc rgb "black" title "stable (no negative pivot)"')
     plots.append('NaN with lines lw 2 dt 2 lc rgb "black" title "unstable (negative pivots)"')

@@ -162,7 +162,7 @@ for number, (step, load, rows) in enumerate(chosen):
     every_point += shape
     touching = [p for p, r in zip(shape, rows) if r[column['reaction']] > threshold]
     blocks += [f'$shape{number} << EOD', *polyline(shape), 'EOD']
-    label = f'step {step:g}, {{/Symbol l}} = {load:.4g}' + (f', {len(touching)} nodes in contact' if touching else '')
+    label = f'step {step:g}, {{/Symbol l}} = {load:.4g}' + (f', {len(touching)} node{"s" if len(touching) != 1 else ""} in contact' if touching else '')
     plots.append(f'$shape{number} using 1:2 with lines lw 2 lc rgb "{colour}" title "{label}"')
     if touching:
         marker = markers[number % len(markers)]
@@ -174,8 +174,13 @@ if contact_legend:
                  f'title "node in contact (a symbol per snapshot)"')
 # The frame: a fixed plot area (screen fractions of the canvas below), so that the scales of x and y
 # are known: equal, or (with -F) filling the area, with their ratio stated in the title.
-width_px, height_px = 1150, 760
-left, right, bottom, top = 0.08, 0.64, 0.09, 0.90
+# The key left-aligned a little right of the frame (its box never overlaps the frame), on a canvas
+# wide enough for it: gnuplot sizes the box at about 10 px per character of its longest entry (the
+# sample included), plus a margin.
+longest = max(len(p.split(' title "')[-1].replace(' noenhanced', '').replace('{/Symbol l}', 'l')) for p in plots if ' title "' in p)
+left_px, right_px, key_gap_px = 92, 736, 14
+width_px, height_px = max(1150, right_px + key_gap_px + 10 * longest + 30), 760
+left, right, bottom, top = left_px / width_px, right_px / width_px, 0.09, 0.90
 area_w, area_h = (right - left) * width_px, (top - bottom) * height_px
 xs = [p[0] for p in every_point]
 ys = [p[1] for p in every_point]
@@ -205,7 +210,8 @@ print(f'set yrange [{y_range[0]!r}:{y_range[1]!r}]')
 print('set xlabel "x"')
 print('set ylabel "y"')
 print('set grid')
-print(f'set key at screen 0.99, screen {top} right top box spacing 1.15 samplen 2.5')
+print(f'set key at screen {(right_px + key_gap_px) / width_px!r}, screen {top} left top Left reverse box '
+      'spacing 1.15 samplen 2.5')
 print('\n'.join(blocks))
 print('plot ' + ', \\\n     '.join(plots))
 PYTHON

@@ -66,7 +66,10 @@ def cmake_calls(text, command):
         begin = text.find(command + '(', position)
         if begin < 0:
             return calls
-        end = text.find(')', begin)
+        end, quoted = begin + len(command) + 1, False   # the closing parenthesis outside quotes
+        while end < len(text) and (quoted or text[end] != ')'):
+            quoted = quoted != (text[end] == '"')
+            end += 1
         calls.append(shlex.split(text[begin + len(command) + 1:end]))
         position = end + 1
 
@@ -79,7 +82,7 @@ def substitute(word):
 parser = argparse.ArgumentParser()
 for option in ('--define', '--expect', '--expect-row-where', '--expect-max', '--expect-min',
                '--expect-snap-back', '--expect-crit', '--expect-crit-column', '--expect-crit-count',
-               '--expect-crit-before', '--expect-crit-path', '--expect-all'):
+               '--expect-crit-before', '--expect-crit-path', '--expect-all', '--expect-stderr'):
     parser.add_argument(option, action='append', default=[])
 parser.add_argument('--where-exact', action='store_true')
 parser.add_argument('--reference')
@@ -242,6 +245,10 @@ def evaluate(test, result):
     if result['code'] != args.expect_exit:
         checks.append((f'uniarc exit code {result["code"]}, expected {args.expect_exit}: {result["stderr"][-300:]}', False))
         return numbers, checks
+    for text in args.expect_stderr:
+        checks.append((f'stderr has "{text}"', text in result['stderr']))
+    if args.expect_exit != 0 and not os.path.isfile(result['path']):   # refused before its first step
+        return numbers, checks
     names, rows = read_table(result['path'])
     for expectation in args.expect:
         column, expected = expectation.split('=', 1)
@@ -320,7 +327,9 @@ SECTIONS = [
          ['ex1_path.png', 'ex1_phi.png', 'ex1_shapes.png']),
         ('Ex. 2 — Walker\'s arch on a tensionless foundation below', 'contact_ex2',
          'Deck `input/arch_foundation_below.inp`: Walker\'s pinned shallow arch (R/h = 500, half-opening 10°), '
-         'crown load, Winkler foundation on the concave side, k = K_f R⁴/EI, half arch; λ = K = PR²/EI.',
+         'crown load, Winkler foundation on the concave side, k = K_f R⁴/EI, half arch; λ = K = PR²/EI. '
+         'The path of `input/walker_arch.inp` (no foundation) lies on the k = 0 path all along and is '
+         'drawn over it, thin with open circles: a foundation of zero stiffness changes nothing.',
          ['ex2_paths.png', 'ex2_shapes.png']),
         ('Ex. 3 — the same arch under a foundation above', 'contact_ex3',
          'Deck `input/arch_foundation_above.inp`: the foundation on the convex side, so a central region '
@@ -463,7 +472,7 @@ try:
     plot_shapes('ex1_shapes.png', results['contact_ex1_ring_rigid_cavity']['shape'], ['-f', '5', '-t', 'Ex. 1, rigid cavity'])
     names, files = path_files('contact_ex2')
     walker = results['nonlinear_walker_arch_half']['path']
-    plot_path('ex2_paths.png', [walker] + files, 'w_over_rise', ['k = 0 (walker_arch.inp), n = 40'] +
+    plot_path('ex2_paths.png', [walker] + files, 'w_over_rise', ['walker_arch.inp (no foundation), n = 40'] +
               [label_of(n, 'k', '') for n in names], ['-t', 'Ex. 2: foundation below, crown deflection / rise'])
     plot_shapes('ex2_shapes.png', results['contact_ex2_arch_below_k1e4']['shape'], ['-F', '-t', 'Ex. 2, k = 1e4'])
     names, files = path_files('contact_ex3')

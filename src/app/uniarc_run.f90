@@ -21,7 +21,7 @@ module uniarc_run
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, print_model_summary
-   use uniarc_strings, only: integer_to_string
+   use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
    use uniarc_path_branch, only: nodal_mode
@@ -326,13 +326,13 @@ contains
       if (interrupt_signal() /= 0 .and. driver%stop == stop_none) then
          write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())//' after step '// &
             integer_to_string(record%step)//' (lambda = '//short_number(record%lambda)//'): the '// &
-            integer_to_string(record%step)//' steps traced are in '//results%directory//'/'//options%stem//'.path'
+            counted(record%step, 'step')//' traced are in '//results%directory//'/'//options%stem//'.path'
       end if
       if (.not. options%quiet) then
          if (allocated(model%steps)) write (output_unit, '(a)') 'analysis step '//integer_to_string(k_step)// &
             ' ('//model%steps(k_step)%name//') ended at lambda = '//trim(format_number(record%lambda))//'; '// &
             stop_message(model, driver)
-         write (output_unit, '(a)') 'path traced: '//integer_to_string(record%step)//' steps, lambda = '// &
+         write (output_unit, '(a)') 'path traced: '//counted(record%step, 'step')//', lambda = '// &
             trim(format_number(record%lambda))//'; '//stop_message(model, driver)
          write (output_unit, '(a)') '  '//counted(n_critical, 'critical point')//' and '// &
             counted(n_contact_events, 'contact event')//' in '//options%stem//'.crit'
@@ -539,15 +539,6 @@ contains
          text = integer_to_string(s/3600)//' h '//trim(minutes)//' min'
       end if
    end function duration_text
-
-   !> "1 critical point", "2 critical points": a count and its noun.
-   pure function counted(n, noun) result(text)
-      integer, intent(in) :: n
-      character(len=*), intent(in) :: noun
-      character(len=:), allocatable :: text
-      text = integer_to_string(n)//' '//noun
-      if (n /= 1) text = text//'s'
-   end function counted
 
    !> A rate (steps per second) with three significant digits at most: "727", "52.3", "0.215".
    function rate_text(rate) result(text)

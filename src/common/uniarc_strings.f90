@@ -9,6 +9,7 @@ module uniarc_strings
    public :: to_upper, to_lower, same_text, is_name, is_digit, is_letter, is_blank
    public :: split_fields, first_nonblank, last_nonblank
    public :: integer_to_string, real_to_string
+   public :: counted
 
    !> One comma-separated field of a line: its text (blanks at both ends removed) and the column of
    !> its first character in the line (of the comma's successor when the field is empty).
@@ -183,6 +184,16 @@ contains
       write (buffer, '(i0)') value
       text = trim(buffer)
    end function integer_to_string
+
+   !> A count and its noun, the noun plural unless the count is 1: "1 critical point", "2 critical
+   !> points", "0 steps". The plural is the noun with "s" (the nouns the messages count take it).
+   pure function counted(n, noun) result(text)
+      integer, intent(in) :: n
+      character(len=*), intent(in) :: noun
+      character(len=:), allocatable :: text
+      text = integer_to_string(n)//' '//noun
+      if (n /= 1) text = text//'s'
+   end function counted
 
    !> A real as text, without surrounding blanks: the one real-to-text conversion of the program.
    !>

@@ -3,7 +3,7 @@
 module uniarc_deck_mesh
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string
+   use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string, counted
    use uniarc_growth, only: append_integers
    use uniarc_expression, only: sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
@@ -313,7 +313,7 @@ contains
       if (allocated(error)) return
       if (n < 1 .or. (closed .and. n < 3)) then
          call raise(source, line, fields(field_n)%column, 'expected at least '// &
-                    merge('3', '1', closed)//' elements, found '//integer_to_string(n), error)
+                    counted(merge(3, 1, closed), 'element')//', found '//integer_to_string(n), error)
          return
       end if
 

@@ -40,17 +40,55 @@ for stem in sys.argv[2:]:
 labels = script.count('set label "{/Symbol l} = ')
 if critical == 0 or labels != critical:
     failures.append(f'{labels} lambda labels for {critical} critical points')
-# legends from -D: only the second run has -D k=1e4 (both have n=20, which goes to the title)
-if 'title "k = 1e4"' not in script or 'title "k as in the deck"' not in script:
-    failures.append('legends are not "k as in the deck" and "k = 1e4"')
+# legends from -D: only the second run has -D k=1e4 (both have n=20, which goes to the title); the
+# first gets its deck stem (in its folder: the two stems are the same), no "k = ..." of its own
+if 'title "k = 1e4"' not in script or 'title "ring/ring_rigid_cavity"' not in script or 'title "k as' in script:
+    failures.append('legends are not "ring/ring_rigid_cavity" (deck stem in its folder) and "k = 1e4"')
 if 'set title "ring_rigid_cavity (n = 20)"' not in script:
     failures.append('the title does not show the shared -D n=20')
 for failure in failures:
     print('FAIL:', failure)
 sys.exit(1 if failures else 0)
 PYTHON
-bash "$source_dir/scripts/plot_path.sh" -x s_contact_1 -C ring/ring_rigid_cavity.path
+bash "$source_dir/scripts/plot_path.sh" -x s_contact_1 -C -g phi.gp ring/ring_rigid_cavity.path
 png_ok ring/ring_rigid_cavity.png
+# the same path twice (another folder): the second lies on the first all along and must stay visible
+mkdir -p again && cp ring/ring_rigid_cavity.path ring/ring_rigid_cavity.crit again/
+bash "$source_dir/scripts/plot_path.sh" -o same.png -g same.gp ring/ring_rigid_cavity.path again/ring_rigid_cavity.path
+png_ok same.png
+PYTHONPATH="$source_dir/scripts" python3 - phi.gp same.gp ring/ring_rigid_cavity.path <<'PYTHON'
+import re, sys
+from uniarc_table import Table
+failures = []
+phi, same = (open(name).read() for name in sys.argv[1:3])
+# -x s_contact_1: the rows without contact (s = 0 there) are left out, not joined along s = 0
+table = Table(sys.argv[3])
+icontact, ix = table.column('n_contact'), table.column('s_contact_1')
+if not any(float(r[icontact]) == 0 for r in table.rows):
+    failures.append('the test path has no row without contact: nothing is tested')
+drawn = [float(line.split()[0]) for block in re.findall(r'\$path0_\w+ << EOD\n(.*?)\nEOD', phi, re.S)
+         for line in block.splitlines() if line.strip()]
+contact_s = {float(r[ix]) for r in table.rows if float(r[icontact]) > 0}
+if not drawn or any(x == 0.0 and 0.0 not in contact_s for x in drawn):
+    failures.append('rows without contact (s_contact_1 = 0) are drawn')
+# -C: the contact events drawn after the critical points, larger, so that neither hides the other
+markers = re.findall(r'^\s*(?:plot )?\$events\S+ using 1:2 with points pt (\d+) ps ([\d.]+)', phi, re.M)
+critical = [(i, float(ps)) for i, (pt, ps) in enumerate(markers) if pt in ('7', '12', '13')]
+events = [(i, float(ps)) for i, (pt, ps) in enumerate(markers) if pt in ('8', '10')]
+if not critical or not events:
+    failures.append(f'expected critical points and contact events among the markers: {markers}')
+elif max(i for i, _ in critical) > min(i for i, _ in events) or max(p for _, p in critical) >= min(p for _, p in events):
+    failures.append(f'contact events not drawn after and larger than the critical points: {markers}')
+# coincident curves: the second drawn after the first, thin, with open circles
+plot = same[same.index('plot '):]
+first = plot.find('$path0_stable using 1:2 with lines lw 2')
+second = plot.find('$path1_stable using 1:2 with linespoints lw 1')
+if first < 0 or second < first:
+    failures.append('the coincident second path is not drawn after the first with points')
+for failure in failures:
+    print('FAIL:', failure)
+sys.exit(1 if failures else 0)
+PYTHON
 bash "$source_dir/scripts/plot_shapes.sh" -f 5 -s 10,40 -o shapes.png -g shapes.gp ring/ring_rigid_cavity.shape
 png_ok shapes.png
 # a shallow arch with -F: the title's vertical exaggeration must be the frame's
@@ -84,6 +122,12 @@ if not stated or abs(float(stated.group(1)) / (per_x / per_y) - 1) > 5e-3:   # 3
     failures.append(f'arch: title says {stated and stated.group(0)!r}, the frame has {per_x / per_y!r}')
 if 'title "bed (elastic' not in arch:
     failures.append('the elastic bed of STEM.surface is not drawn')
+# the legend box to the right of the frame, never over it
+for name, script in (('ring', ring), ('arch', arch)):
+    key = re.search(r'set key at screen ([\d.]+), screen [\d.]+ left top', script)
+    right = float(re.search(r'set rmargin at screen ([\d.]+)', script).group(1))
+    if not key or float(key.group(1)) <= right + 0.005:
+        failures.append(f'{name}: the key is not left-aligned right of the frame (rmargin {right})')
 for failure in failures:
     print('FAIL:', failure)
 sys.exit(1 if failures else 0)
