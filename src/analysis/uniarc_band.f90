@@ -65,14 +65,37 @@ contains
 
    !> target ← source, entries and factorisation state; the target's storage is reused when it has
    !> the shape already (no allocation per copy: a copy of a large band is a memory copy only).
-   subroutine band_copy(source, target)
+   !> With `error` present, an allocation the system refuses is returned (error_input, exit code 2:
+   !> the model does not fit in memory) with the copy's size, as band_allocate does; target is then
+   !> left without storage.
+   subroutine band_copy(source, target, error)
       type(band_matrix_t), intent(in) :: source
       type(band_matrix_t), intent(inout) :: target
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: status
+      character(len=200) :: message
       if (allocated(target%ab)) then
          if (any(shape(target%ab) /= shape(source%ab))) deallocate (target%ab, target%pivots)
       end if
-      if (.not. allocated(target%ab)) allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), &
-                                                target%pivots(size(source%pivots)))
+      if (.not. allocated(target%ab)) then
+         if (present(error)) then
+            message = ''
+            allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), target%pivots(size(source%pivots)), &
+                      stat=status, errmsg=message)
+            if (status /= 0) then
+               if (allocated(target%ab)) deallocate (target%ab)
+               if (allocated(target%pivots)) deallocate (target%pivots)
+               call make_error(error, 'the model does not fit in memory: a copy of the band matrix of '// &
+                               integer_to_string(source%n)//' equations and half bandwidth '// &
+                               integer_to_string(max(source%kl, source%ku))//' ('// &
+                               memory_text(8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp))// &
+                               ') cannot be allocated: '//trim(message), error_input)
+               return
+            end if
+         else
+            allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), target%pivots(size(source%pivots)))
+         end if
+      end if
       target%ab(:, :) = source%ab
       target%pivots(:) = source%pivots
       call copy_description(source, target)

@@ -156,8 +156,11 @@ contains
       selection%report%status = lemke_solved
       selection%report%message = 'solved'
       if (lcp%m == 0) return
-      lcp%du_residual = linearization%du_residual
-      lcp%du_tangent = linearization%du_tangent
+      ! allocate (..., source=) rather than assignment to the unallocated components: gfortran 12's
+      ! reallocation on assignment reads the bounds of the unallocated descriptor first (GCC bug
+      ! 77504, an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
+      allocate (lcp%du_residual, source=linearization%du_residual)
+      allocate (lcp%du_tangent, source=linearization%du_tangent)
       lcp%constraint = linearization%constraint
       lcp%units = linearization%units
       lcp%tolerance = options%tolerance
@@ -177,8 +180,8 @@ contains
 
       call band_move(assembled, lcp%matrix)
       call band_move(tangent, lcp%factors)
-      lcp%residual = linearization%residual
-      lcp%reference = linearization%reference
+      allocate (lcp%residual, source=linearization%residual)
+      allocate (lcp%reference, source=linearization%reference)
       allocate (lcp%work(size(linearization%x), 1))
       call implicit_lcp_solve(lcp, w, selection%report, error, options)
       call band_move(lcp%matrix, assembled)
@@ -221,7 +224,7 @@ contains
                       (in_set(model, selection%active, c) .neqv. in_set(model, active, c)), &
                       c=1, size(active))])) then
          tangent%factorized = .true.
-         selection%du_tangent = lcp%du_tangent
+         allocate (selection%du_tangent, source=lcp%du_tangent)
          selection%kept = .true.
       end if
    end subroutine select_contact_set
@@ -282,7 +285,7 @@ contains
          return
       end if
       dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)
-      particular = self%du_residual + dlambda*self%du_tangent
+      allocate (particular, source=self%du_residual + dlambda*self%du_tangent)   ! GCC bug 77504, above
       largest_displacement = 0.0_dp
       largest_reaction = 0.0_dp
       do j = 1, self%m
@@ -475,7 +478,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: rhs(:, :), correction(:, :)
       integer :: k
-      call band_copy(self%matrix, self%factors)
+      call band_copy(self%matrix, self%factors, error)
+      if (allocated(error)) return
       call band_factorize(self%factors, error)
       if (allocated(error)) return
       allocate (rhs(size(self%residual), 2), correction(size(self%residual), 2))

@@ -92,7 +92,8 @@ contains
       do round = 1, max_rounds
          call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
          if (allocated(error)) return
-         call band_copy(assembled, factors)
+         call band_copy(assembled, factors, error)
+         if (allocated(error)) return
          call band_factorize(factors, error)
          if (allocated(error)) then
             call add_context(error, 'linear static analysis (are the supports and contacts enough to hold '// &

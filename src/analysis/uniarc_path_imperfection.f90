@@ -4,7 +4,7 @@
 !> coordinates — what `*OUTPUT, MODES` and `*IMPERFECTION, FILE=` do in two runs, in one.
 module uniarc_path_imperfection
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_error, only: error_t, make_error, error_analysis, add_context
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none
@@ -30,20 +30,23 @@ contains
       real(dp), allocatable :: mode(:, :)
       real(dp) :: largest
       integer :: wanted
+      character(len=:), allocatable :: deck
+      deck = ''
+      if (allocated(model%deck_path)) deck = model%deck_path
       wanted = model%analysis%imperfection_bifurcation
       perfect = model
       perfect%analysis%switch_bifurcation = 0
       perfect%analysis%imperfection_bifurcation = 0
       call driver_start(perfect, driver, error)
       if (allocated(error)) then
-         error%message = 'the first run on the perfect structure (*IMPERFECTION): '//error%message
+         call add_context(error, 'the first run on the perfect structure (*IMPERFECTION)', deck)
          return
       end if
       do while (driver%stop == stop_none)
          call driver_step(perfect, driver, outcome, error)
          if (allocated(error)) then
-            error%message = 'the first run on the perfect structure (*IMPERFECTION), before bifurcation '// &
-                            integer_to_string(wanted)//': '//error%message
+            call add_context(error, 'the first run on the perfect structure (*IMPERFECTION), before bifurcation '// &
+                             integer_to_string(wanted), deck)
             return
          end if
          if (allocated(driver%state%bifurcation) .and. driver%state%bifurcations == wanted) then

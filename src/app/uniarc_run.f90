@@ -20,7 +20,8 @@ module uniarc_run
    use uniarc_foreign, only: interrupt_signal, signal_name
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_path_mechanism, only: check_model_mechanism
-   use uniarc_check, only: check_model, check_element_scales, print_model_summary
+   use uniarc_check, only: check_model, check_element_scales, print_model_summary, model_memory_estimate
+   use uniarc_memory, only: available_memory, memory_text
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
@@ -72,6 +73,7 @@ contains
       call build_dof_map(model, map)
       call check_model(model, map, error)
       if (allocated(error)) return
+      if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
       select case (model%analysis%kind)
@@ -91,6 +93,21 @@ contains
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
       call abandon_results(results)
    end subroutine run_model
+
+   !> The memory line of `-v` on stderr before the analysis (docs/contracts.md, "Progress and
+   !> messages"): the estimate of uniarc_check (model_memory_estimate) and what is available
+   !> (uniarc_memory: available_memory), e.g. `memory: about 1.23 MB estimated; 3.40 GB available
+   !> (MemAvailable in /proc/meminfo)`; without the second part when the available memory is unknown.
+   subroutine print_memory_line(model, map)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp) :: available
+      character(len=:), allocatable :: origin, text
+      text = 'memory: about '//memory_text(model_memory_estimate(model, map))//' estimated'
+      call available_memory(available, origin)
+      if (available >= 0.0_dp) text = text//'; '//memory_text(available)//' available ('//origin//')'
+      write (error_unit, '(a)') text
+   end subroutine print_memory_line
 
    !> `uniarc --check`: the checks of run_model (uniarc_check: memory, stiffness) and the model's
    !> summary on stdout, without an analysis and without any file. Errors: those of check_model.

@@ -32,9 +32,28 @@ contains
    end subroutine make_error
 
    !> Prefix an existing error's message with context (routine, step, load factor ...).
-   subroutine add_context(error, context)
+   subroutine add_context(error, context, location)
       type(error_t), intent(inout) :: error
       character(len=*), intent(in) :: context
+      !> The deck's path: a message that starts with it (`file:` or `file:line:col:`, docs/contracts.md)
+      !> keeps it first, and the context follows it.
+      character(len=*), intent(in), optional :: location
+      integer :: n, colon
+      if (present(location)) then
+         n = len(location)
+         if (n > 0 .and. len(error%message) > n) then
+            if (error%message(1:n + 1) == location//':') then
+               ! past `file:` and the `line:col:` that may follow
+               colon = n + 1
+               do while (colon < len(error%message))
+                  if (scan(error%message(colon + 1:colon + 1), '0123456789') == 0) exit
+                  colon = colon + index(error%message(colon + 1:), ':')
+               end do
+               error%message = error%message(1:colon)//' '//context//':'//error%message(colon + 1:)
+               return
+            end if
+         end if
+      end if
       error%message = context//': '//error%message
    end subroutine add_context
 

@@ -17,7 +17,8 @@
 
   run_loop_check.py --uniarc EXE --deck DECK --out DIR --summary NAME=VALUE...
       `uniarc --check DECK`: exit code 0, each summary line NAME starts with VALUE, a memory
-      estimate, and no file written (OUTDIR and the working directory untouched).
+      estimate, and no file written (OUTDIR and the working directory untouched). Then `uniarc -v
+      DECK`: exit code 0, and its first line on stderr is "memory: " with the same estimate.
 
   run_loop_check.py --uniarc EXE --deck DECK --out DIR --non-finite [--files]
       A run whose numbers overflow: exit code 1 and "not finite" in the message; with --files the
@@ -174,6 +175,17 @@ def check_summary(args, failures):
         failures.append('no memory estimate in the summary')
     if os.listdir(args.out) or sorted(os.listdir('.')) != before:
         failures.append('--check wrote a file')
+    # -v: the same estimate on stderr before the analysis, with what is available (Progress and messages).
+    verbose = run(args, ['-v'])
+    if verbose.returncode != 0:
+        failures.append(f'uniarc -v exits with {verbose.returncode}: {verbose.stderr[-500:]}')
+    estimate = re.match(r'about [0-9.]+ [kMGT]?B estimated', lines.get('memory', ''))
+    first = verbose.stderr.splitlines()[0] if verbose.stderr else ''
+    print(first)
+    if not estimate or not re.match(r'memory: ' + re.escape(estimate.group(0)) + r'(; [0-9.]+ [kMGT]?B available \(.+\))?$',
+                                    first):
+        failures.append(f'the first line of uniarc -v on stderr is {first!r}, expected "memory: " and the estimate '
+                        f'of --check ({lines.get("memory")!r})')
 
 
 def check_non_finite(args, failures):
@@ -185,6 +197,11 @@ def check_non_finite(args, failures):
     if 'not finite' not in result.stderr:
         failures.append('the message lacks "not finite"')
     names = os.listdir(args.out)
+    # A work directory left behind (a run killed by a sanitizer) is a failure, not a file to read.
+    folders = [name for name in names if os.path.isdir(os.path.join(args.out, name))]
+    if folders:
+        failures.append(f'folders left behind: {folders}')
+        names = [name for name in names if name not in folders]
     if args.files and stem_of(args.deck) + '.path' not in names:
         failures.append(f'the files of the steps before are missing: {names}')
     if not args.files and names:

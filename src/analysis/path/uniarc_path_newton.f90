@@ -157,7 +157,9 @@ contains
          if (.not. predicted) return
       end if
       associate (options => model%analysis)
-         predictor = trial%increment
+         ! allocate (source=) rather than an assignment to the unallocated array (GCC bug 77504:
+         ! gfortran 12 reads its unset bounds first, an overflow under -fsanitize=undefined).
+         allocate (predictor, source=trial%increment)
          trial%predictor = predictor
          trial%predictor_dlambda = trial%dlambda
          test = new_newton_test(options, state%length_scale)

@@ -181,7 +181,8 @@ contains
       state%reference = reference
       ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
       ! LCP needs both): the step's first attempt does not assemble and factorise them again.
-      call band_copy(system%tangent, system%assembled)
+      call band_copy(system%tangent, system%assembled, error)
+      if (allocated(error)) return
       state%committed_residual = state%lambda*state%reference - internal
       call band_factorize(system%tangent, error)
       if (allocated(error)) return

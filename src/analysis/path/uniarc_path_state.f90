@@ -162,14 +162,17 @@ module uniarc_path_state
 
 contains
 
-   !> Work arrays for a model and its equation numbering (x, residual unallocated until set).
+   !> Work arrays for a model and its equation numbering, all allocated (x and residual too: an
+   !> assignment to an unallocated array makes gfortran 12 read its unset bounds first, GCC bug 77504,
+   !> an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
    function new_linearization(model, map) result(lin)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(linearization_t) :: lin
       integer :: n
       n = map%n_equations
-      allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2))
+      allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2), &
+                lin%x(n), lin%residual(n))
    end function new_linearization
 
    !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
