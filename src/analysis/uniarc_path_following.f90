@@ -74,13 +74,8 @@ contains
          allocate (state%active(size(state%map%candidate_equation)))
          call nodal_displacements(model, state, nodal)
          call touching_candidates(model, state, nodal, state%active)
-         if (options%control == control_displacement) then
-            state%control_equation = state%map%equation(options%control_dof, options%control_node)
-            if (state%control_equation == 0) then
-               call make_error(error, 'displacement control of a DOF held by a support', error_analysis)
-               return
-            end if
-         end if
+         call set_control_equation(model, state, error)
+         if (allocated(error)) return
          ! A model that no contact can hold is refused before the path starts (exit code 2).
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
@@ -115,14 +110,8 @@ contains
          state%lambda = 0.0_dp
          state%last_increment = 0.0_dp
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
-         state%control_equation = 0
-         if (options%control == control_displacement) then
-            state%control_equation = state%map%equation(options%control_dof, options%control_node)
-            if (state%control_equation == 0) then
-               call make_error(error, 'displacement control of a DOF held by a support', error_analysis)
-               return
-            end if
-         end if
+         call set_control_equation(model, state, error)
+         if (allocated(error)) return
          call move_alloc(state%system, system)
          system%holds_converged = .false.
          call commit_tangent(model, state, system, .false., error)
@@ -136,6 +125,19 @@ contains
          call describe_point(model, state, state%point%step, 0, 0)
       end associate
    end subroutine path_restart
+
+   !> The equation of the displacement that `*PATH, CONTROL=DISPLACEMENT` controls (0 under the other
+   !> controls). Errors (error_analysis): a controlled DOF held by a support has no equation.
+   subroutine set_control_equation(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      state%control_equation = 0
+      if (model%analysis%control /= control_displacement) return
+      state%control_equation = state%map%equation(model%analysis%control_dof, model%analysis%control_node)
+      if (state%control_equation == 0) &
+         call make_error(error, 'displacement control of a DOF held by a support', error_analysis)
+   end subroutine set_control_equation
 
    !> The first step length, direction and force scale of a path (or an analysis step) from the
    !> committed K⁻¹R and R and the controls of `model%analysis`.
