@@ -443,6 +443,7 @@ contains
          record%reactions = candidate_reactions(state)
          summary = summarize_contact(model, record%reactions, state%active)
          record%groups = summarize_groups(model, record%reactions, state%active)
+         if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic
       end associate
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions

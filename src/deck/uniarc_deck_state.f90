@@ -52,6 +52,8 @@ module uniarc_deck_state
       integer :: loose_analysis_line = 0, loose_analysis_column = 0
       integer :: analysis_column = 0                  !< column of the analysis card of the open step
       integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
+      !> where the first `*RELEASE, MY=` value is (a moment limit needs *PATH), 0 if none
+      integer :: moment_limit_line = 0, moment_limit_column = 0
    end type deck_t
 
 contains

@@ -51,6 +51,9 @@ module uniarc_output
       !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
       !> written as the group's own path columns when the model has more than one group
       type(contact_summary_t), allocatable :: groups(:)
+      !> (2, n_elements) committed plastic rotations of the joints with a moment limit (`*RELEASE, MY=`);
+      !> unallocated without such joints
+      real(dp), allocatable :: joint_plastic(:, :)
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -340,7 +343,11 @@ contains
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
-      forces = element_end_forces(model, record%displacement, record%lambda)
+      if (allocated(record%joint_plastic)) then
+         forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic)
+      else
+         forces = element_end_forces(model, record%displacement, record%lambda)
+      end if
       do e = 1, model%n_elements
          call put_row(files%forces, head//integer_to_string(model%element_label(e))//' '// &
                       integer_to_string(model%node_label(model%connectivity(1, e)))//' '// &

@@ -44,10 +44,13 @@ contains
    !> and load factor `lambda`: rows (N_start, V_start, M_start, N_end, V_end, M_end), shape
    !> (6, n_elements), in the deck's force and force × length units, in the element's frame and the
    !> beam convention of the module header. A truss has V = M = 0 (no transverse load on its span).
-   pure function element_end_forces(model, displacement, lambda) result(forces)
+   !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
+   !> moment limit (the path's state; uniarc_joint_plasticity), which the end moments depend on.
+   pure function element_end_forces(model, displacement, lambda, joint_plastic) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
+      real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: forces(6, model%n_elements)
       real(dp) :: thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements)
       real(dp) :: deformation(3), q(3), end_forces(4), t(2), n(2), f(2*dofs_per_node)
@@ -104,7 +107,12 @@ contains
       end if
 
       do e = 1, model%n_elements
-         call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         if (present(joint_plastic)) then
+            call element_response(model, e, element_displacements(model, e, displacement), transformation, response, &
+                                  joint_plastic(:, e))
+         else
+            call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         end if
          q = response%basic_force - lambda*thermal(:, e)
          if (has_held) q = q - held_thermal(:, e)
          call transform_deformations(transformation, element_coordinates(model, e), &
