@@ -24,7 +24,7 @@ module uniarc_output
    use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_provenance, only: provenance_t, provenance_lines
    use uniarc_contact_summary, only: contact_summary_t
-   use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths
+   use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
    implicit none
    private
    public :: step_record_t, output_files_t
@@ -109,7 +109,8 @@ contains
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
       call open_table(results, files%contact, results%stem//'.contact', &
-                      'step lambda medium candidate node s gap reaction length pressure', comments, csv, error)
+                      'step lambda medium candidate node s gap reaction length pressure tangential_displacement '// &
+                      'tangential_force shear', comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -330,14 +331,18 @@ contains
    !> N_end V_end M_end` — the section forces at node 1 and node 2 (uniarc_output_forces,
    !> element_end_forces: element frame, N tension positive, M = EI κ positive toward the left normal,
    !> V = dM/ds). STEM.contact, one row per candidate: `step lambda medium candidate node s gap reaction
-   !> length pressure` — its coordinate along its group, gap, reaction, tributary length
-   !> (candidate_lengths) and reaction/length.
+   !> length pressure tangential_displacement tangential_force shear` — its coordinate along its group,
+   !> gap, reaction, tributary length (candidate_lengths) and reaction/length; then, where its foundation
+   !> has tangential springs (tangential_springs), the spring's gap t·u, its reaction on the node along t
+   !> and reaction/length (0 0 0 without one).
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:)
+      real(dp) :: tangential(3)
+      integer, allocatable :: spring(:)
       character(len=:), allocatable :: head
       integer :: e, c
       if (.not. files%with_forces .or. files%forces_last == record%step) return
@@ -362,12 +367,15 @@ contains
       allocate (reactions(size(model%contacts)), source=0.0_dp)
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
+      spring = tangential_springs(model)
       do c = 1, size(model%contacts)
-         if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: not a contact
+         if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: on its radial one's row
+         tangential = 0.0_dp
+         if (spring(c) > 0) tangential = [gaps(spring(c)), reactions(spring(c)), reactions(spring(c))/lengths(spring(c))]
          call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                       integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                       numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                    reactions(c)/lengths(c)]))
+                                    reactions(c)/lengths(c), tangential]))
       end do
       call put_row(files%contact, '')
       call put_row(files%contact, '')
