@@ -13,7 +13,7 @@
 module uniarc_path_state
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_model, only: model_t, dofs_per_node, end_joint_t, end_joints_of
+   use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
    use uniarc_strings, only: integer_to_string
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
    use uniarc_dof_map, only: dof_map_t, candidate_live
@@ -213,7 +213,41 @@ contains
                                system%tangent, internal)
       end if
       if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
+      if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent)
    end subroutine equilibrium_at
+
+   !> A node whose every element end is a joint at its moment limit (`*RELEASE, MY=` on all the ends that
+   !> meet there) has, at that state, no rotational stiffness: the joints pass their moments ±MY whatever
+   !> it turns, its row of K_T is zero and its rotation is indeterminate — not a mechanism of the
+   !> structure. As hold_floating does for a free rigid motion, its rotation is held in the tangent only,
+   !> by a spring of the stiffness k of its stiffest joint: the residual is untouched, so the correction
+   !> of the rotation is the node's moment residual over k — zero when the joints' moments balance there
+   !> (exactly, as they are ±MY), and an equilibrium that cannot be met (a moment on the node beyond what
+   !> the joints pass) stays a failed step.
+   subroutine hold_yielded_nodes(model, map, tangent)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp) :: stiffness(model%n_nodes)
+      type(end_joint_t) :: joints(2)
+      integer :: e, i, node, j
+      stiffness = 0.0_dp
+      do e = 1, model%n_elements
+         joints = end_joints_of(model, e)
+         do i = 1, 2
+            if (.not. joints(i)%moment_limit > 0.0_dp) cycle
+            node = model%connectivity(i, e)
+            stiffness(node) = max(stiffness(node), 1.0_dp/joints(i)%compliance)
+         end do
+      end do
+      do node = 1, model%n_nodes
+         if (.not. stiffness(node) > 0.0_dp) cycle
+         j = map%equation(dof_rz, node)
+         if (j == 0) cycle
+         if (band_get(tangent, j, j) /= 0.0_dp) cycle
+         call band_add(tangent, j, j, stiffness(node))
+      end do
+   end subroutine hold_yielded_nodes
 
    !> The tangent of a structure held only by its contacts, where the working set `active` does not
    !> hold one of its free rigid motions v (no candidate of the set has a_cᵀv ≠ 0 at its node): the
