@@ -581,8 +581,9 @@ contains
          end if
          if (status /= 0) then
             ! the list of members doubles when it grows (uniarc_growth: append_integers)
-            call allocation_failure(status, 'the members of the '//kind//' set of line '// &
-                                    integer_to_string(card%line), 8.0_dp*count, error_input, error)
+            call allocation_failure(status, 'the members of '//kind//' set '''// &
+                                    card%options(option_index(card, trim(merge('NSET ', 'ELSET', nodes))))%value//'''', &
+                                    8.0_dp*count, error_input, error)
             return
          end if
       end do
