@@ -673,15 +673,13 @@ contains
                 model%contacts(builder%n_contacts), model%contact_groups(builder%n_contact_groups), &
                 model%foundations(builder%n_foundations))
       do i = 1, builder%n_node_sets
-         model%node_sets(i)%name = builder%node_sets(i)%name
-         call copy_members(builder%node_sets(i)%nodes, model%node_sets(i)%nodes, 'node set '''// &
-                           builder%node_sets(i)%name//'''', error)
+         call copy_set(builder%node_sets(i)%nodes, builder%node_sets(i)%name, 'node', model%node_sets(i)%nodes, &
+                       model%node_sets(i)%name, error)
          if (allocated(error)) return
       end do
       do i = 1, builder%n_element_sets
-         model%element_sets(i)%name = builder%element_sets(i)%name
-         call copy_members(builder%element_sets(i)%elements, model%element_sets(i)%elements, 'element set '''// &
-                           builder%element_sets(i)%name//'''', error)
+         call copy_set(builder%element_sets(i)%elements, builder%element_sets(i)%name, 'element', &
+                       model%element_sets(i)%elements, model%element_sets(i)%name, error)
          if (allocated(error)) return
       end do
       if (builder%n_loads > 0) model%distributed_loads = builder%loads(1:builder%n_loads)
@@ -702,18 +700,21 @@ contains
       end if
    end subroutine finish_model
 
-   !> `copy` := `members` of the set `name`, allocated with stat= (error_input when the system refuses).
-   subroutine copy_members(members, copy, name, error)
+   !> `copy`, `copy_name` := `members`, `name` of a `kind` ('node', 'element') set, the members allocated
+   !> with stat= (error_input when the system refuses them).
+   subroutine copy_set(members, name, kind, copy, copy_name, error)
       integer, intent(in) :: members(:)
+      character(len=*), intent(in) :: name, kind
       integer, allocatable, intent(out) :: copy(:)
-      character(len=*), intent(in) :: name
+      character(len=:), allocatable, intent(out) :: copy_name
       type(error_t), allocatable, intent(inout) :: error
       integer :: status
+      copy_name = name
       allocate (copy(size(members)), stat=status)
-      call allocation_failure(status, 'the members of '//name//' in the model', 4.0_dp*size(members), &
-                              error_input, error)
+      call allocation_failure(status, 'the members of '//kind//' set '''//name//''' in the model', &
+                              4.0_dp*size(members), error_input, error)
       if (status == 0) copy = members
-   end subroutine copy_members
+   end subroutine copy_set
 
    ! ================================================================================================
    ! Look-ups
