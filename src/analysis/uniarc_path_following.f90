@@ -210,7 +210,7 @@ contains
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale, scale
       logical, allocatable :: bonded(:)
-      integer :: c
+      integer :: c, status
       state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       if (.not. any(state%active)) return
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
@@ -221,8 +221,8 @@ contains
                          state%map%half_bandwidth, error)
       if (allocated(error)) return
       allocate (internal(state%map%n_equations), reference(state%map%n_equations), rhs(state%map%n_equations, 1), &
-                stat=c)
-      call allocation_failure(c, 'the force vectors of the structure released from its contacts', &
+                stat=status)
+      call allocation_failure(status, 'the force vectors of the structure released from its contacts', &
                               24.0_dp*state%map%n_equations, error_analysis, error)
       if (allocated(error)) return
       call nodal_displacements(model, state, nodal)
