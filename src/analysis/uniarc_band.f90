@@ -8,7 +8,7 @@ module uniarc_band
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: integer_to_string
-   use uniarc_memory, only: memory_text
+   use uniarc_memory, only: allocation_failure
    use uniarc_foreign, only: dgbtrf, dgbtrs, lapack_check
    implicit none
    private
@@ -40,7 +40,6 @@ contains
       integer, intent(in) :: n, kl, ku
       type(error_t), allocatable, intent(out), optional :: error
       integer :: status
-      character(len=200) :: message
       matrix%n = n
       matrix%kl = kl
       matrix%ku = ku
@@ -50,15 +49,11 @@ contains
          allocate (matrix%pivots(max(n, 1)), source=0)
          return
       end if
-      message = ''
-      allocate (matrix%ab(matrix%ldab, max(n, 1)), matrix%pivots(max(n, 1)), stat=status, errmsg=message)
-      if (status /= 0) then
-         call make_error(error, 'the model does not fit in memory: the band matrix of '// &
-                         integer_to_string(n)//' equations and half bandwidth '//integer_to_string(max(kl, ku))// &
-                         ' ('//memory_text(8.0_dp*real(matrix%ldab, dp)*real(max(n, 1), dp))// &
-                         ') cannot be allocated: '//trim(message), error_input)
-         return
-      end if
+      allocate (matrix%ab(matrix%ldab, max(n, 1)), matrix%pivots(max(n, 1)), stat=status)
+      call allocation_failure(status, 'the band matrix of '//integer_to_string(n)//' equations and half bandwidth '// &
+                              integer_to_string(max(kl, ku)), 8.0_dp*real(matrix%ldab, dp)*real(max(n, 1), dp), &
+                              error_input, error)
+      if (allocated(error)) return
       matrix%ab = 0.0_dp
       matrix%pivots = 0
    end subroutine band_allocate
@@ -73,23 +68,20 @@ contains
       type(band_matrix_t), intent(inout) :: target
       type(error_t), allocatable, intent(out), optional :: error
       integer :: status
-      character(len=200) :: message
       if (allocated(target%ab)) then
          if (any(shape(target%ab) /= shape(source%ab))) deallocate (target%ab, target%pivots)
       end if
       if (.not. allocated(target%ab)) then
          if (present(error)) then
-            message = ''
             allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), target%pivots(size(source%pivots)), &
-                      stat=status, errmsg=message)
+                      stat=status)
             if (status /= 0) then
                if (allocated(target%ab)) deallocate (target%ab)
                if (allocated(target%pivots)) deallocate (target%pivots)
-               call make_error(error, 'the model does not fit in memory: a copy of the band matrix of '// &
-                               integer_to_string(source%n)//' equations and half bandwidth '// &
-                               integer_to_string(max(source%kl, source%ku))//' ('// &
-                               memory_text(8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp))// &
-                               ') cannot be allocated: '//trim(message), error_input)
+               call allocation_failure(status, 'a copy of the band matrix of '//integer_to_string(source%n)// &
+                                       ' equations and half bandwidth '//integer_to_string(max(source%kl, source%ku)), &
+                                       8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp), error_input, &
+                                       error)
                return
             end if
          else

@@ -15,6 +15,7 @@
 module uniarc_linear_static
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, add_context, make_error, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
@@ -65,19 +66,23 @@ contains
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst
-      integer :: n, round, pivots, c
+      integer :: n, round, pivots, c, status
 
       call build_dof_map(model, map)
       n = map%n_equations
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
-      allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
-      allocate (reference(n), residual(n), rhs(n, 2))
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &
+                set(size(map%candidate_equation)), stat=status)
+      call allocation_failure(status, 'the load and residual vectors of the linear analysis', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 4.0_dp*n) + 4.0_dp*size(map%candidate_equation), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      zero_nodal = 0.0_dp
       call assemble_reference_load(model, map, .true., reference)
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
       ! The first working set: candidates that touch at u = 0, and the bonded ones (as the path
       ! following starts): it holds what the contacts hold, so K_S is regular for a structure that
       ! rests on its medium without supports.
-      allocate (set(size(map%candidate_equation)))
       ! A model that can move as a rigid body even with every contact closed is a mechanism: refused
       ! (error_input, exit 2) before any solve, by the path following's start-up test
       ! (uniarc_path_mechanism: relative pivot test, then the rigid-body test).
@@ -138,7 +143,10 @@ contains
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
       call band_inertia(assembled, negative_pivots, singular)
       negative_pivots = max(0, negative_pivots - count(set .and. map%candidate_equation > 0))
-      allocate (displacement(dofs_per_node, model%n_nodes))
+      allocate (displacement(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, error_analysis, &
+                              error)
+      if (allocated(error)) return
       call gather_nodal(map, x, displacement)
       if (allocated(model%prescribed)) displacement = displacement + model%prescribed
       if (present(reactions)) reactions = r
@@ -177,13 +185,18 @@ contains
       real(dp), intent(out) :: residual(:)
       type(error_t), allocatable, intent(out) :: error   !< a band matrix that cannot be allocated (band_allocate)
       real(dp), allocatable :: internal(:), no_reactions(:)
+      integer :: status
       if (assembled%n /= map%n_equations) then
          call band_allocate(assembled, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
          if (allocated(error)) return
       end if
       call assemble_linear_stiffness(model, map, assembled)
-      allocate (internal(map%n_equations), source=0.0_dp)
-      allocate (no_reactions(size(map%candidate_equation)), source=0.0_dp)
+      allocate (internal(map%n_equations), no_reactions(size(map%candidate_equation)), stat=status)
+      call allocation_failure(status, 'the internal forces of the linear analysis', &
+                              8.0_dp*(map%n_equations + size(map%candidate_equation)), error_analysis, error)
+      if (allocated(error)) return
+      internal = 0.0_dp
+      no_reactions = 0.0_dp
       if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, no_reactions, set, &
                                                                   assembled, internal)
       residual = -internal

@@ -22,6 +22,7 @@
 module uniarc_path_following
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
@@ -58,22 +59,33 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_system_t), allocatable :: system
       real(dp), allocatable :: nodal(:, :)
+      integer :: status
       associate (options => model%analysis)
          call build_dof_map(model, state%map)
          allocate (system)
          call band_allocate(system%tangent, state%map%n_equations, state%map%half_bandwidth, &
                             state%map%half_bandwidth, error)
          if (allocated(error)) return
-         allocate (state%u(state%map%n_equations), source=0.0_dp)
-         allocate (state%last_increment(state%map%n_equations), source=0.0_dp)
-         if (has_moment_limits(model)) allocate (state%joint_plastic(2, model%n_elements), source=0.0_dp)
-         allocate (state%fixed_load(state%map%n_equations))
+         allocate (state%u(state%map%n_equations), state%last_increment(state%map%n_equations), &
+                   state%fixed_load(state%map%n_equations), state%active(size(state%map%candidate_equation)), &
+                   stat=status)
+         call allocation_failure(status, 'the displacement, increment and load vectors of the path', &
+                                 24.0_dp*state%map%n_equations + 4.0_dp*size(state%active), error_analysis, error)
+         if (allocated(error)) return
+         state%u = 0.0_dp
+         state%last_increment = 0.0_dp
+         if (has_moment_limits(model)) then
+            allocate (state%joint_plastic(2, model%n_elements), stat=status)
+            call allocation_failure(status, 'the committed plastic rotations of the joints', &
+                                    16.0_dp*model%n_elements, error_analysis, error)
+            if (allocated(error)) return
+            state%joint_plastic = 0.0_dp
+         end if
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          state%length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
          ! The first working set: every candidate that touches (zero gap) and every bonded one. It
          ! holds what the contacts hold (a ring resting in a cavity), so the augmented tangent is
          ! regular; the first LCP then keeps only the contacts that push.
-         allocate (state%active(size(state%map%candidate_equation)))
          call nodal_displacements(model, state, nodal)
          call touching_candidates(model, state, nodal, state%active)
          call set_control_equation(model, state, error)
@@ -206,7 +218,7 @@ contains
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale, scale
       logical, allocatable :: bonded(:)
-      integer :: c
+      integer :: c, status
       state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       if (.not. any(state%active)) return
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
@@ -214,8 +226,13 @@ contains
       bonded = [(state%active(c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
       if (all(bonded .eqv. state%active)) return
       call band_allocate(released%tangent, state%map%n_equations, state%map%half_bandwidth, &
-                         state%map%half_bandwidth)
-      allocate (internal(state%map%n_equations), reference(state%map%n_equations), rhs(state%map%n_equations, 1))
+                         state%map%half_bandwidth, error)
+      if (allocated(error)) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), rhs(state%map%n_equations, 1), &
+                stat=status)
+      call allocation_failure(status, 'the force vectors of the structure released from its contacts', &
+                              24.0_dp*state%map%n_equations, error_analysis, error)
+      if (allocated(error)) return
       call nodal_displacements(model, state, nodal)
       call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
       scale = 0.0_dp

@@ -9,24 +9,43 @@ module uniarc_growth
 contains
 
    !> Append `values` to `list(1:count)`, doubling the capacity of `list` when needed; `count` is updated.
-   pure subroutine append_integers(list, count, values)
+   !> With `status` present, a growth the system refuses is returned as grow_integers does, and nothing
+   !> is appended.
+   pure subroutine append_integers(list, count, values, status)
       integer, allocatable, intent(inout) :: list(:)   !< allocated on entry; entries past count are spare
       integer, intent(inout) :: count
       integer, intent(in) :: values(:)
-      if (count + size(values) > size(list)) call grow_integers(list, max(2*size(list), count + size(values)))
+      integer, intent(out), optional :: status
+      if (present(status)) status = 0
+      if (count + size(values) > size(list)) then
+         call grow_integers(list, max(2*size(list), count + size(values)), status)
+         if (present(status)) then
+            if (status /= 0) return
+         end if
+      end if
       list(count + 1:count + size(values)) = values
       count = count + size(values)
    end subroutine append_integers
 
    !> Make sure `list` holds at least `needed` entries (at least doubling it), keeping its contents; new
-   !> entries are 0. An unallocated `list` is allocated.
-   pure subroutine grow_integers(list, needed)
+   !> entries are 0. An unallocated `list` is allocated. With `status` present, an allocation the
+   !> system refuses leaves `list` as it was, with the nonzero stat= in `status` (for uniarc_memory:
+   !> allocation_failure); without it, the runtime stops the program.
+   pure subroutine grow_integers(list, needed, status)
       integer, allocatable, intent(inout) :: list(:)
       integer, intent(in) :: needed
+      integer, intent(out), optional :: status
       integer, allocatable :: grown(:)
+      if (present(status)) status = 0
       if (.not. allocated(list)) allocate (list(0))
       if (size(list) >= needed) return
-      allocate (grown(max(needed, 2*size(list))), source=0)
+      if (present(status)) then
+         allocate (grown(max(needed, 2*size(list))), stat=status)
+         if (status /= 0) return
+         grown = 0
+      else
+         allocate (grown(max(needed, 2*size(list))), source=0)
+      end if
       grown(1:size(list)) = list
       call move_alloc(grown, list)
    end subroutine grow_integers

@@ -19,9 +19,10 @@ module uniarc_memory
    use, intrinsic :: iso_c_binding, only: c_long_long
    use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, make_error, error_input
    implicit none
    private
-   public :: model_memory_bytes, available_memory, memory_text, memory_shortfall
+   public :: model_memory_bytes, available_memory, memory_text, memory_shortfall, allocation_failure
 
    real(dp), parameter :: bytes_per_equation_vectors = 320.0_dp   !< 40 vectors of reals
    real(dp), parameter :: band_copies = 3.0_dp                    !< K_T, its LU factors, a work copy
@@ -89,6 +90,34 @@ contains
       if (available < 0.0_dp .or. need <= available) return
       shortfall = 'need about '//memory_text(need)//'; '//memory_text(available)//' available ('//origin//')'
    end subroutine memory_shortfall
+
+   !> The error of an `allocate (..., stat=status)` that the system refused, naming what did not fit
+   !> and its size (docs/contracts.md, "Memory"); nothing when `status` is 0, so that every large
+   !> allocation reads `allocate (..., stat=status); call allocation_failure(...); if (allocated(error)) return`.
+   !> what: the array, as a noun phrase ("the members of element set 'rib'"); bytes: its size (8 per
+   !> real, 4 per integer or logical).
+   !> category: error_input (exit code 2) while the deck is read and the model built — "the model does
+   !> not fit in memory: cannot allocate WHAT (SIZE): the system refused it (stat N)" —, error_analysis
+   !> (exit code 1) once the analysis has started — "analysis failed: out of memory: cannot allocate ...".
+   !> The runtime's errmsg= is not quoted: gfortran 12 gives "Attempt to allocate an allocated object"
+   !> for memory it could not get (stat 5014, measured under `ulimit -v`).
+   subroutine allocation_failure(status, what, bytes, category, error)
+      integer, intent(in) :: status
+      character(len=*), intent(in) :: what
+      real(dp), intent(in) :: bytes
+      integer, intent(in) :: category
+      type(error_t), allocatable, intent(inout) :: error
+      character(len=:), allocatable :: text
+      character(len=16) :: code
+      if (status == 0) return
+      write (code, '(i0)') status
+      text = 'cannot allocate '//what//' ('//memory_text(bytes)//'): the system refused it (stat '//trim(code)//')'
+      if (category == error_input) then
+         call make_error(error, 'the model does not fit in memory: '//text, category)
+      else
+         call make_error(error, 'analysis failed: out of memory: '//text, category)
+      end if
+   end subroutine allocation_failure
 
    !> Bytes as text with three significant digits and a decimal unit: "512 B", "3.42 MB", "1.20 TB".
    pure function memory_text(bytes) result(text)

@@ -10,7 +10,7 @@
 !> checks.
 module uniarc_deck
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, add_context
    use uniarc_strings, only: field_t, is_name, same_text, integer_to_string
    use uniarc_growth, only: grow_integers
    use uniarc_expression, only: evaluate_expression, set_parameter, find_parameter, is_reserved_name
@@ -60,7 +60,12 @@ contains
          if (allocated(error)) return
          if (.not. found) exit
          call dispatch(source, card, deck, error)
-         if (allocated(error)) return
+         if (allocated(error)) then
+            ! a model that does not fit while its card is read (uniarc_memory: allocation_failure): at the card
+            if (index(error%message, 'the model does not fit in memory') == 1) &
+               call add_context(error, path//':'//integer_to_string(card%line))
+            return
+         end if
       end do
 
       call finish_steps(source, deck, error)
@@ -68,7 +73,10 @@ contains
       call check_whole_deck(source, deck, error)
       if (allocated(error)) return
       call finish_model(deck%model, model, error, origin=source%path)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         if (index(error%message, 'the model does not fit in memory') == 1) call add_context(error, path)
+         return
+      end if
       if (deck%n_steps > 0) then
          model%steps = deck%steps(1:deck%n_steps)
          model%analysis = model%steps(1)%analysis

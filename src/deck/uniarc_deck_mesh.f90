@@ -2,7 +2,7 @@
 !> *LINE) and the node and element sets (docs/input.md). Each reads one card into the model builder.
 module uniarc_deck_mesh
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
    use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string, counted
    use uniarc_growth, only: append_integers
    use uniarc_expression, only: sin_degrees, cos_degrees
@@ -12,7 +12,7 @@ module uniarc_deck_mesh
                                    node_index, element_index, section_index, node_set_index, element_set_index, &
                                   set_element_kind
    use uniarc_deck_element, only: read_element_type, check_element_section
-   use uniarc_memory, only: memory_shortfall, model_memory_bytes
+   use uniarc_memory, only: memory_shortfall, model_memory_bytes, allocation_failure
    use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements
    implicit none
    private
@@ -178,7 +178,7 @@ contains
          call add_deck_node(deck, label, [x, y], line, fields(1)%column)
          created(i) = deck%model%n_nodes
       end do
-      if (set_option > 0) call add_to_node_set(deck%model, card%options(set_option)%value, created)
+      if (set_option > 0) call add_to_node_set(deck%model, card%options(set_option)%value, created, error)
    end subroutine read_node
 
    !> *ELEMENT, SECTION=s [, ELSET=name] [, TYPE=BEAM|TRUSS|TIMOSHENKO]: lines `label, node1, node2` (node labels).
@@ -246,7 +246,7 @@ contains
          created(i) = deck%model%n_elements
       end do
       call set_element_kind(deck%model, created, kind)
-      if (set_option > 0) call add_to_element_set(deck%model, card%options(set_option)%value, created)
+      if (set_option > 0) call add_to_element_set(deck%model, card%options(set_option)%value, created, error)
    end subroutine read_element
 
    !> *ARC, *RING and *LINE, ELSET=name, SECTION=s [, TYPE=BEAM|TRUSS|TIMOSHENKO]: one data line that generates nodes and elements.
@@ -400,11 +400,13 @@ contains
       end do
 
       call set_element_kind(deck%model, elements, kind)
-      call add_to_element_set(deck%model, name, elements)
-      call add_to_node_set(deck%model, name, nodes)
-      call add_to_node_set(deck%model, name//'_start', nodes(1:1))
-      if (.not. closed) call add_to_node_set(deck%model, name//'_end', nodes(n + 1:n + 1))
-      if (modulo(n, 2) == 0) call add_to_node_set(deck%model, name//'_mid', nodes(n/2 + 1:n/2 + 1))
+      call add_to_element_set(deck%model, name, elements, error)
+      if (.not. allocated(error)) call add_to_node_set(deck%model, name, nodes, error)
+      if (.not. allocated(error)) call add_to_node_set(deck%model, name//'_start', nodes(1:1), error)
+      if (.not. closed .and. .not. allocated(error)) &
+         call add_to_node_set(deck%model, name//'_end', nodes(n + 1:n + 1), error)
+      if (modulo(n, 2) == 0 .and. .not. allocated(error)) &
+         call add_to_node_set(deck%model, name//'_mid', nodes(n/2 + 1:n/2 + 1), error)
    end subroutine read_generator
 
    !> *NSET, NSET=name [, GENERATE]: node labels and node-set names, or `first, last [, step]` lines.
@@ -425,7 +427,7 @@ contains
       if (allocated(error)) return
       call read_set_members(source, card, deck, .true., option_index(card, 'GENERATE') > 0, members, error)
       if (allocated(error)) return
-      call add_to_node_set(deck%model, card%options(set_option)%value, members)
+      call add_to_node_set(deck%model, card%options(set_option)%value, members, error)
    end subroutine read_node_set
 
    !> *ELSET, ELSET=name [, GENERATE]: element labels and element-set names, or `first, last [, step]`.
@@ -446,7 +448,7 @@ contains
       if (allocated(error)) return
       call read_set_members(source, card, deck, .false., option_index(card, 'GENERATE') > 0, members, error)
       if (allocated(error)) return
-      call add_to_element_set(deck%model, card%options(set_option)%value, members)
+      call add_to_element_set(deck%model, card%options(set_option)%value, members, error)
    end subroutine read_element_set
 
    !> The section named by the card's SECTION= option, which must be defined by an earlier *SECTION.
@@ -514,7 +516,7 @@ contains
       logical, intent(in) :: nodes, generate
       integer, allocatable, intent(out) :: members(:)
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, count, first, last, step, label, index
+      integer :: i, j, line, count, first, last, step, label, index, status
       integer, allocatable :: found(:)
       type(field_t), allocatable :: fields(:)
       character(len=:), allocatable :: kind
@@ -523,6 +525,7 @@ contains
       kind = trim(kind)
       allocate (members(16))
       count = 0
+      status = 0
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)
@@ -560,7 +563,8 @@ contains
                              integer_to_string(last), error)
                   return
                end if
-               call append_integers(members, count, [index])
+               call append_integers(members, count, [index], status)
+               if (status /= 0) exit
             end do
          else
             if (size(fields) == 0) cycle
@@ -571,8 +575,16 @@ contains
                   call resolve_elements(source, deck, line, fields(j), found, error)
                end if
                if (allocated(error)) return
-               call append_integers(members, count, found)
+               call append_integers(members, count, found, status)
+               if (status /= 0) exit
             end do
+         end if
+         if (status /= 0) then
+            ! the list of members doubles when it grows (uniarc_growth: append_integers)
+            call allocation_failure(status, 'the members of '//kind//' set '''// &
+                                    card%options(option_index(card, trim(merge('NSET ', 'ELSET', nodes))))%value//'''', &
+                                    8.0_dp*count, error_input, error)
+            return
          end if
       end do
       members = members(1:count)

@@ -22,6 +22,7 @@ module uniarc_model_builder
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: same_text, integer_to_string
    use uniarc_growth, only: grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
@@ -223,18 +224,28 @@ contains
    end function element_kinds
 
    !> Add `members` (node indices) to node set `name` (created if new), skipping nodes already in it.
-   pure subroutine add_to_node_set(builder, name, members)
+   !> Errors: an allocation the system refuses (error_input, uniarc_memory: allocation_failure); the
+   !> set is then as before.
+   subroutine add_to_node_set(builder, name, members, error)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: members(:)
+      type(error_t), allocatable, intent(out) :: error
       type(node_set_t), allocatable :: grown(:)
-      integer :: set
+      integer :: set, k, status
       if (.not. allocated(builder%node_sets)) allocate (builder%node_sets(8))
       set = node_set_index(builder, name)
       if (set == 0) then
          if (builder%n_node_sets == size(builder%node_sets)) then
-            allocate (grown(2*size(builder%node_sets)))
-            grown(1:builder%n_node_sets) = builder%node_sets(1:builder%n_node_sets)
+            allocate (grown(2*size(builder%node_sets)), stat=status)
+            call allocation_failure(status, 'the list of node sets', 64.0_dp*size(builder%node_sets), &
+                                    error_input, error)
+            if (allocated(error)) return
+            ! moved, not copied: a copy of every set's members would double them for a moment
+            do k = 1, builder%n_node_sets
+               call move_alloc(builder%node_sets(k)%name, grown(k)%name)
+               call move_alloc(builder%node_sets(k)%nodes, grown(k)%nodes)
+            end do
             call move_alloc(grown, builder%node_sets)
          end if
          builder%n_node_sets = builder%n_node_sets + 1
@@ -242,23 +253,30 @@ contains
          builder%node_sets(set)%name = name
          allocate (builder%node_sets(set)%nodes(0))
       end if
-      call merge_members(builder%node_sets(set)%nodes, members, builder%n_nodes)
+      call merge_members(builder%node_sets(set)%nodes, members, builder%n_nodes, 'node set '''//name//'''', error)
    end subroutine add_to_node_set
 
    !> Add `members` (element indices) to element set `name` (created if new), skipping elements already
-   !> in it.
-   pure subroutine add_to_element_set(builder, name, members)
+   !> in it. Errors: as add_to_node_set.
+   subroutine add_to_element_set(builder, name, members, error)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: members(:)
+      type(error_t), allocatable, intent(out) :: error
       type(element_set_t), allocatable :: grown(:)
-      integer :: set
+      integer :: set, k, status
       if (.not. allocated(builder%element_sets)) allocate (builder%element_sets(8))
       set = element_set_index(builder, name)
       if (set == 0) then
          if (builder%n_element_sets == size(builder%element_sets)) then
-            allocate (grown(2*size(builder%element_sets)))
-            grown(1:builder%n_element_sets) = builder%element_sets(1:builder%n_element_sets)
+            allocate (grown(2*size(builder%element_sets)), stat=status)
+            call allocation_failure(status, 'the list of element sets', &
+                                    64.0_dp*size(builder%element_sets), error_input, error)
+            if (allocated(error)) return
+            do k = 1, builder%n_element_sets   ! moved, not copied (add_to_node_set)
+               call move_alloc(builder%element_sets(k)%name, grown(k)%name)
+               call move_alloc(builder%element_sets(k)%elements, grown(k)%elements)
+            end do
             call move_alloc(grown, builder%element_sets)
          end if
          builder%n_element_sets = builder%n_element_sets + 1
@@ -266,7 +284,8 @@ contains
          builder%element_sets(set)%name = name
          allocate (builder%element_sets(set)%elements(0))
       end if
-      call merge_members(builder%element_sets(set)%elements, members, builder%n_elements)
+      call merge_members(builder%element_sets(set)%elements, members, builder%n_elements, &
+                         'element set '''//name//'''', error)
    end subroutine add_to_element_set
 
    ! ================================================================================================
@@ -595,7 +614,7 @@ contains
       type(model_t), intent(out) :: model
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
-      integer :: n, e, bad, i
+      integer :: n, e, bad, i, status
 
       n = builder%n_nodes
       e = builder%n_elements
@@ -627,6 +646,14 @@ contains
       if (allocated(builder%title)) model%title = builder%title
       model%n_nodes = n
       model%n_elements = e
+      ! The arrays that grow with the model, allocated with stat= (a copy by assignment would stop the
+      ! run, or crash inside the copy of a derived type, when the system refuses the memory).
+      allocate (model%coordinates(2, n), model%node_label(n), model%fixed(dofs_per_node, n), &
+                model%nodal_load(dofs_per_node, n), model%connectivity(2, e), model%element_label(e), &
+                model%element_section(e), stat=status)
+      call allocation_failure(status, 'the nodes and elements of the model', 56.0_dp*n + 16.0_dp*e, &
+                              error_input, error)
+      if (allocated(error)) return
       model%coordinates = builder%coordinates(:, 1:n)
       model%node_label = builder%node_label(1:n)
       model%fixed = builder%fixed(:, 1:n)
@@ -645,8 +672,16 @@ contains
                 model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &
                 model%contacts(builder%n_contacts), model%contact_groups(builder%n_contact_groups), &
                 model%foundations(builder%n_foundations))
-      if (builder%n_node_sets > 0) model%node_sets = builder%node_sets(1:builder%n_node_sets)
-      if (builder%n_element_sets > 0) model%element_sets = builder%element_sets(1:builder%n_element_sets)
+      do i = 1, builder%n_node_sets
+         call copy_set(builder%node_sets(i)%nodes, builder%node_sets(i)%name, 'node', model%node_sets(i)%nodes, &
+                       model%node_sets(i)%name, error)
+         if (allocated(error)) return
+      end do
+      do i = 1, builder%n_element_sets
+         call copy_set(builder%element_sets(i)%elements, builder%element_sets(i)%name, 'element', &
+                       model%element_sets(i)%elements, model%element_sets(i)%name, error)
+         if (allocated(error)) return
+      end do
       if (builder%n_loads > 0) model%distributed_loads = builder%loads(1:builder%n_loads)
       if (builder%n_tracks > 0) model%tracks = builder%tracks(1:builder%n_tracks)
       if (builder%n_contacts > 0) model%contacts = builder%contacts(1:builder%n_contacts)
@@ -664,6 +699,22 @@ contains
          end do
       end if
    end subroutine finish_model
+
+   !> `copy`, `copy_name` := `members`, `name` of a `kind` ('node', 'element') set, the members allocated
+   !> with stat= (error_input when the system refuses them).
+   subroutine copy_set(members, name, kind, copy, copy_name, error)
+      integer, intent(in) :: members(:)
+      character(len=*), intent(in) :: name, kind
+      integer, allocatable, intent(out) :: copy(:)
+      character(len=:), allocatable, intent(out) :: copy_name
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: status
+      copy_name = name
+      allocate (copy(size(members)), stat=status)
+      call allocation_failure(status, 'the members of '//kind//' set '''//name//''' in the model', &
+                              4.0_dp*size(members), error_input, error)
+      if (status == 0) copy = members
+   end subroutine copy_set
 
    ! ================================================================================================
    ! Look-ups
@@ -829,16 +880,23 @@ contains
    end subroutine record_label
 
    !> Append to `set` the entries of `members` (indices 1..n) that are not in it yet, in their order.
-   pure subroutine merge_members(set, members, n)
+   !> `name` names the set in the error of an allocation the system refuses (error_input); `set` is
+   !> then unchanged.
+   subroutine merge_members(set, members, n, name, error)
       integer, allocatable, intent(inout) :: set(:)
       integer, intent(in) :: members(:)
       integer, intent(in) :: n
+      character(len=*), intent(in) :: name
+      type(error_t), allocatable, intent(out) :: error
       logical, allocatable :: present(:)
-      integer, allocatable :: added(:)
-      integer :: i, count
-      allocate (present(n), source=.false.)
+      integer, allocatable :: added(:), merged(:)
+      integer :: i, count, status
+      allocate (present(n), added(size(members)), stat=status)
+      call allocation_failure(status, 'the work arrays of the members of '//name, &
+                              4.0_dp*(real(n, dp) + size(members)), error_input, error)
+      if (allocated(error)) return
+      present = .false.
       present(set) = .true.
-      allocate (added(size(members)))
       count = 0
       do i = 1, size(members)
          if (present(members(i))) cycle
@@ -846,7 +904,13 @@ contains
          count = count + 1
          added(count) = members(i)
       end do
-      set = [set, added(1:count)]
+      allocate (merged(size(set) + count), stat=status)
+      call allocation_failure(status, 'the members of '//name, 4.0_dp*(size(set) + count), error_input, &
+                              error)
+      if (allocated(error)) return
+      merged(1:size(set)) = set
+      merged(size(set) + 1:) = added(1:count)
+      call move_alloc(merged, set)
    end subroutine merge_members
 
 end module uniarc_model_builder
