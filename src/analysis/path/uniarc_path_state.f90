@@ -24,6 +24,7 @@ module uniarc_path_state
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
+   public :: hold_floating
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
