@@ -31,7 +31,7 @@ module uniarc_path_mechanism
    use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at
    implicit none
    private
-   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions
+   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions, closed_linear_stiffness
 
    !> Stage 1: a pivot at most this fraction of its row's diagonal calls for stage 2.
    real(dp), parameter :: pivot_tolerance = 1.0e-10_dp
@@ -142,17 +142,31 @@ contains
 
    !> The check of a model on its own, before any analysis (`uniarc --check`, *STATIC): the linear
    !> stiffness of the unloaded structure — the tangent of the path's unloaded state, which carries no
-   !> stress — with every contact candidate closed, through find_mechanism. Errors: a band matrix that
-   !> cannot be allocated (band_allocate); find_mechanism's (error_input, exit code 2).
+   !> stress — with every contact candidate closed (closed_linear_stiffness), through find_mechanism.
+   !> Errors: a band matrix that cannot be allocated (band_allocate); find_mechanism's (error_input,
+   !> exit code 2).
    subroutine check_model_mechanism(model, map, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(error_t), allocatable, intent(out) :: error
       type(band_matrix_t) :: stiffness
+      if (map%n_equations == 0) return
+      call closed_linear_stiffness(model, map, stiffness, error)
+      if (allocated(error)) return
+      call find_mechanism(model, map, stiffness, error)
+   end subroutine check_model_mechanism
+
+   !> The linear stiffness of the unloaded structure (n × n, unfactorised, n = map%n_equations > 0)
+   !> with every contact candidate closed (held as if bonded; augmented rows for those with a reaction
+   !> unknown). Errors: a band matrix that cannot be allocated (band_allocate).
+   subroutine closed_linear_stiffness(model, map, stiffness, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(out) :: stiffness
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: at_rest(:, :), no_reactions(:), internal(:)
       logical, allocatable :: closed(:)
       integer :: c
-      if (map%n_equations == 0) return
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
       if (allocated(error)) return
       call assemble_linear_stiffness(model, map, stiffness)
@@ -163,8 +177,7 @@ contains
          closed = [(candidate_live(map, c), c=1, size(map%candidate_equation))]
          call assemble_contact(model, map, at_rest, no_reactions, closed, stiffness, internal)
       end if
-      call find_mechanism(model, map, stiffness, error)
-   end subroutine check_model_mechanism
+   end subroutine closed_linear_stiffness
 
    !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
