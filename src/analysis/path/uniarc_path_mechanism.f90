@@ -14,9 +14,12 @@
 !>    support: the coupling to the held DOF) or if its energy vᵀKv, a coherent sum, stands above the
 !>    round-off of the rows (springs or closed contacts spread over the model, each far below the
 !>    bending terms of its row on a fine mesh); a motion held by neither is free (function `held`).
-!> The model is refused (error_input, exit code 2) with the free motion and the node it moves most.
-!> Mechanisms inside a model (a hinge, a part with no support of its own) are not rigid motions of
-!> the whole and are not looked for; an exactly singular stiffness still fails the factorisation.
+!> 3. Mechanisms inside the model (a chain of hinges between supports, a part with no support of its
+!>    own), when stage 1 found a weak pivot and stage 2 no free rigid motion: the least mode of the
+!>    stiffness relative to its diagonal by shifted inverse iteration, free if it passes the round-off
+!>    test of stage 2 (free_internal_motion).
+!> The model is refused (error_input, exit code 2) with the free motion and the node it moves most
+!> (stage 3: the nodes and elements it takes).
 module uniarc_path_mechanism
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
