@@ -8,7 +8,7 @@ module uniarc_path_stability
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
-                          band_factorize
+                          band_factorize, band_get, band_add
    use uniarc_dof_map, only: candidate_live
    use uniarc_contact, only: candidate_gap, set_membership
    use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at, hold_floating
@@ -120,8 +120,9 @@ contains
       type(contact_scales_t) :: units
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), along(:), norms(:)
       logical, allocatable :: released(:), pressed_plus(:), pressed_minus(:)
-      real(dp) :: force_unit, mu, size_mode
-      integer :: c, negative, round
+      real(dp), allocatable :: shifted_mode(:)
+      real(dp) :: force_unit, mu, size_mode, mu_shifted
+      integer :: c, negative, round, negative_shifted
       logical :: ok
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
@@ -139,6 +140,20 @@ contains
       do round = 1, count(released)
          call piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok)
          if (.not. ok) return
+         if (negative == 1 .and. .not. (mu < 0.0_dp)) then
+            ! The one negative eigenvalue is not the least in magnitude (a positive one is nearer
+            ! zero): its eigenvector by inverse iteration shifted below it. If that fails, the
+            ! count stands as it is (conservative).
+            ! (A generic start: the warm mode is the positive one's, orthogonal to the negative one's
+            ! on a symmetric structure.)
+            if (allocated(shifted_mode)) deallocate (shifted_mode)
+            call piece_stability(model, state, assembled, nodal, reaction, released, negative_shifted, &
+                                 mu_shifted, shifted_mode, ok, negative_mode=.true.)
+            if (ok) then
+               mu = mu_shifted
+               mode = shifted_mode
+            end if
+         end if
          if (negative == 1 .and. mu < 0.0_dp .and. allocated(mode)) then
             ! The one negative direction of the piece: admissible for a sign if it presses no released
             ! contact (a_cᵀφ below −1e-6 |a_c| max|φ|: above it is round-off of an orthogonal motion).
@@ -169,7 +184,11 @@ contains
    !> floating motions no remaining contact sees held; its negative eigenvalues (the contact rows
    !> still in it subtracted, as in structural_inertia) and its eigenvalue of least magnitude `mu` with
    !> its eigenvector `mode` (warm start in, result out). `ok` false: a failed factorisation.
-   subroutine piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok)
+   !> With `negative_mode` (for a piece with one negative eigenvalue that is not the least in
+   !> magnitude): `mu` and `mode` are that negative eigenvalue and its eigenvector instead
+   !> (negative_eigenpair).
+   subroutine piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok, &
+                              negative_mode)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(band_matrix_t), intent(in) :: assembled
@@ -179,6 +198,7 @@ contains
       real(dp), intent(out) :: mu
       real(dp), allocatable, intent(inout) :: mode(:)
       logical, intent(out) :: ok
+      logical, intent(in), optional :: negative_mode
       type(band_matrix_t) :: piece
       real(dp), allocatable :: scratch(:)
       real(dp) :: g, gradient(2), hessian(2, 2)
@@ -205,11 +225,95 @@ contains
          call hold_floating(model, state, state%active .and. .not. released, nodal, piece)
       call band_inertia(piece, negative, singular)
       negative = max(0, negative - n_rows)
+      if (present(negative_mode)) then
+         if (negative_mode .and. negative == 1) then
+            call negative_eigenpair(piece, state%map%metric, n_rows, mu, mode, ok)
+            return
+         end if
+      end if
       call band_factorize(piece, error)
       if (allocated(error)) return
       mu = least_eigenvalue(piece, mode)
       ok = .true.
    end subroutine piece_stability
+
+   !> The negative eigenvalue `mu` and eigenvector `mode` of an unfactorised piece with exactly one
+   !> (on the displacements `metric` = 1; its `n_rows` contact rows add as many negative pivots,
+   !> unshifted), when a positive eigenvalue is nearer zero and inverse iteration from zero finds that
+   !> one. Shifts σ = −s, s = 1e-12, 1e-11, ..., 100 times the largest diagonal entry, until K − σI has no
+   !> negative eigenvalue left (Sylvester's inertia, as band_inertia counts it: σ is below the
+   !> negative one), then three bisections between the last two shifts on the same count (Parlett
+   !> 1998, The Symmetric Eigenvalue Problem, §3.3, spectrum slicing) and inverse iteration with that
+   !> shift, which converges to the negative eigenvalue, the one nearest the shift (§4.2). `ok` false:
+   !> no shift found or a failed factorisation.
+   subroutine negative_eigenpair(piece, metric, n_rows, mu, mode, ok)
+      type(band_matrix_t), intent(in) :: piece
+      real(dp), intent(in) :: metric(:)
+      integer, intent(in) :: n_rows
+      real(dp), intent(out) :: mu
+      real(dp), allocatable, intent(inout) :: mode(:)
+      logical, intent(out) :: ok
+      type(band_matrix_t) :: shifted
+      type(error_t), allocatable :: error
+      real(dp) :: scale, below, above, sigma, nu
+      integer :: k, i, n
+      ok = .false.
+      mu = 0.0_dp
+      scale = 0.0_dp
+      do i = 1, piece%n
+         scale = max(scale, abs(band_get(piece, i, i)))
+      end do
+      if (.not. (scale > 0.0_dp)) return
+      ! below: a shift with no eigenvalue under it; above: one with the negative eigenvalue under it.
+      above = 0.0_dp
+      below = 1.0_dp
+      do k = -12, 2
+         sigma = -(10.0_dp**k)*scale
+         if (count_below(sigma) == 0) then
+            below = sigma
+            exit
+         end if
+         above = sigma
+      end do
+      if (below > 0.0_dp) return
+      do k = 1, 3
+         sigma = 0.5_dp*(below + above)
+         if (count_below(sigma) == 0) then
+            below = sigma
+         else
+            above = sigma
+         end if
+      end do
+      ! Shifted just below the negative eigenvalue (within the last bracket), inverse iteration
+      ! converges to it: least_eigenvalue on K − σI returns λ − σ.
+      call shifted_copy(below)
+      call band_factorize(shifted, error)
+      if (allocated(error)) return
+      nu = least_eigenvalue(shifted, mode)
+      mu = nu + below
+      ok = mu < 0.0_dp .and. allocated(mode)
+
+   contains
+
+      !> Negative eigenvalues of the piece below σ (its contact rows' pivots subtracted).
+      integer function count_below(shift)
+         real(dp), intent(in) :: shift
+         logical :: singular
+         call shifted_copy(shift)
+         call band_inertia(shifted, n, singular)
+         count_below = max(0, n - n_rows)
+      end function count_below
+
+      subroutine shifted_copy(shift)
+         real(dp), intent(in) :: shift
+         integer :: j
+         call band_copy(piece, shifted)
+         do j = 1, piece%n
+            if (metric(j) > 0.0_dp) call band_add(shifted, j, j, -shift)
+         end do
+      end subroutine shifted_copy
+
+   end subroutine negative_eigenpair
 
    !> a_cᵀv for every candidate (its gap's gradient at its node against v's displacement there) and
    !> |a_c|; v (n) an augmented vector.
