@@ -96,8 +96,9 @@ contains
    !> - K_J positive definite: no direction of the piece's region is unstable; the state is stable
    !>   when J = ∅ (Q ≥ δuᵀK_open δu). The count is 0 and the least eigenvalue K_J's: the indicator
    !>   that the critical-point locator interpolates is that of the piece the cone is decided on.
-   !> - K_J with one negative eigenvalue and its eigenvector φ (of least magnitude, so that one) opening
-   !>   or leaving every released weak contact (for one sign of φ): Q(φ) ≤ φᵀK_Jφ < 0, an admissible
+   !> - K_J with one negative eigenvalue and its eigenvector φ (the least eigenvector if its eigenvalue
+   !>   is that one, else by negative_eigenpair) opening or leaving every released weak contact (for
+   !>   one sign of φ): Q(φ) ≤ φᵀK_Jφ < 0, an admissible
    !>   direction: unstable, the count is K_J's (a lift-off mode).
    !> - φ pressing into some released weak contact for either sign: that direction is excluded (the
    !>   medium resists); those contacts are closed (added to J) and the next piece is tested.
@@ -120,10 +121,10 @@ contains
       type(contact_scales_t) :: units
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), along(:), norms(:)
       logical, allocatable :: released(:), pressed_plus(:), pressed_minus(:)
-      real(dp), allocatable :: shifted_mode(:)
+      real(dp), allocatable :: direction(:)
       real(dp) :: force_unit, mu, size_mode, mu_shifted
       integer :: c, negative, round, negative_shifted
-      logical :: ok
+      logical :: ok, have_direction
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal)
@@ -140,25 +141,25 @@ contains
       do round = 1, count(released)
          call piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok)
          if (.not. ok) return
-         if (negative == 1 .and. .not. (mu < 0.0_dp)) then
-            ! The one negative eigenvalue is not the least in magnitude (a positive one is nearer
-            ! zero): its eigenvector by inverse iteration shifted below it. If that fails, the
-            ! count stands as it is (conservative).
-            ! (A generic start: the warm mode is the positive one's, orthogonal to the negative one's
-            ! on a symmetric structure.)
-            if (allocated(shifted_mode)) deallocate (shifted_mode)
-            call piece_stability(model, state, assembled, nodal, reaction, released, negative_shifted, &
-                                 mu_shifted, shifted_mode, ok, negative_mode=.true.)
-            if (ok) then
-               mu = mu_shifted
-               mode = shifted_mode
-            end if
-         end if
+         ! The one negative direction φ of the piece: the least eigenvector when its eigenvalue is the
+         ! negative one; else (a positive eigenvalue nearer zero) found by inverse iteration shifted
+         ! below it, from a generic start (the warm mode is the positive one's, orthogonal to the
+         ! negative one on a symmetric structure). It serves the test only: the point keeps the least
+         ! eigenvalue and its mode (the locator's indicator, the warm start, the buckling mode).
+         have_direction = .false.
          if (negative == 1 .and. mu < 0.0_dp .and. allocated(mode)) then
-            ! The one negative direction of the piece: admissible for a sign if it presses no released
-            ! contact (a_cᵀφ below −1e-6 |a_c| max|φ|: above it is round-off of an orthogonal motion).
-            call normal_motions(model, state, nodal, mode, along, norms)
-            size_mode = maxval(abs(state%map%metric*mode))
+            direction = mode
+            have_direction = .true.
+         else if (negative == 1) then
+            if (allocated(direction)) deallocate (direction)
+            call piece_stability(model, state, assembled, nodal, reaction, released, negative_shifted, &
+                                 mu_shifted, direction, have_direction, negative_mode=.true.)
+         end if
+         if (have_direction) then
+            ! Admissible for a sign if it presses no released contact (a_cᵀφ below −1e-6 |a_c| max|φ|:
+            ! above it is round-off of an orthogonal motion).
+            call normal_motions(model, state, nodal, direction, along, norms)
+            size_mode = maxval(abs(state%map%metric*direction))
             pressed_plus = released .and. along < -1.0e-6_dp*norms*size_mode
             pressed_minus = released .and. along > 1.0e-6_dp*norms*size_mode
             if (any(pressed_plus) .and. any(pressed_minus)) then
