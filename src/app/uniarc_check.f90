@@ -125,8 +125,9 @@ contains
    !> it and the analysis goes on). A deformation of a structure moves its nodes by at most about its
    !> size (a cantilever rolled into a ring, one length); only a rigid motion goes further, and one of a
    !> thousand sizes under the first increment is held by a stiffness ~1e-3 of what the load needs.
-   !> Not measured: under displacement control (the step is a displacement), for decks with *STEP, or
-   !> when the stiffness is singular (a mechanism, which the analysis refuses).
+   !> Not measured: under displacement control (the step is a displacement), for decks with *STEP,
+   !> when the stiffness is singular (a mechanism, which the analysis refuses) or the response is not
+   !> finite (the analysis reports it).
    subroutine nearly_mechanism_warning(model, map, message)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -171,7 +172,8 @@ contains
             end if
          end do
       end do
-      if (worst_node == 0) return
+      ! A response that is not finite (loads that overflow the stiffness) is the analysis's to report.
+      if (worst_node == 0 .or. .not. all(abs(rhs) <= huge(1.0_dp))) return
       ratio = largest/size_model
       if (.not. (ratio > response_bound)) return
       label = worst_node
