@@ -3,8 +3,10 @@
 !> A limit point is where dλ/ds changes sign along the direction of travel; it is located on the cubic
 !> Hermite interpolant of λ(s) built from the values and slopes at both points (error O(h⁴) in λ, so
 !> the located load is far more accurate than the nearest step). A bifurcation is a change of the
-!> number of negative pivots of K_T that no limit point explains; it is placed where the eigenvalue of
-!> least magnitude, interpolated linearly between the points, vanishes. Where the path following has
+!> number of negative pivots of K_T that no limit point explains, nor a change of the working set at
+!> which the locator found it (a contact that closes or opens: the least eigenvalue jumps there, the
+!> tangent is not singular); it is placed where the eigenvalue of least magnitude, interpolated
+!> linearly between the points, vanishes. Where the path following has
 !> located a point by re-solving the step (uniarc_path_locate, on a bracket of 1e-3 of the step with
 !> this same interpolation), the point record carries it and it is used instead.
 module uniarc_critical_points
@@ -60,6 +62,9 @@ contains
          events = [events, event]
          unexplained = max(0, unexplained - 1)
       end if
+      ! A change of the count located where the working set changes is a change of stability at a
+      ! contact event (uniarc_path_locate), not a critical point.
+      if (after%stability_by_contact) unexplained = 0
       if (unexplained > 0) then
          ! A change of the count on the tangent with touching contacts released is a lift-off
          ! (unilateral) bifurcation: the structure buckles away from contacts that carry no force.

@@ -12,9 +12,18 @@ module uniarc_check
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text
+   use uniarc_model, only: control_arclength
+   use uniarc_band, only: band_matrix_t, band_factorize, band_solve
+   use uniarc_assembly, only: assemble_reference_load
+   use uniarc_path_mechanism, only: closed_linear_stiffness, find_mechanism
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
+   public :: nearly_mechanism_warning
+
+   !> A linear response to the loads that moves a node by more than this many times the model's size
+   !> is reported as a nearly singular model (nearly_mechanism_warning).
+   real(dp), parameter :: response_bound = 1.0e3_dp
 
    !> The largest element stiffness times coordinate size (force) the analysis accepts: the round-off
    !> floor and the force scale of the convergence test sum squares of such products
@@ -104,6 +113,83 @@ contains
                          counts_text(model, map)//') would '//shortfall, error_input)
       end if
    end subroutine check_model
+
+   !> A model held only by springs or contacts far softer than the structure (docs/contracts.md,
+   !> "Nearly singular models"): not a mechanism — its stiffness is regular — but one whose rigid motion
+   !> is nearly free, so that its displacements are that motion, beyond any structural meaning, and lose
+   !> digits with the condition of the stiffness. Measured by the linear response u = K⁻¹R of the
+   !> unloaded structure with every contact closed (closed_linear_stiffness) to the reference load R of
+   !> the analysis — times the first increment of an arc-length or load-controlled *PATH, at λ = 1 for
+   !> *STATIC — against the model's size (its largest extent in x or y): a node moving more than
+   !> `response_bound` = 1000 times that size returns a warning (`message` allocated; the caller prints
+   !> it and the analysis goes on). A deformation of a structure moves its nodes by at most about its
+   !> size (a cantilever rolled into a ring, one length); only a rigid motion goes further, and one of a
+   !> thousand sizes under the first increment is held by a stiffness ~1e-3 of what the load needs.
+   !> Not measured: under displacement control (the step is a displacement), for decks with *STEP,
+   !> when the stiffness is singular (a mechanism, which the analysis refuses) or the response is not
+   !> finite (the analysis reports it).
+   subroutine nearly_mechanism_warning(model, map, message)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      character(len=:), allocatable, intent(out) :: message
+      type(band_matrix_t) :: stiffness
+      type(error_t), allocatable :: failure
+      real(dp), allocatable :: rhs(:, :)
+      real(dp) :: size_model, scale, largest, ratio
+      integer :: node, dof, worst_node, worst_dof, label
+      if (map%n_equations == 0 .or. allocated(model%steps)) return
+      if (model%analysis%kind == analysis_linear) then
+         scale = 1.0_dp
+      else if (model%analysis%control == control_arclength .or. model%analysis%control == control_load) then
+         scale = abs(model%analysis%first_increment)
+      else
+         return
+      end if
+      size_model = max(maxval(model%coordinates(1, :)) - minval(model%coordinates(1, :)), &
+                       maxval(model%coordinates(2, :)) - minval(model%coordinates(2, :)))
+      if (.not. (size_model > 0.0_dp)) return
+      call closed_linear_stiffness(model, map, stiffness, failure)
+      if (allocated(failure)) return
+      ! A mechanism is refused by the analysis with its own message.
+      call find_mechanism(model, map, stiffness, failure)
+      if (allocated(failure)) return
+      allocate (rhs(map%n_equations, 1))
+      call assemble_reference_load(model, map, .true., rhs(:, 1))
+      call band_factorize(stiffness, failure)
+      if (allocated(failure)) return
+      call band_solve(stiffness, rhs, failure)
+      if (allocated(failure)) return
+      largest = 0.0_dp
+      worst_node = 0
+      worst_dof = 0
+      do node = 1, model%n_nodes
+         do dof = 1, 2
+            if (map%equation(dof, node) == 0) cycle
+            if (.not. (abs(scale*rhs(map%equation(dof, node), 1)) <= largest)) then
+               largest = abs(scale*rhs(map%equation(dof, node), 1))
+               worst_node = node
+               worst_dof = dof
+            end if
+         end do
+      end do
+      ! A response that is not finite (loads that overflow the stiffness) is the analysis's to report.
+      if (worst_node == 0 .or. .not. all(abs(rhs) <= huge(1.0_dp))) return
+      ratio = largest/size_model
+      if (.not. (ratio > response_bound)) return
+      label = worst_node
+      if (allocated(model%node_label)) label = model%node_label(worst_node)
+      message = 'the model is nearly a mechanism: its linear response to the loads'// &
+                trim(merge(' (at the first increment)', '                         ', &
+                           model%analysis%kind /= analysis_linear))// &
+                ' moves node '//integer_to_string(label)//' by '//trim(adjustl(real_to_string(largest, '(es10.3)')))// &
+                ' in '//trim(merge('UX', 'UY', worst_dof == 1))//', '// &
+                trim(adjustl(real_to_string(ratio, '(es10.3)')))//' times the model''s size '// &
+                trim(adjustl(real_to_string(size_model, '(es10.3)')))//': a rigid motion is held only by '// &
+                'springs or contacts far softer than the structure, and the displacements are that motion '// &
+                '(with fewer significant digits as the stiffness is nearer singular); check the supports '// &
+                'and the springs'' stiffnesses'
+      if (allocated(model%deck_path)) message = model%deck_path//': '//message
+   end subroutine nearly_mechanism_warning
 
    !> The summary of `uniarc --check` on stdout: counts, supports, loads and their totals, contact
    !> groups, the analysis and the memory estimate.

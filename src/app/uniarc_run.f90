@@ -20,7 +20,8 @@ module uniarc_run
    use uniarc_foreign, only: interrupt_signal, signal_name
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_path_mechanism, only: check_model_mechanism
-   use uniarc_check, only: check_model, check_element_scales, print_model_summary, model_memory_estimate
+   use uniarc_check, only: check_model, check_element_scales, print_model_summary, model_memory_estimate, &
+                           nearly_mechanism_warning
    use uniarc_memory, only: available_memory, memory_text
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
@@ -73,6 +74,7 @@ contains
       call build_dof_map(model, map)
       call check_model(model, map, error)
       if (allocated(error)) return
+      call warn_nearly_mechanism(model, map)
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
@@ -93,6 +95,16 @@ contains
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
       call abandon_results(results)
    end subroutine run_model
+
+   !> A nearly singular model's warning on stderr (uniarc_check, nearly_mechanism_warning; also with
+   !> -q, as errors are): the analysis goes on (docs/contracts.md, "Nearly singular models").
+   subroutine warn_nearly_mechanism(model, map)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      character(len=:), allocatable :: message
+      call nearly_mechanism_warning(model, map, message)
+      if (allocated(message)) write (error_unit, '(a)') 'warning: '//message
+   end subroutine warn_nearly_mechanism
 
    !> The memory line of `-v` on stderr before the analysis (docs/contracts.md, "Progress and
    !> messages"): the estimate of uniarc_check (model_memory_estimate) and what is available
@@ -134,6 +146,7 @@ contains
       end if
       call check_model(model, map, error)
       if (.not. allocated(error)) call check_model_mechanism(model, map, error)
+      if (.not. allocated(error)) call warn_nearly_mechanism(model, map)
       if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
    end subroutine check_deck
 

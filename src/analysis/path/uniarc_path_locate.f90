@@ -62,6 +62,7 @@ contains
       logical :: limit, bifurcation, probed, converged
       after%point%limit_fraction = -1.0_dp
       after%point%bifurcation_fraction = -1.0_dp
+      after%point%stability_by_contact = .false.
       limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
       bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
       if (.not. (limit .or. bifurcation)) return
@@ -138,6 +139,13 @@ contains
             after%point%limit_lambda = min(after%point%limit_lambda, pa%lambda, pb%lambda)
          end if
          after%point%limit_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+      else if (hb - ha <= bracket_tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
+         ! The count changes where the working set does (within 1e-3 of the step): a contact closing
+         ! or opening adds or removes its stiffness, and the least eigenvalue jumps across zero there
+         ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
+         ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
+         ! crosses, and no mode to switch to (docs/theory.md §2.2).
+         after%point%stability_by_contact = .true.
       else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).

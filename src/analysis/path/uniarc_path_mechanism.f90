@@ -14,9 +14,12 @@
 !>    support: the coupling to the held DOF) or if its energy vᵀKv, a coherent sum, stands above the
 !>    round-off of the rows (springs or closed contacts spread over the model, each far below the
 !>    bending terms of its row on a fine mesh); a motion held by neither is free (function `held`).
-!> The model is refused (error_input, exit code 2) with the free motion and the node it moves most.
-!> Mechanisms inside a model (a hinge, a part with no support of its own) are not rigid motions of
-!> the whole and are not looked for; an exactly singular stiffness still fails the factorisation.
+!> 3. Mechanisms inside the model (a chain of hinges between supports, a part with no support of its
+!>    own), when stage 1 found a weak pivot and stage 2 no free rigid motion: the least mode of the
+!>    stiffness relative to its diagonal by shifted inverse iteration, free if it passes the round-off
+!>    test of stage 2 (free_internal_motion).
+!> The model is refused (error_input, exit code 2) with the free motion and the node it moves most
+!> (stage 3: the nodes and elements it takes).
 module uniarc_path_mechanism
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
@@ -24,14 +27,14 @@ module uniarc_path_mechanism
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_allocate, &
-                          band_add, band_get
+                          band_add, band_get, band_copy, band_factorize, band_solve
    use uniarc_assembly, only: assemble_linear_stiffness
    use uniarc_contact, only: assemble_contact
    use uniarc_model, only: dofs_per_node
    use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at
    implicit none
    private
-   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions
+   public :: find_mechanism, check_mechanism, check_model_mechanism, floating_motions, closed_linear_stiffness
 
    !> Stage 1: a pivot at most this fraction of its row's diagonal calls for stage 2.
    real(dp), parameter :: pivot_tolerance = 1.0e-10_dp
@@ -112,7 +115,15 @@ contains
       character(len=:), allocatable :: what, deck
       integer :: row, node, dof, largest, label
       call free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
-      if (.not. allocated(motion)) return
+      if (.not. allocated(motion)) then
+         ! Stage 3: a weak pivot that no rigid motion of the whole explains may be a mechanism inside
+         ! the model (a chain of hinges, a part held by nothing of its own).
+         if (row == 0 .or. ratio > pivot_tolerance) return
+         call free_internal_motion(map, stiffness, motion)
+         if (.not. allocated(motion)) return
+         call internal_mechanism_error(model, map, motion, ratio, row, error)
+         return
+      end if
       largest = maxloc(abs(map%metric*motion), 1)
       node = 0
       dof = 0
@@ -134,17 +145,31 @@ contains
 
    !> The check of a model on its own, before any analysis (`uniarc --check`, *STATIC): the linear
    !> stiffness of the unloaded structure — the tangent of the path's unloaded state, which carries no
-   !> stress — with every contact candidate closed, through find_mechanism. Errors: a band matrix that
-   !> cannot be allocated (band_allocate); find_mechanism's (error_input, exit code 2).
+   !> stress — with every contact candidate closed (closed_linear_stiffness), through find_mechanism.
+   !> Errors: a band matrix that cannot be allocated (band_allocate); find_mechanism's (error_input,
+   !> exit code 2).
    subroutine check_model_mechanism(model, map, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(error_t), allocatable, intent(out) :: error
       type(band_matrix_t) :: stiffness
+      if (map%n_equations == 0) return
+      call closed_linear_stiffness(model, map, stiffness, error)
+      if (allocated(error)) return
+      call find_mechanism(model, map, stiffness, error)
+   end subroutine check_model_mechanism
+
+   !> The linear stiffness of the unloaded structure (n × n, unfactorised, n = map%n_equations > 0)
+   !> with every contact candidate closed (held as if bonded; augmented rows for those with a reaction
+   !> unknown). Errors: a band matrix that cannot be allocated (band_allocate).
+   subroutine closed_linear_stiffness(model, map, stiffness, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(out) :: stiffness
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: at_rest(:, :), no_reactions(:), internal(:)
       logical, allocatable :: closed(:)
       integer :: c
-      if (map%n_equations == 0) return
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
       if (allocated(error)) return
       call assemble_linear_stiffness(model, map, stiffness)
@@ -155,8 +180,7 @@ contains
          closed = [(candidate_live(map, c), c=1, size(map%candidate_equation))]
          call assemble_contact(model, map, at_rest, no_reactions, closed, stiffness, internal)
       end if
-      call find_mechanism(model, map, stiffness, error)
-   end subroutine check_model_mechanism
+   end subroutine closed_linear_stiffness
 
    !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
@@ -256,6 +280,149 @@ contains
       end subroutine put
 
    end subroutine free_rigid_motion
+
+   !> Stage 3 (docs/theory.md §2.4): the motion of least stiffness of `stiffness` (unfactorised, n × n)
+   !> relative to its own diagonal D — the eigenvector of the least eigenvalue of the pencil (K, D) —
+   !> by inverse iteration on K + σD, σ = 1e-14 (Golub & Van Loan 2013, §7.6.1, §8.2.1 for the
+   !> symmetric-definite pencil): four solves amplify a null vector over a mode of relative stiffness
+   !> 1e-12 (a cantilever of 1e4 elements, the softest held model measured) 100⁴-fold. The motion is
+   !> free (`motion` allocated, n) when the module's round-off test (`free_by_roundoff`) finds that no
+   !> row holds it; a held model's softest mode stores energy far above that round-off. Rows with no
+   !> diagonal (rigid contact rows of the augmented system) are not shifted.
+   subroutine free_internal_motion(map, stiffness, motion)
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(in) :: stiffness
+      real(dp), allocatable, intent(out) :: motion(:)
+      type(band_matrix_t) :: shifted
+      type(error_t), allocatable :: failure
+      real(dp), allocatable :: diagonal(:), x(:, :)
+      integer :: i, k
+      allocate (diagonal(map%n_equations), x(map%n_equations, 1))
+      do i = 1, map%n_equations
+         diagonal(i) = abs(band_get(stiffness, i, i))
+      end do
+      call band_copy(stiffness, shifted, failure)
+      if (allocated(failure)) return
+      do i = 1, map%n_equations
+         if (diagonal(i) > 0.0_dp) call band_add(shifted, i, i, 1.0e-14_dp*diagonal(i))
+      end do
+      call band_factorize(shifted, failure)
+      if (allocated(failure)) return
+      ! A generic start with a component along every motion (no symmetry of the model can hide one).
+      x(:, 1) = [(1.0_dp + 0.5_dp*sin(1.7_dp*real(i, dp)), i=1, map%n_equations)]
+      do k = 1, 4
+         x(:, 1) = diagonal*x(:, 1)
+         call band_solve(shifted, x, failure)
+         if (allocated(failure)) return
+         if (.not. all(abs(x) <= huge(1.0_dp))) return
+         x = x/maxval(abs(x))
+      end do
+      if (free_by_roundoff(stiffness, x(:, 1))) motion = x(:, 1)
+   end subroutine free_internal_motion
+
+   !> Whether a motion v (n) passes through `stiffness` as round-off only: no row keeps a term it does
+   !> not cancel beyond 1e3 ε of the row's terms (or of ε times the largest row's, for rows the motion
+   !> hardly reaches), and its energy vᵀKv is at most 3 times the random
+   !> walk of the rows' round-off (the criteria of `held` in free_rigid_motion; Higham 2002, §3.1).
+   logical function free_by_roundoff(stiffness, v) result(free)
+      type(band_matrix_t), intent(in) :: stiffness
+      real(dp), intent(in) :: v(:)
+      real(dp), allocatable :: product(:), magnitude(:)
+      real(dp) :: noise, floor
+      integer :: i
+      allocate (product(size(v)), magnitude(size(v)))
+      call band_row_terms(stiffness, v, product, magnitude)
+      free = .true.
+      ! A row whose terms are all round-off of the largest (the axial DOFs of a transverse mechanism,
+      ! left at 1e-54 by the iteration) tells nothing: measured against ε times the largest row.
+      floor = epsilon(1.0_dp)*maxval(magnitude)
+      do i = 1, size(v)
+         if (abs(product(i)) > residual_tolerance*max(magnitude(i), floor)) free = .false.
+      end do
+      noise = epsilon(1.0_dp)*norm2(v*magnitude)
+      if (abs(dot_product(v, product)) > energy_factor*noise) free = .false.
+   end function free_by_roundoff
+
+   !> The message of a mechanism inside the model (error_input): the nodes that move (labels, the
+   !> first ten) with the node and component where the motion is largest, and the elements that move
+   !> with them.
+   subroutine internal_mechanism_error(model, map, motion, ratio, row, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: motion(:), ratio
+      integer, intent(in) :: row
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: size_at(:)
+      logical, allocatable :: moving(:)
+      character(len=:), allocatable :: deck, nodes, elements
+      real(dp) :: largest
+      integer :: node, dof, e, worst_node, worst_dof
+      allocate (size_at(model%n_nodes), source=0.0_dp)
+      largest = 0.0_dp
+      worst_node = 1
+      worst_dof = 1
+      do node = 1, model%n_nodes
+         do dof = 1, dofs_per_node
+            if (map%equation(dof, node) == 0) cycle
+            size_at(node) = max(size_at(node), abs(motion(map%equation(dof, node))))
+            if (abs(motion(map%equation(dof, node))) > largest) then
+               largest = abs(motion(map%equation(dof, node)))
+               worst_node = node
+               worst_dof = dof
+            end if
+         end do
+      end do
+      ! A node moves with the mechanism when it moves at least 1e-3 of the largest motion.
+      moving = size_at > 1.0e-3_dp*largest
+      nodes = listed(count(moving), [(label_of_node(node), node=1, model%n_nodes)], moving)
+      elements = listed(count([(any(moving(model%connectivity(:, e))), e=1, model%n_elements)]), &
+                        [(label_of_element(e), e=1, model%n_elements)], &
+                        [(any(moving(model%connectivity(:, e))), e=1, model%n_elements)])
+      deck = 'the model'
+      if (allocated(model%deck_path)) deck = model%deck_path//': the model'
+      call make_error(error, deck//' is a mechanism (its stiffness is singular): a part of it can move without '// &
+                      'deforming anything (even with every contact closed; weakest pivot '// &
+                      trim(real_to_string(ratio, '(es9.2)'))//' of its diagonal, at equation '// &
+                      integer_to_string(row)//'); the motion takes nodes '//nodes//' (largest at node '// &
+                      integer_to_string(label_of_node(worst_node))//', '//component_name(worst_dof)// &
+                      ') and elements '//elements//'; hold it with supports (*BOUNDARY) or remove hinges (*RELEASE)', &
+                      error_input)
+
+   contains
+
+      integer function label_of_node(i)
+         integer, intent(in) :: i
+         label_of_node = i
+         if (allocated(model%node_label)) label_of_node = model%node_label(i)
+      end function label_of_node
+
+      integer function label_of_element(i)
+         integer, intent(in) :: i
+         label_of_element = i
+         if (allocated(model%element_label)) label_of_element = model%element_label(i)
+      end function label_of_element
+
+      !> The labels where `mask` holds, the first ten, then "and N more".
+      function listed(total, labels, mask) result(text)
+         integer, intent(in) :: total, labels(:)
+         logical, intent(in) :: mask(:)
+         character(len=:), allocatable :: text
+         integer :: i, shown
+         text = ''
+         shown = 0
+         do i = 1, size(labels)
+            if (.not. mask(i)) cycle
+            if (shown == 10) then
+               text = text//' and '//integer_to_string(total - shown)//' more'
+               exit
+            end if
+            if (shown > 0) text = text//', '
+            text = text//integer_to_string(labels(i))
+            shown = shown + 1
+         end do
+      end function listed
+
+   end subroutine internal_mechanism_error
 
    !> The deck's name of a nodal component (1, 2, 3).
    pure function component_name(dof) result(name)

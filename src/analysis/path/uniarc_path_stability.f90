@@ -8,10 +8,10 @@ module uniarc_path_stability
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
-                          band_factorize
+                          band_factorize, band_get, band_add
    use uniarc_dof_map, only: candidate_live
    use uniarc_contact, only: candidate_gap, set_membership
-   use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at
+   use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at, hold_floating
    use uniarc_path_contact_set, only: candidate_state, contact_units
    use uniarc_contact_lcp, only: contact_scales_t
    implicit none
@@ -85,72 +85,259 @@ contains
       if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
    end function least_eigenvalue
 
-   !> Stability with contacts that touch without force (Klarbring 1988; Cottle, Pang & Stone 1992,
-   !> §3.8 on copositivity): such a contact is in the working set, so K_S holds it as if bonded, but a
-   !> perturbation may open it at no cost. The second variation of the energy is then
-   !> δuᵀK_open δu + Σ_weak k_c min(0, a_cᵀδu)² (a rigid contact: a_cᵀδu ≥ 0 on the cone), where
-   !> K_open is K_S with the weak contacts released. It is positive for all δu ≠ 0 if K_open is positive
-   !> definite. uniarc counts the negative pivots of K_open at such states (`point%liftoff`), with its
-   !> least eigenvalue for the locator: conservative, since a negative mode of K_open that would press
-   !> into a weak contact is counted too, and never later than the first lift-off — a pinned strut
-   !> resting on a tensionless bed buckles at Euler's load, not at the bonded bed's.
+   !> Stability with contacts that touch without force (docs/theory.md §2.2; Klarbring 1988; Cottle,
+   !> Pang & Stone 1992, §3.8 on copositivity). Such a contact (weak: in the working set with a
+   !> reaction at most `tolerance` × the force unit) is held by K_S as if bonded, but a perturbation
+   !> δu may open it at no cost. The second variation of the energy is the piecewise quadratic
+   !> Q(δu) = δuᵀK_open δu + Σ_weak k_c min(0, a_cᵀδu)² (a rigid contact: a_cᵀδu ≥ 0 on the cone), K_open
+   !> being K_S with the weak contacts released; the state is stable when Q is positive for δu ≠ 0,
+   !> i.e. when the tangent is strictly copositive on the cone of admissible directions. Decided on
+   !> the pieces K_J (K_S with the weak contacts outside J released), from J = ∅:
+   !> - K_J positive definite: no direction of the piece's region is unstable; the state is stable
+   !>   when J = ∅ (Q ≥ δuᵀK_open δu). The count is 0 and the least eigenvalue K_J's: the indicator
+   !>   that the critical-point locator interpolates is that of the piece the cone is decided on.
+   !> - K_J with one negative eigenvalue and its eigenvector φ (the least eigenvector if its eigenvalue
+   !>   is that one, else by negative_eigenpair) opening or leaving every released weak contact (for
+   !>   one sign of φ): Q(φ) ≤ φᵀK_Jφ < 0, an admissible
+   !>   direction: unstable, the count is K_J's (a lift-off mode).
+   !> - φ pressing into some released weak contact for either sign: that direction is excluded (the
+   !>   medium resists); those contacts are closed (added to J) and the next piece is tested.
+   !> - more than one negative eigenvalue: the count is K_J's (conservative: one of them may press).
+   !> Floating rigid motions (docs/theory.md §2.8) that no contact of the piece sees are held in it, as
+   !> in the tangent itself: a liner whose first contact touches without force can drift away from it
+   !> at no cost, a neutral motion it had before the contact too, not an instability.
    !>
-   !> `assembled` is K_S unfactorised (left unchanged: it is copied). Weak: in the working set with a
-   !> reaction at most `tolerance` × the force unit (reactions below it are round-off of zero). Not
-   !> at the unloaded state (`unloaded`), where every resting contact touches without force and a
-   !> structure lying on its medium is neutral, not unstable. Costs one more band LU and inertia count
-   !> at the states that have weak contacts, nothing at the others.
+   !> `assembled` is K_S unfactorised (left unchanged: it is copied). Not at the unloaded state
+   !> (`unloaded`), where every resting contact touches without force and a structure lying on its
+   !> medium is neutral, not unstable. Costs one band LU per piece tested at the states that have weak
+   !> contacts, nothing at the others. Sets state%point%liftoff when the count and least eigenvalue
+   !> are a piece's other than K_S, with its least eigenvector in state%liftoff_mode.
    subroutine liftoff_stability(model, state, assembled, tolerance, unloaded)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(band_matrix_t), intent(in) :: assembled
       real(dp), intent(in) :: tolerance
       logical, intent(in) :: unloaded
-      type(band_matrix_t) :: open_tangent
       type(contact_scales_t) :: units
-      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), released(:)
-      logical, allocatable :: weak(:)
-      real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu
-      integer :: c, node, row, negative, n_rows
-      logical :: singular
-      type(error_t), allocatable :: error
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), along(:), norms(:)
+      logical, allocatable :: released(:), pressed_plus(:), pressed_minus(:)
+      real(dp), allocatable :: direction(:)
+      real(dp) :: force_unit, mu, size_mode, mu_shifted
+      integer :: c, negative, round, negative_shifted
+      logical :: ok, have_direction
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal)
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
-      allocate (weak(size(reaction)))
+      allocate (released(size(reaction)))
       do c = 1, size(reaction)
-         weak(c) = state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral &
-                   .and. reaction(c) <= tolerance*force_unit
+         released(c) = state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral &
+                       .and. reaction(c) <= tolerance*force_unit
       end do
-      if (.not. any(weak)) return
-      call band_copy(assembled, open_tangent)
-      allocate (released(size(assembled%ab, 2)))
+      if (.not. any(released)) return
+      if (allocated(state%liftoff_mode)) mode = state%liftoff_mode
+      do round = 1, count(released)
+         call piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok)
+         if (.not. ok) return
+         ! The one negative direction φ of the piece: the least eigenvector when its eigenvalue is the
+         ! negative one; else (a positive eigenvalue nearer zero) found by inverse iteration shifted
+         ! below it, from a generic start (the warm mode is the positive one's, orthogonal to the
+         ! negative one on a symmetric structure). It serves the test only: the point keeps the least
+         ! eigenvalue and its mode (the locator's indicator, the warm start, the buckling mode).
+         have_direction = .false.
+         if (negative == 1 .and. mu < 0.0_dp .and. allocated(mode)) then
+            direction = mode
+            have_direction = .true.
+         else if (negative == 1) then
+            if (allocated(direction)) deallocate (direction)
+            call piece_stability(model, state, assembled, nodal, reaction, released, negative_shifted, &
+                                 mu_shifted, direction, have_direction, negative_mode=.true.)
+         end if
+         if (have_direction) then
+            ! Admissible for a sign if it presses no released contact (a_cᵀφ below −1e-6 |a_c| max|φ|:
+            ! above it is round-off of an orthogonal motion).
+            call normal_motions(model, state, nodal, direction, along, norms)
+            size_mode = maxval(abs(state%map%metric*direction))
+            pressed_plus = released .and. along < -1.0e-6_dp*norms*size_mode
+            pressed_minus = released .and. along > 1.0e-6_dp*norms*size_mode
+            if (any(pressed_plus) .and. any(pressed_minus)) then
+               ! Excluded for both signs: close the contacts the milder sign presses, test again.
+               if (count(pressed_plus) <= count(pressed_minus)) then
+                  released = released .and. .not. pressed_plus
+               else
+                  released = released .and. .not. pressed_minus
+               end if
+               if (.not. any(released)) return   ! every weak contact closed: K_S itself
+               cycle
+            end if
+         end if
+         exit
+      end do
+      state%point%neg_pivots = max(state%point%neg_pivots, negative)
+      state%point%min_eigenvalue = mu
+      state%point%liftoff = .true.
+      if (allocated(mode)) state%liftoff_mode = mode
+   end subroutine liftoff_stability
+
+   !> One piece of the lift-off test: K_S (`assembled`) with the contacts `released` released, the
+   !> floating motions no remaining contact sees held; its negative eigenvalues (the contact rows
+   !> still in it subtracted, as in structural_inertia) and its eigenvalue of least magnitude `mu` with
+   !> its eigenvector `mode` (warm start in, result out). `ok` false: a failed factorisation.
+   !> With `negative_mode` (for a piece with one negative eigenvalue that is not the least in
+   !> magnitude): `mu` and `mode` are that negative eigenvalue and its eigenvector instead
+   !> (negative_eigenpair).
+   subroutine piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok, &
+                              negative_mode)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(band_matrix_t), intent(in) :: assembled
+      real(dp), intent(in) :: nodal(:, :), reaction(:)
+      logical, intent(in) :: released(:)
+      integer, intent(out) :: negative
+      real(dp), intent(out) :: mu
+      real(dp), allocatable, intent(inout) :: mode(:)
+      logical, intent(out) :: ok
+      logical, intent(in), optional :: negative_mode
+      type(band_matrix_t) :: piece
+      real(dp), allocatable :: scratch(:)
+      real(dp) :: g, gradient(2), hessian(2, 2)
+      integer :: c, node, row, n_rows
+      logical :: singular
+      type(error_t), allocatable :: error
+      ok = .false.
+      negative = 0
+      mu = 0.0_dp
+      call band_copy(assembled, piece)
+      allocate (scratch(size(assembled%ab, 2)))
       n_rows = count(state%active .and. state%map%candidate_equation > 0)
-      do c = 1, size(weak)
-         if (.not. weak(c)) cycle
+      do c = 1, size(released)
+         if (.not. released(c)) cycle
          node = model%contacts(c)%node
          row = state%map%candidate_equation(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
          ! Released as if leaving the set (its residual is not needed here).
          call set_membership(row, state%map%equation(1:2, node), g, gradient, hessian, &
-                             model%contacts(c)%flexibility, reaction(c), .false., open_tangent, released)
+                             model%contacts(c)%flexibility, reaction(c), .false., piece, scratch)
          if (row > 0) n_rows = n_rows - 1
       end do
-      call band_inertia(open_tangent, negative, singular)
+      if (allocated(state%floating_equation)) &
+         call hold_floating(model, state, state%active .and. .not. released, nodal, piece)
+      call band_inertia(piece, negative, singular)
       negative = max(0, negative - n_rows)
-      call band_factorize(open_tangent, error)
+      if (present(negative_mode)) then
+         if (negative_mode .and. negative == 1) then
+            call negative_eigenpair(piece, state%map%metric, n_rows, mu, mode, ok)
+            return
+         end if
+      end if
+      call band_factorize(piece, error)
       if (allocated(error)) return
-      if (allocated(state%liftoff_mode)) mode = state%liftoff_mode
-      mu = least_eigenvalue(open_tangent, mode)
-      if (allocated(mode)) state%liftoff_mode = mode
-      state%point%neg_pivots = max(state%point%neg_pivots, negative)
-      state%point%min_eigenvalue = mu
-      state%point%liftoff = .true.
-   end subroutine liftoff_stability
+      mu = least_eigenvalue(piece, mode)
+      ok = .true.
+   end subroutine piece_stability
 
+   !> The negative eigenvalue `mu` and eigenvector `mode` of an unfactorised piece with exactly one
+   !> (on the displacements `metric` = 1; its `n_rows` contact rows add as many negative pivots,
+   !> unshifted), when a positive eigenvalue is nearer zero and inverse iteration from zero finds that
+   !> one. Shifts σ = −s, s = 1e-12, 1e-11, ..., 100 times the largest diagonal entry, until K − σI has no
+   !> negative eigenvalue left (Sylvester's inertia, as band_inertia counts it: σ is below the
+   !> negative one), then three bisections between the last two shifts on the same count (Parlett
+   !> 1998, The Symmetric Eigenvalue Problem, §3.3, spectrum slicing) and inverse iteration with that
+   !> shift, which converges to the negative eigenvalue, the one nearest the shift (§4.2). `ok` false:
+   !> no shift found or a failed factorisation.
+   subroutine negative_eigenpair(piece, metric, n_rows, mu, mode, ok)
+      type(band_matrix_t), intent(in) :: piece
+      real(dp), intent(in) :: metric(:)
+      integer, intent(in) :: n_rows
+      real(dp), intent(out) :: mu
+      real(dp), allocatable, intent(inout) :: mode(:)
+      logical, intent(out) :: ok
+      type(band_matrix_t) :: shifted
+      type(error_t), allocatable :: error
+      real(dp) :: scale, below, above, sigma, nu
+      integer :: k, i, n
+      ok = .false.
+      mu = 0.0_dp
+      scale = 0.0_dp
+      do i = 1, piece%n
+         scale = max(scale, abs(band_get(piece, i, i)))
+      end do
+      if (.not. (scale > 0.0_dp)) return
+      ! below: a shift with no eigenvalue under it; above: one with the negative eigenvalue under it.
+      above = 0.0_dp
+      below = 1.0_dp
+      do k = -12, 2
+         sigma = -(10.0_dp**k)*scale
+         if (count_below(sigma) == 0) then
+            below = sigma
+            exit
+         end if
+         above = sigma
+      end do
+      if (below > 0.0_dp) return
+      do k = 1, 3
+         sigma = 0.5_dp*(below + above)
+         if (count_below(sigma) == 0) then
+            below = sigma
+         else
+            above = sigma
+         end if
+      end do
+      ! Shifted just below the negative eigenvalue (within the last bracket), inverse iteration
+      ! converges to it: least_eigenvalue on K − σI returns λ − σ.
+      call shifted_copy(below)
+      call band_factorize(shifted, error)
+      if (allocated(error)) return
+      nu = least_eigenvalue(shifted, mode)
+      mu = nu + below
+      ok = mu < 0.0_dp .and. allocated(mode)
+
+   contains
+
+      !> Negative eigenvalues of the piece below σ (its contact rows' pivots subtracted).
+      integer function count_below(shift)
+         real(dp), intent(in) :: shift
+         logical :: singular
+         call shifted_copy(shift)
+         call band_inertia(shifted, n, singular)
+         count_below = max(0, n - n_rows)
+      end function count_below
+
+      subroutine shifted_copy(shift)
+         real(dp), intent(in) :: shift
+         integer :: j
+         call band_copy(piece, shifted)
+         do j = 1, piece%n
+            if (metric(j) > 0.0_dp) call band_add(shifted, j, j, -shift)
+         end do
+      end subroutine shifted_copy
+
+   end subroutine negative_eigenpair
+
+   !> a_cᵀv for every candidate (its gap's gradient at its node against v's displacement there) and
+   !> |a_c|; v (n) an augmented vector.
+   subroutine normal_motions(model, state, nodal, v, along, norms)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: nodal(:, :), v(:)
+      real(dp), allocatable, intent(out) :: along(:), norms(:)
+      real(dp) :: g, gradient(2), hessian(2, 2)
+      integer :: c, node, k
+      allocate (along(size(state%map%candidate_equation)), norms(size(state%map%candidate_equation)))
+      along = 0.0_dp
+      norms = 0.0_dp
+      do c = 1, size(along)
+         if (.not. candidate_live(state%map, c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         norms(c) = norm2(gradient)
+         do k = 1, 2
+            if (state%map%equation(k, node) > 0) along(c) = along(c) + gradient(k)*v(state%map%equation(k, node))
+         end do
+      end do
+   end subroutine normal_motions
 
    !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
    !> residual, K⁻¹R, inertia and least eigenvalue into the state (path_advance's commit, and the

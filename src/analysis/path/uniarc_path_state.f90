@@ -27,6 +27,7 @@ module uniarc_path_state
    public :: commit_joint_state, yielded_joints
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
+   public :: hold_floating
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -51,6 +52,11 @@ module uniarc_path_state
       !> (uniarc_path_locate): the fraction of that interval (−1: none located) and λ there.
       real(dp) :: limit_fraction = -1.0_dp, limit_lambda = 0.0_dp
       real(dp) :: bifurcation_fraction = -1.0_dp, bifurcation_lambda = 0.0_dp
+      !> The change of neg_pivots since the previous point happens where the working set changes (the
+      !> locator's final bracket has a different set at its ends): a contact that closes or opens
+      !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
+      !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2).
+      logical :: stability_by_contact = .false.
       !> This point is the first of a secondary branch, reached from a bifurcation (uniarc_path_branch):
       !> the interval before it joins two branches and holds no critical point.
       logical :: switched = .false.
