@@ -51,6 +51,10 @@ module uniarc_output
       !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
       !> written as the group's own path columns when the model has more than one group
       type(contact_summary_t), allocatable :: groups(:)
+      !> plastic media (*FOUNDATION or *SPRING with QU=): the plastic slip of every candidate (length) and
+      !> whether it is at its bearing limit, for STEM.contact (unallocated: none)
+      real(dp), allocatable :: slip(:)
+      logical, allocatable :: yielding(:)
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -105,8 +109,11 @@ contains
       files%with_forces = .true.
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
+      ! plastic media: two more columns, the slip and whether the candidate yields (docs/contracts.md)
       call open_table(results, files%contact, results%stem//'.contact', &
-                      'step lambda medium candidate node s gap reaction length pressure', comments, csv, error)
+                      'step lambda medium candidate node s gap reaction length pressure'// &
+                      trim(merge(' slip yielding', '              ', any(model%contacts%plastic))), &
+                      comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -328,15 +335,19 @@ contains
    !> element_end_forces: element frame, N tension positive, M = EI κ positive toward the left normal,
    !> V = dM/ds). STEM.contact, one row per candidate: `step lambda medium candidate node s gap reaction
    !> length pressure` — its coordinate along its group, gap, reaction, tributary length
-   !> (candidate_lengths) and reaction/length.
+   !> (candidate_lengths) and reaction/length; with plastic media also `slip yielding` (the plastic slip
+   !> of the candidate and 1 where it is at its bearing limit, docs/theory.md §3.9), the gap then
+   !> measured to the medium's surface sunk by the slip.
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:)
+      real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:), slip(:)
+      logical, allocatable :: yielding(:)
       character(len=:), allocatable :: head
       integer :: e, c
+      logical :: plastic
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
@@ -355,12 +366,27 @@ contains
       allocate (reactions(size(model%contacts)), source=0.0_dp)
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
+      plastic = any(model%contacts%plastic)
+      allocate (slip(size(model%contacts)), source=0.0_dp)
+      allocate (yielding(size(model%contacts)), source=.false.)
+      if (allocated(record%slip)) slip(1:min(size(slip), size(record%slip))) = &
+         record%slip(1:min(size(slip), size(record%slip)))
+      if (allocated(record%yielding)) yielding(1:min(size(yielding), size(record%yielding))) = &
+         record%yielding(1:min(size(yielding), size(record%yielding)))
       do c = 1, size(model%contacts)
          if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: not a contact
-         call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
-                      integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
-                      numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                    reactions(c)/lengths(c)]))
+         if (plastic) then
+            ! the gap to the medium's surface sunk by the plastic slip
+            call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
+                         integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
+                         numbers_text([model%contacts(c)%coordinate, gaps(c) + slip(c), reactions(c), lengths(c), &
+                                       reactions(c)/lengths(c), slip(c)])//' '//merge('1', '0', yielding(c)))
+         else
+            call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
+                         integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
+                         numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
+                                       reactions(c)/lengths(c)]))
+         end if
       end do
       call put_row(files%contact, '')
       call put_row(files%contact, '')
