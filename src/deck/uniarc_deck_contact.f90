@@ -562,7 +562,7 @@ contains
    subroutine bearing_limit(source, card, deck, limit, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
-      type(deck_t), intent(in) :: deck
+      type(deck_t), intent(inout) :: deck
       real(dp), intent(out) :: limit
       type(error_t), allocatable, intent(out) :: error
       integer :: k
@@ -579,6 +579,11 @@ contains
       if (.not. (limit > 0.0_dp .and. limit < huge(1.0_dp))) then
          call raise(source, card%line, card%options(k)%value_column, 'expected a positive finite bearing ' // &
                     'limit QU, found '//real_to_string(limit), error)
+         return
+      end if
+      if (deck%plastic_line == 0) then
+         deck%plastic_line = card%line
+         deck%plastic_column = card%options(k)%column
       end if
    end subroutine bearing_limit
 

@@ -52,6 +52,8 @@ module uniarc_deck_state
       integer :: loose_analysis_line = 0, loose_analysis_column = 0
       integer :: analysis_column = 0                  !< column of the analysis card of the open step
       integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
+      !> where the first bearing limit QU= was given (*FOUNDATION, *SPRING), 0 if none: it needs *PATH
+      integer :: plastic_line = 0, plastic_column = 0
    end type deck_t
 
 contains
