@@ -218,7 +218,16 @@ contains
                                   system%tangent, internal)
          end if
       end if
-      if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
+      if (allocated(state%floating_equation)) then
+         ! a candidate at its bearing limit has no stiffness: it holds no motion (docs/theory.md §3.9)
+         if (present(yielding)) then
+            call hold_floating(model, state, active .and. .not. yielding, nodal, system%tangent)
+         else if (allocated(state%yielding)) then
+            call hold_floating(model, state, active .and. .not. state%yielding, nodal, system%tangent)
+         else
+            call hold_floating(model, state, active, nodal, system%tangent)
+         end if
+      end if
    end subroutine equilibrium_at
 
    !> The tangent of a structure held only by its contacts, where the working set `active` does not
