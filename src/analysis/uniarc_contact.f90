@@ -216,7 +216,8 @@ contains
          internal(eq(i)) = internal(eq(i)) - gradient(i)*reaction
          do j = 1, 2
             if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
-                                         elastic*(gradient(i)*gradient(j)/candidate%flexibility) - reaction*hessian(i, j))
+                                         elastic*(gradient(i)*gradient(j)/candidate%flexibility) - &
+                                         reaction*hessian(i, j))
          end do
       end do
    end subroutine add_condensed_spring
