@@ -6,6 +6,8 @@
 set -euo pipefail
 packages=(gfortran liblapack-dev libblas-dev cmake make python3 gnuplot-nox python3-numpy python3-pandas)
 packages+=(python3-vtk9)
+# scipy: the band solver of the plastic bed's reference solution (tests/regression/plastic_check.py)
+packages+=(python3-scipy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -23,6 +23,7 @@ module uniarc_contact
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t
    use uniarc_contact_law, only: candidate_gap
+   use uniarc_contact_plastic, only: slip_shift
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
@@ -38,7 +39,10 @@ contains
    !> Add the contact rows and columns of the augmented system at nodal displacements u (3, n) and
    !> reactions r (one per candidate) for the working set `active`; `internal` receives the contact
    !> part of F_aug so that the residual is λR − F_aug (see the module header for the rows).
-   subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal)
+   !> With plastic candidates (uniarc_contact_plastic): `slip` (one per candidate) shifts their gaps,
+   !> and a `yielding` candidate of the set has the row r = q (augmented) or the constant force q along
+   !> a_c without stiffness (condensed), its bearing limit q (docs/theory.md §3.9).
+   subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal, slip, yielding)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -46,14 +50,20 @@ contains
       logical, intent(in) :: active(:)
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: internal(:)
+      real(dp), intent(in), optional :: slip(:)
+      logical, intent(in), optional :: yielding(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       integer :: c, i, j, row, node, eq(2)
+      logical :: yields
       do c = 1, size(map%candidate_equation)
          row = map%candidate_equation(c)
+         yields = .false.
+         if (present(yielding)) yields = yielding(c) .and. model%contacts(c)%plastic
          if (map%condensed(c)) then
             if (in_set(model, active, c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
                                                      displacement(1:2, model%contacts(c)%node), &
-                                                     map%equation(1:2, model%contacts(c)%node), tangent, internal)
+                                                     map%equation(1:2, model%contacts(c)%node), tangent, internal, &
+                                                     slip_shift(model, c, slip), yields)
             cycle
          end if
          if (row == 0) cycle
@@ -62,6 +72,7 @@ contains
             eq = map%equation(1:2, node)
             call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
                                gradient, hessian)
+            if (candidate%plastic) gap = gap + slip_shift(model, c, slip)
             do i = 1, 2
                if (eq(i) == 0) cycle
                ! Equilibrium rows: −a_c r_c in F_aug; its derivative −r ∂a/∂u in the tangent.
@@ -71,7 +82,11 @@ contains
                   if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), -reactions(c)*hessian(i, j))
                end do
             end do
-            if (in_set(model, active, c)) then
+            if (in_set(model, active, c) .and. yields) then
+               ! at the bearing limit: r = q
+               internal(row) = reactions(c) - candidate%yield_force
+               call band_add(tangent, row, row, 1.0_dp)
+            else if (in_set(model, active, c)) then
                internal(row) = -(gap + candidate%flexibility*reactions(c))
                do i = 1, 2
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
@@ -89,13 +104,16 @@ contains
    !> its residual λR − F_aug (n) at nodal displacements (3, n_nodes) and reactions (one per
    !> candidate); `active` is the new set. Tangential springs whose radial partner flips move with it. The same result as assembling again with the new set
    !> (assemble_contact; round-off apart), at the cost of the flipped candidates only.
-   subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual)
+   !> `slip` (optional, one per candidate) shifts the gaps of plastic candidates (assemble_contact); a
+   !> yielding candidate is never flipped (uniarc_path_contact_set, sign_rule).
+   subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual, slip)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :), reactions(:)
       logical, intent(in) :: flip(:), active(:)
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
+      real(dp), intent(in), optional :: slip(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       logical, allocatable :: before(:)
       logical :: entering
@@ -110,6 +128,7 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
                             gradient, hessian)
+         if (model%contacts(c)%plastic) gap = gap + slip_shift(model, c, slip)
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
                              reactions(c), entering, tangent, residual)
       end do
@@ -172,22 +191,33 @@ contains
 
    !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).
-   pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal)
+   !> A plastic one: its gap shifted by its slip `shift`; when `yields`, r = q (its bearing limit) and
+   !> the tangent −q ∂a/∂u only (no spring stiffness at the limit).
+   pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal, shift, yields)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
       integer, intent(in) :: eq(2)
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: internal(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), reaction
+      real(dp), intent(in) :: shift
+      logical, intent(in) :: yields
+      real(dp) :: gap, gradient(2), hessian(2, 2), reaction, elastic
       integer :: i, j
       call candidate_gap(candidate, x0, u, gap, gradient, hessian)
+      if (candidate%plastic) gap = gap + shift
       reaction = -gap/candidate%flexibility
+      elastic = 1.0_dp
+      if (yields) then
+         reaction = candidate%yield_force
+         elastic = 0.0_dp
+      end if
       do i = 1, 2
          if (eq(i) == 0) cycle
          internal(eq(i)) = internal(eq(i)) - gradient(i)*reaction
          do j = 1, 2
             if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
-                                         gradient(i)*gradient(j)/candidate%flexibility - reaction*hessian(i, j))
+                                         elastic*(gradient(i)*gradient(j)/candidate%flexibility) - &
+                                         reaction*hessian(i, j))
          end do
       end do
    end subroutine add_condensed_spring

@@ -221,6 +221,11 @@ contains
          candidates(i)%flexibility = winkler_flexibility(foundation%modulus, lengths(i))
          candidates(i)%bilateral = foundation%bilateral
          candidates(i)%coordinate = s(i)
+         ! A bearing limit q_u per unit length is lumped as the modulus is: q_u × (tributary length).
+         if (foundation%bearing_limit > 0.0_dp) then
+            candidates(i)%plastic = .true.
+            candidates(i)%yield_force = foundation%bearing_limit*lengths(i)
+         end if
       end do
       if (.not. foundation%tangential_modulus > 0.0_dp) return
       ! Tangential springs (the tangential subgrade modulus of bedded-beam lining models): at each node

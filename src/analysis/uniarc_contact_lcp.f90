@@ -68,6 +68,11 @@ module uniarc_contact_lcp
       real(dp), allocatable :: du_tangent(:)   !< (n) K_S⁻¹ R
       type(path_constraint_t) :: constraint    !< the linearised path constraint that fixes δλ
       type(contact_scales_t) :: units          !< units of gaps and forces (lower bounds)
+      !> plastic media (docs/theory.md §3.9), when allocated: the committed slip of every candidate (it
+      !> shifts the gaps of the plastic ones) and the candidates at their bearing limit, whose rows
+      !> r = q are part of K_S and no variable of this LCP (their yield pairs are exchanged outside it)
+      real(dp), allocatable :: slip(:)
+      logical, allocatable :: yielding(:)
    end type contact_linearization_t
 
    !> What the contact LCP selects.
@@ -152,7 +157,17 @@ contains
       unilateral = pack([(c, c=1, size(map%candidate_equation))], &
                         [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
+      if (allocated(linearization%yielding)) unilateral = pack(unilateral, .not. linearization%yielding(unilateral))
       call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, lcp)
+      if (allocated(linearization%slip)) then
+         do j = 1, lcp%m
+            c = unilateral(j)
+            if (model%contacts(c)%plastic) then
+               lcp%gap(j) = lcp%gap(j) + linearization%slip(c)
+               if (lcp%row(j) == 0 .and. lcp%active(j)) lcp%reaction(j) = -lcp%gap(j)/lcp%flexibility(j)
+            end if
+         end do
+      end if
       selection%report%status = lemke_solved
       selection%report%message = 'solved'
       if (lcp%m == 0) return

@@ -30,7 +30,7 @@ module uniarc_path_following
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at, commit_joint_state, &
-                                yielded_joints
+                                yielded_joints, commit_plastic
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -86,6 +86,13 @@ contains
          ! The first working set: every candidate that touches (zero gap) and every bonded one. It
          ! holds what the contacts hold (a ring resting in a cavity), so the augmented tangent is
          ! regular; the first LCP then keeps only the contacts that push.
+         ! plastic media: no slip and nothing yielding at the unloaded state (docs/theory.md §3.9)
+         allocate (state%slip(size(state%active)), state%yielding(size(state%active)), stat=status)
+         call allocation_failure(status, 'the plastic slip and yielding set of the candidates', &
+                                 12.0_dp*size(state%active), error_analysis, error)
+         if (allocated(error)) return
+         state%slip = 0.0_dp
+         state%yielding = .false.
          call nodal_displacements(model, state, nodal)
          call touching_candidates(model, state, nodal, state%active)
          call set_control_equation(model, state, error)
@@ -314,6 +321,10 @@ contains
                   ! O(Δl²) (a tip stopped by an obstacle moves far less than the free predictor said);
                   ! such a step is judged by the angle tests of its commit (off_branch) alone.
                   if (any(trial%active .neqv. state%active)) exit
+                  ! so does one whose yielding set changed (a spring at its bearing limit loses its stiffness)
+                  if (allocated(state%yielding)) then
+                     if (any(trial%yielding .neqv. state%yielding)) exit
+                  end if
                   ! A load step of a degenerate tangent has no displacement predictor to be near.
                   if (degenerate_step(state, trial)) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
@@ -351,6 +362,7 @@ contains
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
             if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
             state%active = trial%active
+            call commit_plastic(model, state, trial%yielding)
             state%last_increment = trial%increment
             ! A load step's displacement is round-off where the contacts carry the load: no direction
             ! for the next step's angle tests.

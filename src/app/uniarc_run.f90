@@ -11,6 +11,7 @@ module uniarc_run
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model
    use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
+   use uniarc_contact_plastic, only: has_plastic
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
@@ -454,6 +455,10 @@ contains
          record%lcp_pivots = state%point%lcp_pivots
          record%lcp_residual = state%point%lcp_residual
          record%reactions = candidate_reactions(state)
+         if (has_plastic(model)) then
+            record%slip = state%slip
+            record%yielding = state%yielding .and. state%active
+         end if
          summary = summarize_contact(model, record%reactions, state%active)
          record%groups = summarize_groups(model, record%reactions, state%active)
          if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic

@@ -283,6 +283,8 @@ contains
          call check_moment_limit_analysis(source, deck, deck%model%analysis%kind /= analysis_nonlinear, error)
       end if
       if (allocated(error)) return
+      call check_plastic_analysis(source, deck, error)
+      if (allocated(error)) return
       bad = unused_node(deck%model)
       if (bad > 0) then
          call raise(source, deck%node_line(bad), deck%node_column(bad), 'expected every node in an ' // &
@@ -337,6 +339,21 @@ contains
                     'from them: write it with *OUTPUT, MODES and read it back)', error)
       end if
    end subroutine check_computed_imperfection
+
+   !> A bearing limit (QU= of *FOUNDATION or *SPRING) makes a plastic slip, a history that the path
+   !> following commits step by step (docs/theory.md §3.9): it needs *PATH, not the linear *STATIC.
+   subroutine check_plastic_analysis(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: kind
+      if (deck%plastic_line == 0) return
+      kind = deck%model%analysis%kind
+      if (deck%n_steps > 0) kind = deck%steps(1)%analysis%kind
+      if (kind == analysis_nonlinear) return
+      call raise(source, deck%plastic_line, deck%plastic_column, 'expected *PATH with a bearing limit QU= (the '// &
+                 'plastic slip is a history that the path follows), found *STATIC or no analysis card', error)
+   end subroutine check_plastic_analysis
 
    !> Mark every override of parameter `name` used: of several -D of one name, the last is applied
    !> (find_override) and none is reported as unknown.

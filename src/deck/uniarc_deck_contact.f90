@@ -30,7 +30,7 @@ module uniarc_deck_contact
 contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
-   !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]]: a Winkler foundation along an
+   !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u]: a Winkler foundation along an
    !> element set, lumped to its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`).
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
@@ -51,7 +51,7 @@ contains
       character(len=:), allocatable :: side
 
       call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
-                                        'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL='], error)
+                                        'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -77,6 +77,8 @@ contains
          return
       end if
       call tangential_springs(source, card, deck, foundation, error)
+      if (allocated(error)) return
+      call bearing_limit(source, card, deck, foundation%bearing_limit, error)
       if (allocated(error)) return
       call contact_scale(source, card, deck, foundation%scale, error)
       if (allocated(error)) return
@@ -137,7 +139,7 @@ contains
       end if
    end subroutine read_foundation
 
-   !> *SPRING [, BILATERAL] [, NAME=name]: lines `target, angle_deg, k`, a discrete spring of stiffness k
+   !> *SPRING [, BILATERAL] [, NAME=name] [, QU=q_u]: lines `target, angle_deg, k`, a discrete spring of stiffness k
    !> at each node of the target pushing the node along the direction `angle` (gap g = n·u, offset 0).
    subroutine read_spring(source, card, deck, error)
       type(source_t), intent(in) :: source
@@ -150,8 +152,11 @@ contains
       integer, allocatable :: nodes(:), spring_nodes(:)
       real(dp), allocatable :: directions(:, :), stiffnesses(:, :)
       character(len=:), allocatable :: name
+      real(dp) :: limit
 
-      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME='], error)
+      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME=', 'QU='], error)
+      if (allocated(error)) return
+      call bearing_limit(source, card, deck, limit, error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'spring', name, error)
       if (allocated(error)) return
@@ -187,8 +192,13 @@ contains
          directions(:, count - size(nodes) + 1:count) = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
          stiffnesses(1, count - size(nodes) + 1:count) = stiffness
       end do
-      call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
-                       option_index(card, 'BILATERAL') > 0)
+      if (limit > 0.0_dp) then
+         call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
+                          option_index(card, 'BILATERAL') > 0, limit)
+      else
+         call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
+                          option_index(card, 'BILATERAL') > 0)
+      end if
    end subroutine read_spring
 
 
@@ -544,5 +554,37 @@ contains
                     real_to_string(foundation%tangential_modulus), error)
       end if
    end subroutine tangential_springs
+
+   !> QU=q_u of *FOUNDATION (force per unit length) and *SPRING (force): the bearing limit of an
+   !> elastic–perfectly plastic medium in compression (docs/theory.md §3.9); 0 when absent (elastic).
+   !> Errors: q_u not positive and finite; QU= with BILATERAL (the plastic law is that of a
+   !> compression-only medium).
+   subroutine bearing_limit(source, card, deck, limit, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      real(dp), intent(out) :: limit
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      limit = 0.0_dp
+      k = option_index(card, 'QU')
+      if (k == 0) return
+      if (option_index(card, 'BILATERAL') > 0) then
+         call raise(source, card%line, card%options(k)%column, 'expected QU= without BILATERAL (the ' // &
+                    'bearing limit is that of a compression-only medium), found both', error)
+         return
+      end if
+      call option_real(source, card, deck, k, 'a bearing limit', limit, error)
+      if (allocated(error)) return
+      if (.not. (limit > 0.0_dp .and. limit < huge(1.0_dp))) then
+         call raise(source, card%line, card%options(k)%value_column, 'expected a positive finite bearing ' // &
+                    'limit QU, found '//real_to_string(limit), error)
+         return
+      end if
+      if (deck%plastic_line == 0) then
+         deck%plastic_line = card%line
+         deck%plastic_column = card%options(k)%column
+      end if
+   end subroutine bearing_limit
 
 end module uniarc_deck_contact

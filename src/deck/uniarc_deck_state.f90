@@ -54,6 +54,8 @@ module uniarc_deck_state
       integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
       !> where the first `*RELEASE, MY=` value is (a moment limit needs *PATH), 0 if none
       integer :: moment_limit_line = 0, moment_limit_column = 0
+      !> where the first bearing limit QU= was given (*FOUNDATION, *SPRING), 0 if none: it needs *PATH
+      integer :: plastic_line = 0, plastic_column = 0
    end type deck_t
 
 contains

@@ -137,6 +137,10 @@ module uniarc_model
       !> spring) is in the working set
       logical :: tangential = .false.
       integer :: partner = 0
+      !> elastic–perfectly plastic in compression (*FOUNDATION or *SPRING, QU=): the reaction is at most
+      !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9)
+      logical :: plastic = .false.
+      real(dp) :: yield_force = 0.0_dp
    end type contact_candidate_t
 
    !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
@@ -178,6 +182,8 @@ module uniarc_model
       !> ≥ 0; 0: frictionless, the default), acting as `tangential_law` says
       real(dp) :: tangential_modulus = 0.0_dp
       integer :: tangential_law = tangential_contact
+      !> q_u: bearing limit of the bed, force per unit length (> 0); 0: no limit (elastic), the default
+      real(dp) :: bearing_limit = 0.0_dp
    end type foundation_t
 
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).

@@ -444,13 +444,15 @@ contains
    !> Add a group `name` of discrete springs: at `nodes(i)` a spring of stiffness `stiffness(i)` > 0
    !> (force per length) pushing along the unit `directions(:, i)`, gap g = n·u; coordinates the
    !> cumulative distance between the nodes in order.
-   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral)
+   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, yield_force)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: nodes(:)
       real(dp), intent(in) :: directions(:, :)         !< (2, size(nodes))
       real(dp), intent(in) :: stiffness(:)             !< (size(nodes))
       logical, intent(in) :: bilateral
+      !> q_u > 0 (force): elastic–perfectly plastic in compression (docs/theory.md §3.9); absent: elastic
+      real(dp), intent(in), optional :: yield_force
       type(contact_candidate_t), allocatable :: candidates(:)
       integer :: i
       allocate (candidates(size(nodes)))
@@ -461,6 +463,10 @@ contains
          candidates(i)%offset = 0.0_dp
          candidates(i)%flexibility = spring_flexibility(stiffness(i))
          candidates(i)%bilateral = bilateral
+         if (present(yield_force)) then
+            candidates(i)%plastic = .true.
+            candidates(i)%yield_force = yield_force
+         end if
       end do
       candidates%coordinate = path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
       call add_contact_group(builder, name, candidates)

@@ -54,6 +54,10 @@ module uniarc_output
       !> (2, n_elements) committed plastic rotations of the joints with a moment limit (`*RELEASE, MY=`);
       !> unallocated without such joints
       real(dp), allocatable :: joint_plastic(:, :)
+      !> plastic media (*FOUNDATION or *SPRING with QU=): the plastic slip of every candidate (length) and
+      !> whether it is at its bearing limit, for STEM.contact (unallocated: none)
+      real(dp), allocatable :: slip(:)
+      logical, allocatable :: yielding(:)
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -108,9 +112,11 @@ contains
       files%with_forces = .true.
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
+      ! plastic media: two more columns, the slip and whether the candidate yields (docs/contracts.md)
       call open_table(results, files%contact, results%stem//'.contact', &
                       'step lambda medium candidate node s gap reaction length pressure tangential_displacement '// &
-                      'tangential_force shear', comments, csv, error)
+                      'tangential_force shear'//trim(merge(' slip yielding', '              ', &
+                      any(model%contacts%plastic))), comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -334,17 +340,21 @@ contains
    !> length pressure tangential_displacement tangential_force shear` — its coordinate along its group,
    !> gap, reaction, tributary length (candidate_lengths) and reaction/length; then, where its foundation
    !> has tangential springs (tangential_springs), the spring's gap t·u, its reaction on the node along t
-   !> and reaction/length (0 0 0 without one).
+   !> and reaction/length (0 0 0 without one); with plastic media also `slip yielding` (the plastic slip
+   !> of the candidate and 1 where it is at its bearing limit, docs/theory.md §3.9), the gap then
+   !> measured to the medium's surface sunk by the slip.
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:)
+      real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:), slip(:)
       real(dp) :: tangential(3)
       integer, allocatable :: spring(:)
+      logical, allocatable :: yielding(:)
       character(len=:), allocatable :: head
       integer :: e, c
+      logical :: plastic
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
@@ -368,14 +378,29 @@ contains
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
       spring = tangential_springs(model)
+      plastic = any(model%contacts%plastic)
+      allocate (slip(size(model%contacts)), source=0.0_dp)
+      allocate (yielding(size(model%contacts)), source=.false.)
+      if (allocated(record%slip)) slip(1:min(size(slip), size(record%slip))) = &
+         record%slip(1:min(size(slip), size(record%slip)))
+      if (allocated(record%yielding)) yielding(1:min(size(yielding), size(record%yielding))) = &
+         record%yielding(1:min(size(yielding), size(record%yielding)))
       do c = 1, size(model%contacts)
          if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: on its radial one's row
          tangential = 0.0_dp
          if (spring(c) > 0) tangential = [gaps(spring(c)), reactions(spring(c)), reactions(spring(c))/lengths(spring(c))]
-         call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
-                      integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
-                      numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                    reactions(c)/lengths(c), tangential]))
+         if (plastic) then
+            ! the gap to the medium's surface sunk by the plastic slip
+            call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
+                         integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
+                         numbers_text([model%contacts(c)%coordinate, gaps(c) + slip(c), reactions(c), lengths(c), &
+                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//merge('1', '0', yielding(c)))
+         else
+            call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
+                         integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
+                         numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
+                                       reactions(c)/lengths(c), tangential]))
+         end if
       end do
       call put_row(files%contact, '')
       call put_row(files%contact, '')

@@ -19,6 +19,7 @@ module uniarc_path_branch
    use uniarc_assembly, only: gather_nodal
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact, only: candidate_gap
+   use uniarc_path_state, only: commit_plastic
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
                                 masked_norm, nodal_displacements, commit_joint_state
    use uniarc_path_newton, only: attempt_step
@@ -125,6 +126,7 @@ contains
       state%u = critical%u + trial%increment
       state%lambda = critical%lambda + trial%dlambda
       state%active = trial%active
+      call commit_plastic(model, state, trial%yielding)
       state%last_increment = trial%increment
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
       state%step_length = xi

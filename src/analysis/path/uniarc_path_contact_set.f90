@@ -11,6 +11,7 @@ module uniarc_path_contact_set
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact, only: candidate_gap, in_set
+   use uniarc_contact_plastic, only: slip_shift, plastic_violation
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -41,7 +42,9 @@ contains
    !> posed in the working set `active` (uniarc_contact_lcp, select_contact_set). `system` is
    !> overwritten (the LCP's frames). Errors: those of select_contact_set (a singular frame, an LCP
    !> that Lemke cannot solve).
-   subroutine solve_contact_lcp(model, state, system, lin, constraint, active, update, error)
+   !> Plastic media: `yielding` (optional) are the candidates at their bearing limit, held at r = q in
+   !> K_S and no variable of the LCP; the committed slip state%slip shifts the gaps.
+   subroutine solve_contact_lcp(model, state, system, lin, constraint, active, update, error, yielding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
@@ -50,6 +53,7 @@ contains
       logical, intent(in) :: active(:)
       type(set_update_t), intent(out) :: update
       type(error_t), allocatable, intent(out) :: error
+      logical, intent(in), optional :: yielding(:)
       type(contact_linearization_t) :: linearization
       type(contact_selection_t) :: selection
       linearization%x = lin%x
@@ -60,6 +64,10 @@ contains
       linearization%du_tangent = lin%rhs(:, 2)
       linearization%constraint = constraint
       linearization%units = units_at(model, state, lin%x, lin%nodal, active)
+      if (present(yielding) .and. allocated(state%slip)) then
+         allocate (linearization%slip, source=state%slip)
+         allocate (linearization%yielding, source=yielding)
+      end if
       call select_contact_set(model, state%map, linearization, active, system%assembled, system%tangent, &
                               selection, error)
       update%active = selection%active
@@ -74,36 +82,50 @@ contains
    !> Complementarity at a state that is in equilibrium for the working set `active`: no candidate in
    !> the set pulls (r ≥ 0) and none outside it penetrates (g ≥ 0), within tolerances relative to the
    !> largest reaction and the largest displacement.
-   function complementary(model, state, x, nodal, active) result(ok)
+   !> Plastic media: `yielding` (default state%yielding) are the candidates at their limit, and the
+   !> yield pairs are checked too (uniarc_contact_plastic).
+   function complementary(model, state, x, nodal, active, yielding) result(ok)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
+      logical, intent(in), optional :: yielding(:)
       logical :: ok
       real(dp), allocatable :: reaction(:), gap(:)
-      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
-      ok = violation(model, state, x, reaction, gap, active) <= model%analysis%displacement_tolerance
+      if (present(yielding)) then
+         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding)
+         ok = violation(model, state, x, reaction, gap, active, yielding) <= model%analysis%displacement_tolerance
+      else
+         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, state%yielding)
+         ok = violation(model, state, x, reaction, gap, active, state%yielding) <= &
+              model%analysis%displacement_tolerance
+      end if
    end function complementary
 
    !> The primal–dual active-set rule (Hintermüller, Ito & Kunisch 2002) at unknowns x: a candidate
    !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
    !> beyond the tolerance of `violation`; the others stay.
-   subroutine sign_rule(model, state, x, nodal, active, new_active)
+   !> A candidate at its bearing limit (`yielding`, optional) stays: its pair is the yield rule's.
+   subroutine sign_rule(model, state, x, nodal, active, new_active, yielding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
       logical, intent(out) :: new_active(:)
+      logical, intent(in), optional :: yielding(:)
       real(dp), allocatable :: reaction(:), gap(:)
       type(contact_scales_t) :: units
       real(dp) :: tolerance
       integer :: c
-      call candidate_state(model, state%map, x, nodal, active, reaction, gap)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding)
       units = contact_units(state, x, reaction, active)
       tolerance = model%analysis%displacement_tolerance
       new_active = active
       do c = 1, size(active)
          if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
+         if (present(yielding)) then
+            if (yielding(c)) cycle
+         end if
          if (active(c)) then
             if (-reaction(c)/units%force > tolerance) new_active(c) = .false.
          else
@@ -114,11 +136,14 @@ contains
 
    !> Largest violation of complementarity, relative: −r/r_scale for pulling contacts, −g/g_scale for
    !> penetrating free candidates, |r w|/(r_scale g_scale) for both at once.
-   pure real(dp) function violation(model, state, x, reaction, gap, active) result(worst)
+   !> Plastic media (`yielding` given): a yielding candidate is checked by its yield pair instead
+   !> (Δs ≥ 0), and an elastic one also for r ≤ q (uniarc_contact_plastic, plastic_violation).
+   pure real(dp) function violation(model, state, x, reaction, gap, active, yielding) result(worst)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), reaction(:), gap(:)
       logical, intent(in) :: active(:)
+      logical, intent(in), optional :: yielding(:)
       real(dp) :: r_scale, g_scale, w, r
       type(contact_scales_t) :: units
       integer :: c
@@ -131,11 +156,16 @@ contains
       g_scale = units%gap
       do c = 1, size(reaction)
          if (.not. candidate_live(state%map, c) .or. model%contacts(c)%bilateral) cycle
+         if (present(yielding)) then
+            if (yielding(c)) cycle
+         end if
          r = 0.0_dp
          if (active(c)) r = reaction(c)
          w = gap(c) + model%contacts(c)%flexibility*r
          worst = max(worst, -r/r_scale, -w/g_scale, abs(r*w)/(r_scale*g_scale))
       end do
+      if (present(yielding)) worst = max(worst, plastic_violation(model, state%map, reaction, gap, active, &
+                                                                  yielding, r_scale, g_scale))
    end function violation
 
    !> Units of contact forces and gaps at unknowns x with working set `active`: the largest reaction in
@@ -171,12 +201,16 @@ contains
 
    !> Reactions and current gaps of every candidate: a reaction unknown of x, or for a condensed spring
    !> −g/t in the working set `active` and 0 out of it.
-   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap)
+   !> Plastic media: the gaps include the committed `slip` (optional, one per candidate), and a condensed
+   !> candidate at its limit (`yielding`, optional) has r = q.
+   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
       real(dp), allocatable, intent(out) :: reaction(:), gap(:)
+      real(dp), intent(in), optional :: slip(:)
+      logical, intent(in), optional :: yielding(:)
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c, node
       allocate (reaction(size(map%candidate_equation)), gap(size(map%candidate_equation)))
@@ -184,11 +218,15 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian)
+         if (model%contacts(c)%plastic) gap(c) = gap(c) + slip_shift(model, c, slip)
          reaction(c) = 0.0_dp
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))
          else if (map%condensed(c) .and. in_set(model, active, c)) then
             reaction(c) = -gap(c)/model%contacts(c)%flexibility
+            if (present(yielding)) then
+               if (yielding(c)) reaction(c) = model%contacts(c)%yield_force
+            end if
          end if
       end do
    end subroutine candidate_state

@@ -16,6 +16,7 @@ module uniarc_path_locate
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, control_arclength
+   use uniarc_path_state, only: commit_plastic
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 bifurcation_state_t, commit_joint_state
    use uniarc_path_newton, only: attempt_step
@@ -233,6 +234,7 @@ contains
          state%u = state%u + trial%increment
          state%lambda = state%lambda + trial%dlambda
          state%active = trial%active
+         call commit_plastic(model, state, trial%yielding)
          state%last_increment = trial%increment
          state%point%s = state%point%s + masked_norm(state%map, trial%increment)
          call commit_joint_state(model, state)

@@ -25,7 +25,10 @@ module uniarc_path_newton
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
                                      degenerate_tangent
    use uniarc_model, only: control_arclength, control_displacement
-   use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp
+   use uniarc_path_contact_set, only: set_update_t, complementary, sign_rule, solve_contact_lcp, candidate_state, &
+                                      contact_units
+   use uniarc_contact_lcp, only: contact_scales_t
+   use uniarc_contact_plastic, only: has_plastic, yield_rule
    implicit none
    private
    public :: attempt_step, newton_test_t, new_newton_test, restart_test, check_equilibrium, check_correction
@@ -139,6 +142,12 @@ contains
       system%holds_converged = .false.
       trial%reason = 'iteration limit'
       trial%active = state%active
+      if (allocated(state%yielding)) then
+         trial%yielding = state%yielding
+      else
+         allocate (trial%yielding(size(state%active)), source=.false.)
+      end if
+      trial%yield_changes = 0
       trial%lcp_pivots = 0
       trial%set_changes = 0
       trial%iterations = 0
@@ -168,7 +177,7 @@ contains
             lin%x = state%u + trial%increment
             call gather_nodal(state%map, lin%x, lin%nodal)
             call equilibrium_at(model, state, system, lin%x, lambda, trial%active, lin%nodal, lin%internal, &
-                                lin%reference, lin%element_scale, lin%roundoff)
+                                lin%reference, lin%element_scale, lin%roundoff, trial%yielding)
             lin%rhs(:, 1) = lambda*lin%reference - lin%internal
             force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
             ! NaN or overflow; a scale that overflowed would make any residual pass the test.
@@ -195,7 +204,7 @@ contains
                   call keep_converged(system, lin)
                   exit
                end if
-               if (complementary(model, state, lin%x, lin%nodal, trial%active)) then
+               if (complementary(model, state, lin%x, lin%nodal, trial%active, trial%yielding)) then
                   if (.not. lands_degenerate(model, state, system, lin, trial)) then
                      trial%reason = 'the arc-length step cannot be solved with this contact set (contact LCP: '// &
                                     'no solution), and as a load step it does not end where the contacts carry the load'
@@ -204,6 +213,19 @@ contains
                   trial%converged = .true.
                   call keep_converged(system, lin)
                   exit
+               end if
+               ! Plastic media: the yield pairs first (an elastic candidate beyond its limit yields, a
+               ! yielding one that would unload becomes elastic), the contact pairs of that frame then
+               ! the LCP's (docs/theory.md §3.9).
+               if (yield_exchange(model, state, lin, trial)) then
+                  if (trial%yield_changes > max_set_changes) then
+                     trial%reason = 'the yielding set does not settle'
+                     exit
+                  end if
+                  call restart_test(test)
+                  reuse_factors = .false.
+                  fresh_set = .false.
+                  cycle
                end if
                ! Equilibrium with a wrong contact set: the LCP at this state gives the next set.
                update_set = .true.
@@ -216,16 +238,30 @@ contains
                ! is the Newton correction of the complementarity problem (Josephy–Newton), with the
                ! factors this iteration needs anyway. The set converges along with equilibrium.
                update_set = contacts .and. .not. fresh_set
-               if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active)
+               if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active, &
+                                                                trial%yielding)
+               ! The yield pairs are exchanged like the sign rule's contacts (the tangent of the new
+               ! yielding set assembled again at this state).
+               if (update_set) then
+                  if (yield_exchange(model, state, lin, trial)) then
+                     if (trial%yield_changes > max_set_changes) then
+                        trial%reason = 'the yielding set does not settle'
+                        exit
+                     end if
+                     call restart_test(test)
+                     reuse_factors = .false.
+                     cycle
+                  end if
+               end if
                if (update_set .and. trial%set_changes < sign_rule_changes) then
-                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active)
+                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active, trial%yielding)
                   if (any(new_active .neqv. trial%active)) then
                      trial%set_changes = trial%set_changes + 1
                      ! The tangent and residual of the new set at this same state: the flipped
                      ! candidates' rows and springs edited in place, no assembly.
                      call toggle_contacts(model, state%map, lin%nodal, candidate_values(state%map, lin%x), &
                                           new_active .neqv. trial%active, new_active, system%tangent, &
-                                          lin%rhs(:, 1))
+                                          lin%rhs(:, 1), state%slip)
                      trial%active = new_active
                      call restart_test(test)
                      reuse_factors = .false.
@@ -251,7 +287,8 @@ contains
                   exit
                end if
                call correction_constraint(options, state, trial%increment, constraint, trial%load_step)
-               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error, &
+                                   trial%yielding)
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
                if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
                   ! The arc length cannot fix δλ in a set whose contacts carry the whole reference
@@ -314,6 +351,30 @@ contains
          end do
       end associate
    end subroutine attempt_step
+
+   !> The block exchange of the yield pairs at a state in equilibrium (uniarc_contact_plastic,
+   !> yield_rule): true if trial%yielding changed (then trial%yield_changes counts it).
+   logical function yield_exchange(model, state, lin, trial) result(changed)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(linearization_t), intent(in) :: lin
+      type(step_trial_t), intent(inout) :: trial
+      real(dp), allocatable :: reaction(:), gap(:)
+      logical, allocatable :: new_yielding(:)
+      type(contact_scales_t) :: units
+      changed = .false.
+      if (.not. has_plastic(model)) return
+      call candidate_state(model, state%map, lin%x, lin%nodal, trial%active, reaction, gap, state%slip, &
+                           trial%yielding)
+      units = contact_units(state, lin%x, reaction, trial%active)
+      allocate (new_yielding(size(trial%yielding)))
+      call yield_rule(model, state%map, reaction, gap, trial%active, trial%yielding, units%force, units%gap, &
+                      model%analysis%displacement_tolerance, new_yielding)
+      changed = any(new_yielding .neqv. trial%yielding)
+      if (.not. changed) return
+      trial%yielding = new_yielding
+      trial%yield_changes = trial%yield_changes + 1
+   end function yield_exchange
 
    !> Whether an attempt may end here as far as its load step goes: a load step begun from a regular
    !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.7) must end
@@ -401,7 +462,8 @@ contains
                return
             end if
             call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
-            call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+            call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error, &
+                                   trial%yielding)
             trial%lcp_pivots = trial%lcp_pivots + update%pivots
             if (allocated(error) .and. update%degenerate .and. .not. trial%load_step) then
                ! The step reaches a set whose contacts carry the whole reference load (an obstacle
@@ -419,7 +481,8 @@ contains
                   return
                end if
                call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
-               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error)
+               call solve_contact_lcp(model, state, system, lin, constraint, trial%active, update, error, &
+                                   trial%yielding)
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
             end if
             if (allocated(error)) then

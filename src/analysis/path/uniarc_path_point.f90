@@ -51,9 +51,10 @@ contains
       state%point%contact_rate = [(0.0_dp, c=1, m)]
       if (m > 0) then
          call nodal_displacements(model, state, nodal)
-         call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
+         call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, state%slip, &
+                              state%yielding)
          state%reactions = reaction
-         state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active)
+         state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active, state%yielding)
          ! Reaction (in contact) or gap (free) of each candidate and its rate along the path, from the
          ! tangent: where a contact starts or ends between two steps is found from them.
          do c = 1, m
@@ -62,10 +63,14 @@ contains
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
                                hessian)
+            g = gap(c)   ! with the plastic slip (docs/theory.md §3.9)
             state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
             if (state%point%in_contact(c)) then
                state%point%contact_value(c) = reaction(c)
-               if (row > 0) then
+               if (yielding_at(c)) then
+                  ! at its bearing limit: r = q, constant
+                  state%point%contact_rate(c) = 0.0_dp
+               else if (row > 0) then
                   state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
                else
                   ! condensed: r = −g/t, dr/ds = −(a·du/ds)/t
@@ -80,6 +85,13 @@ contains
       end if
 
    contains
+
+      !> Candidate c is at its bearing limit in the committed state.
+      pure logical function yielding_at(c)
+         integer, intent(in) :: c
+         yielding_at = .false.
+         if (allocated(state%yielding)) yielding_at = state%yielding(c)
+      end function yielding_at
 
       !> a_cᵀ v at the candidate's node for an augmented vector v.
       pure real(dp) function along(v)

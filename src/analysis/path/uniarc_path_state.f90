@@ -21,6 +21,7 @@ module uniarc_path_state
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
    use uniarc_contact, only: assemble_contact, candidate_gap
+   use uniarc_contact_plastic, only: has_plastic, commit_slip
    implicit none
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
@@ -28,6 +29,7 @@ module uniarc_path_state
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
    public :: hold_floating
+   public :: commit_plastic
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -110,6 +112,10 @@ module uniarc_path_state
       !> and node 2 of every element (uniarc_joint_plasticity), the history an attempt starts from;
       !> unallocated when no joint has a limit.
       real(dp), allocatable :: joint_plastic(:, :)
+      !> plastic media (uniarc_contact_plastic): the committed plastic slip of every candidate (0 unless
+      !> plastic; history, moved on by path_advance's commit only) and the candidates at their limit
+      real(dp), allocatable :: slip(:)
+      logical, allocatable :: yielding(:)
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: fixed_load(:)    !< u-independent part of the reference load R_r
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
@@ -149,6 +155,8 @@ module uniarc_path_state
       !> no displacement with its working set (docs/theory.md §2.7)
       logical :: load_step = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
+      logical, allocatable :: yielding(:)       !< (candidates) those of the set at their bearing limit
+      integer :: yield_changes = 0              !< exchanges of the yield pairs within Newton
       integer :: iterations = 0                 !< Newton corrections
       integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs
       integer :: set_changes = 0                !< changes of the working set within Newton
@@ -197,8 +205,10 @@ contains
 
    !> Augmented internal forces, reference load and tangent (into `system%tangent`) at unknowns x
    !> (n), load λ, working set `active`; nodal (dofs_per_node, n_nodes) are the displacements of x.
+   !> Plastic media: the committed slip state%slip, and the candidates at their limit `yielding`
+   !> (default: the committed state%yielding).
    subroutine equilibrium_at(model, state, system, x, lambda, active, nodal, internal, reference, &
-                             element_scale, roundoff)
+                             element_scale, roundoff, yielding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
@@ -207,6 +217,7 @@ contains
       real(dp), intent(in) :: nodal(:, :)
       real(dp), intent(out) :: internal(:), reference(:), element_scale
       real(dp), intent(out), optional :: roundoff
+      logical, intent(in), optional :: yielding(:)
       if (allocated(state%joint_plastic)) then
          call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
                                    internal, reference, element_scale, roundoff, state%joint_plastic)
@@ -215,10 +226,27 @@ contains
                                    internal, reference, element_scale, roundoff)
       end if
       if (size(state%map%candidate_equation) > 0) then
-         call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                               system%tangent, internal)
+         if (present(yielding)) then
+            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+                                  system%tangent, internal, state%slip, yielding)
+         else if (allocated(state%yielding)) then
+            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+                                  system%tangent, internal, state%slip, state%yielding)
+         else
+            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+                                  system%tangent, internal)
+         end if
       end if
-      if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
+      if (allocated(state%floating_equation)) then
+         ! a candidate at its bearing limit has no stiffness: it holds no motion (docs/theory.md §3.9)
+         if (present(yielding)) then
+            call hold_floating(model, state, active .and. .not. yielding, nodal, system%tangent)
+         else if (allocated(state%yielding)) then
+            call hold_floating(model, state, active .and. .not. state%yielding, nodal, system%tangent)
+         else
+            call hold_floating(model, state, active, nodal, system%tangent)
+         end if
+      end if
       if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent)
    end subroutine equilibrium_at
 
@@ -406,6 +434,21 @@ contains
          masked_norm = sqrt(sum((map%metric*a)**2))
       end if
    end function masked_norm
+
+   !> The commit of plastic media (docs/theory.md §3.9), after state%u has become the converged state of
+   !> a trial with the candidates `yielding` at their limit: the slip of each of them moves on by its
+   !> increment (uniarc_contact_plastic, commit_slip), and `yielding` becomes the committed one. Nothing
+   !> without plastic candidates.
+   subroutine commit_plastic(model, state, yielding)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      logical, intent(in) :: yielding(:)
+      real(dp), allocatable :: nodal(:, :)
+      if (.not. has_plastic(model)) return
+      call nodal_displacements(model, state, nodal)
+      call commit_slip(model, state%map, nodal, yielding, state%slip)
+      state%yielding = yielding
+   end subroutine commit_plastic
 
    !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
    subroutine nodal_displacements(model, state, nodal)

@@ -1,0 +1,122 @@
+!> The elastic–perfectly plastic law of a compression-only medium (`*FOUNDATION` or `*SPRING` with
+!> QU=; docs/theory.md §3.9): the bearing and the plastic slip of a soil spring as pipeline soil-spring
+!> guidelines specify them (ASCE/ALA 2001, "Guidelines for the design of buried steel pipe", bilinear
+!> bearing springs).
+!>
+!> A plastic candidate c (contact_candidate_t%plastic) has the bearing limit q_c = yield_force and a
+!> plastic slip s_c ≥ 0 (length, along the penetration −a_c): the medium's surface has sunk by s_c, so
+!> that its gap is g_c + s_c. Over a step from the committed slip s_n, with Δs_c = s_c − s_n:
+!>
+!>     w_c = g_c + s_n + Δs_c + t_c r_c ≥ 0,   r_c ≥ 0,   w_c r_c = 0      (contact, the gap with slip)
+!>     y_c = q_c − r_c ≥ 0,   Δs_c ≥ 0,   y_c Δs_c = 0                     (bearing limit, the slip)
+!>
+!> both linear in (u, r, Δs) at fixed geometry: an LCP of one more pair per plastic candidate (Maier
+!> 1970; Cottle, Pang & Stone 1992, §1.2). A candidate is open (r = 0), elastic (w = 0, Δs = 0,
+!> 0 ≤ r ≤ q) or yielding (r = q, Δs = −(g + s_n + t q) ≥ 0, w = 0). The analysis keeps a yielding
+!> candidate in the working set with the equation r = q (`yielding`), and the yield pairs are exchanged
+!> by the block rule of `yield_rule` (Júdice & Pires 1994; Hintermüller, Ito & Kunisch 2002 for bound
+!> constraints) while the contact pairs of the frame are the contact LCP's (Lemke, block pivoting).
+!> The slip is history: `commit_slip` moves it on with a converged step only.
+module uniarc_contact_plastic
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, contact_candidate_t
+   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_contact_law, only: candidate_gap
+   implicit none
+   private
+   public :: has_plastic, slip_shift, yield_rule, plastic_violation, commit_slip, slip_increment
+
+contains
+
+   !> Whether the model has a candidate with a bearing limit.
+   pure logical function has_plastic(model)
+      type(model_t), intent(in) :: model
+      has_plastic = .false.
+      if (allocated(model%contacts)) has_plastic = any(model%contacts%plastic)
+   end function has_plastic
+
+   !> The slip that shifts candidate c's gap: slip(c) for a plastic candidate, 0 otherwise or when no
+   !> slip is given (so that the gaps of elastic media are the contact law's, bit for bit).
+   pure real(dp) function slip_shift(model, c, slip) result(shift)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: c
+      real(dp), intent(in), optional :: slip(:)
+      shift = 0.0_dp
+      if (.not. present(slip)) return
+      if (model%contacts(c)%plastic .and. c <= size(slip)) shift = slip(c)
+   end function slip_shift
+
+   !> Δs = −(g + t q) of a yielding candidate whose gap with the committed slip is `gap` (g + s_n):
+   !> the slip increment that keeps w = 0 at r = q (non-negative when the candidate still yields).
+   pure real(dp) function slip_increment(candidate, gap) result(increment)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: gap
+      increment = -(gap + candidate%flexibility*candidate%yield_force)
+   end function slip_increment
+
+   !> The block exchange of the yield pairs at a state in equilibrium: an elastic candidate of the
+   !> working set whose reaction exceeds its limit starts to yield (r > q: y < 0), a yielding one whose
+   !> slip increment would be negative unloads elastically (Δs < 0), each beyond `tolerance` × the
+   !> force and gap units. Only candidates of the set `active` yield.
+   !> reaction, gap (per candidate): reactions (r = q when yielding) and gaps with the committed slip.
+   pure subroutine yield_rule(model, map, reaction, gap, active, yielding, force_unit, gap_unit, tolerance, &
+                              new_yielding)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: reaction(:), gap(:)
+      logical, intent(in) :: active(:), yielding(:)
+      real(dp), intent(in) :: force_unit, gap_unit, tolerance
+      logical, intent(out) :: new_yielding(:)
+      integer :: c
+      new_yielding = yielding .and. active
+      do c = 1, size(yielding)
+         if (.not. (model%contacts(c)%plastic .and. candidate_live(map, c) .and. active(c))) cycle
+         if (yielding(c)) then
+            if (-slip_increment(model%contacts(c), gap(c))/gap_unit > tolerance) new_yielding(c) = .false.
+         else
+            if ((reaction(c) - model%contacts(c)%yield_force)/force_unit > tolerance) new_yielding(c) = .true.
+         end if
+      end do
+   end subroutine yield_rule
+
+   !> Largest relative violation of the yield pairs: (r − q)/r_scale for an elastic candidate of the set,
+   !> −Δs/g_scale for a yielding one (0 when there is no plastic candidate).
+   pure real(dp) function plastic_violation(model, map, reaction, gap, active, yielding, r_scale, g_scale) &
+      result(worst)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: reaction(:), gap(:)
+      logical, intent(in) :: active(:), yielding(:)
+      real(dp), intent(in) :: r_scale, g_scale
+      integer :: c
+      worst = 0.0_dp
+      do c = 1, size(yielding)
+         if (.not. (model%contacts(c)%plastic .and. candidate_live(map, c) .and. active(c))) cycle
+         if (yielding(c)) then
+            worst = max(worst, -slip_increment(model%contacts(c), gap(c))/g_scale)
+         else
+            worst = max(worst, (reaction(c) - model%contacts(c)%yield_force)/r_scale)
+         end if
+      end do
+   end function plastic_violation
+
+   !> Commit a converged step: the slip of every yielding candidate moves on by its increment
+   !> Δs = −(g + s_n + t q) ≥ 0 at the converged nodal displacements `nodal` (3, n_nodes); the others
+   !> keep theirs (the slip stays after unloading).
+   pure subroutine commit_slip(model, map, nodal, yielding, slip)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: nodal(:, :)
+      logical, intent(in) :: yielding(:)
+      real(dp), intent(inout) :: slip(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      do c = 1, size(yielding)
+         if (.not. (yielding(c) .and. model%contacts(c)%plastic .and. candidate_live(map, c))) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         slip(c) = slip(c) + max(0.0_dp, slip_increment(model%contacts(c), gap + slip(c)))
+      end do
+   end subroutine commit_slip
+
+end module uniarc_contact_plastic

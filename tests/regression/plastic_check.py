@@ -1,0 +1,330 @@
+#!/usr/bin/env python3
+"""Elastic-perfectly plastic soil springs and beds (QU=, docs/theory.md §3.9) against closed forms and
+an independent solution of the same piecewise-linear problem.
+
+Usage (one CTest per call):
+  plastic_check.py --uniarc BIN --out DIR --mode block   --deck DECK [--define NAME=VALUE]...
+  plastic_check.py --uniarc BIN --out DIR --mode limit   --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode bed     --deck DECK [--define NAME=VALUE]... --rtol R
+  plastic_check.py --uniarc BIN --out DIR --mode elastic --deck DECK
+
+block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic soil spring k, limit qu,
+         pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
+         row against the closed form of its load history, and the slip of STEM.contact.
+limit:   a stiff beam on a plastic bed under a central load: the limit load is qu x (contact length);
+         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1).
+bed:     a beam on a tensionless plastic bed (decks/beam_plastic_bed.inp): the deflections, the
+         slips and the yielding candidates of the last step against an independent small-displacement
+         solution: Hermite beam elements on a mesh 16 times finer (--refine), the bed lumped to its nodes, the
+         piecewise-linear law solved increment by increment by an active-set loop (numpy).
+elastic: the bed deck with QU huge (1e300) against the same deck without QU=: the path files are equal.
+"""
+import argparse
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import scipy.linalg
+
+
+def run(uniarc, deck, out, defines):
+    shutil.rmtree(out, ignore_errors=True)
+    command = [uniarc, deck, '-o', out, '-q']
+    for definition in defines:
+        command += ['-D', definition]
+    finished = subprocess.run(command, capture_output=True, text=True)
+    sys.stdout.write(finished.stdout)
+    sys.stderr.write(finished.stderr)
+    return finished
+
+
+def table(path):
+    """A uniarc table by column name (docs/contracts.md): header line, `#` lines, rows."""
+    return np.genfromtxt(path, names=True, dtype=None, encoding=None, comments='#')
+
+
+def deck_parameters(deck, defines):
+    """The *PARAMETER values of a deck (simple `name = expression` lines), -D overrides applied."""
+    values = {}
+    reading = False
+    with open(deck) as handle:
+        for line in handle:
+            text = line.strip()
+            if text.startswith('*') and not text.startswith('**'):
+                reading = text.upper().startswith('*PARAMETER')
+                continue
+            if reading and '=' in text and not text.startswith('**'):
+                name, expression = text.split('=', 1)
+                values[name.strip()] = eval(expression.replace('^', '**'), {'pi': math.pi}, dict(values))
+    for definition in defines:
+        name, value = definition.split('=', 1)
+        values[name] = float(value)
+    return values
+
+
+def fail(message):
+    print('FAIL: ' + message)
+    sys.exit(1)
+
+
+# ------------------------------------------------------------------------------------------------
+# (a) the block: closed form of the load history
+# ------------------------------------------------------------------------------------------------
+
+def clamp(value, high):
+    return min(max(value, 0.0), high)
+
+
+def block_response(kb, bearing, uplift, loads):
+    """Deflection w (down positive) and slips after each of the loads P (down positive) applied in
+    order, each from the state the previous one left: a spring kb (elastic) in parallel with a bearing
+    spring (k, q) pushing up and, if given, an uplift spring (k_u, t_u) pushing down, both compression
+    only and elastic-perfectly plastic, with slips s_b (down) and s_u (up). The resisting force
+    kb w + clamp(k (w - s_b), 0, q) - clamp(k_u (-w - s_u), 0, t_u) is continuous and increasing in w,
+    so the equilibrium is its unique root, found by bisection to round-off; then each spring beyond its
+    limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u)."""
+    k, q = bearing
+    ku, tu = uplift if uplift else (0.0, 0.0)
+    s_b = s_u = 0.0
+    out = []
+    for p in loads:
+        def resisting(w):
+            force = kb*w + clamp(k*(w - s_b), q)
+            if ku > 0.0:
+                force -= clamp(ku*(-w - s_u), tu)
+            return force - p
+        low, high = -1.0, 1.0
+        while resisting(low) > 0.0:
+            low *= 2.0
+        while resisting(high) < 0.0:
+            high *= 2.0
+        for _ in range(200):
+            middle = 0.5*(low + high)
+            if resisting(middle) > 0.0:
+                high = middle
+            else:
+                low = middle
+        w = 0.5*(low + high)
+        s_b = max(s_b, w - q/k)
+        if ku > 0.0:
+            s_u = max(s_u, -w - tu/ku)
+        out.append((w, s_b, s_u))
+    return out
+
+
+def step_loads(deck):
+    """The load of each *STEP of the deck on its tracked node, down positive: the FY of its *CLOAD."""
+    loads = []
+    with open(deck) as handle:
+        lines = [line.strip() for line in handle]
+    for i, line in enumerate(lines):
+        if line.upper().startswith('*CLOAD'):
+            loads.append(-float(lines[i + 1].split(',')[2]))
+    return loads
+
+
+def check_block(args):
+    finished = run(args.uniarc, args.deck, args.out, args.define)
+    if finished.returncode != 0:
+        fail(f'exit code {finished.returncode}')
+    values = deck_parameters(args.deck, args.define)
+    kb = 12*values['EI']/values['L']**3
+    uplift = (values['ku'], values['tu']) if 'ku' in values else None
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    path = table(os.path.join(args.out, stem + '.path'))
+    # Each analysis step a of the deck: its load F_a times lambda on the loads of the steps before it,
+    # held at lambda_max = 1 (docs/input.md, *STEP).
+    forces = step_loads(args.deck)
+    loads = [sum(forces[:int(a) - 1]) + lam*forces[int(a) - 1]
+             for lam, a in zip(path['lambda'], path['analysis_step'])]
+    expected = block_response(kb, (values['k'], values['qu']), uplift, loads)
+    # Tolerance: the path is converged to the displacement tolerance 1e-8 of the deck's default
+    # (*PATH), relative to the displacements; the closed form is exact (small displacements: w/L ~ 1e-5,
+    # so the corotational terms are 1e-10 of w).
+    scale = max(abs(w) for w, _, _ in expected)
+    worst = 0.0
+    for (w, _, _), got, step in zip(expected, path['w'], path['step']):
+        error = abs(got - w)/scale
+        worst = max(worst, error)
+        if error > 1e-7:
+            fail(f'step {step}: w = {got!r}, closed form {w!r}')
+    print(f'block: {len(loads)} rows, largest error of w {worst:.2e} of its largest value')
+    contact = table(os.path.join(args.out, stem + '.contact'))
+    last = contact[contact['step'] == contact['step'].max()]
+    _, s_b, s_u = expected[-1]
+    for row in last:
+        slip = s_b if row['medium'] == 'soil' else s_u
+        if abs(row['slip'] - slip) > 1e-7*scale:
+            fail(f'last step, {row["medium"]}: slip {row["slip"]!r}, closed form {slip!r}')
+        print(f'block: final slip of {row["medium"]} {row["slip"]:.12e} (closed form {slip:.12e}), '
+              f'yielding {row["yielding"]}, reaction {row["reaction"]:.12e}')
+
+
+# ------------------------------------------------------------------------------------------------
+# (b) the limit load of a stiff beam
+# ------------------------------------------------------------------------------------------------
+
+def check_limit(args):
+    below = run(args.uniarc, args.deck, args.out + '/below', ['lmax=0.999'])
+    if below.returncode != 0:
+        fail(f'0.999 of qu L: exit code {below.returncode}, expected 0')
+    above = run(args.uniarc, args.deck, args.out + '/above', ['lmax=1.001'])
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    if above.returncode != 1:
+        fail(f'1.001 of qu L: exit code {above.returncode}, expected 1 (no equilibrium beyond the limit load)')
+    # The load-controlled path stops where it cannot go on: at the limit load, from below, to the
+    # step-length floor (min_increment) times the first increment.
+    reached = table(os.path.join(args.out, 'above', stem + '.path'))['lambda'][-1]
+    if not 1.0 - 1e-4 <= reached <= 1.0:
+        fail(f'1.001 of qu L: the path stopped at lambda = {reached}, not at the limit lambda = 1')
+    values = deck_parameters(args.deck, [])
+    path = table(os.path.join(args.out, 'below', stem + '.path'))
+    # Elastic rows: a rigid beam on the bed, w = P/(K L); the beam's own bending adds
+    # P L^3/(EI) ~ 1e-9 of it (EI = 1e6 against K L^4 = 16).
+    load = path['lambda']*values['qu']*values['L']
+    elastic = load < 0.99*values['qu']*values['L']
+    expected = load[elastic]/(values['K']*values['L'])
+    got = path['w'][elastic]
+    if np.max(np.abs(got - expected)) > 1e-6*np.max(np.abs(expected)):
+        fail(f'elastic rows: w {got} against P/(K L) {expected}')
+    contact = table(os.path.join(args.out, 'below', stem + '.contact'))
+    last = contact[contact['step'] == contact['step'].max()]
+    print(f'limit: lambda {path["lambda"][-1]} reached, {int(np.sum(last["yielding"]))} of {len(last)} '
+          f'candidates yielding; toward 1.001 the path stops at lambda = {reached!r}')
+
+
+# ------------------------------------------------------------------------------------------------
+# (c) a beam on a plastic bed against an independent solution
+# ------------------------------------------------------------------------------------------------
+
+def hermite_stiffness(ei, h):
+    """Euler-Bernoulli beam element (w1, θ1, w2, θ2), exact for end loads (Przemieniecki 1968, §5.3)."""
+    return ei/h**3*np.array([[12, 6*h, -12, 6*h],
+                             [6*h, 4*h*h, -6*h, 2*h*h],
+                             [-12, -6*h, 12, -6*h],
+                             [6*h, 2*h*h, -6*h, 4*h*h]])
+
+
+def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
+    """Deflections w (down positive, n + 1 nodes), slips and yielding flags of a free-free beam on a
+    tensionless elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i), central
+    load `load` applied in `increments` equal increments, each solved by an active-set loop over the
+    three states of every spring (open, elastic, yielding) from the state the last one left. The
+    stiffness is banded (half-bandwidth 3: DOFs w_i, θ_i node by node), solved by scipy's band solver."""
+    h = length/n
+    dofs = 2*(n + 1)
+    upper = 3
+    band = np.zeros((2*upper + 1, dofs))      # scipy.linalg.solve_banded layout: band[u + i - j, j] = A[i, j]
+    element = hermite_stiffness(ei, h)
+    for e in range(n):
+        for a in range(4):
+            for b in range(4):
+                band[upper + a - b, 2*e + b] += element[a, b]
+    tributary = np.full(n + 1, h)
+    tributary[[0, -1]] = h/2
+    k = modulus*tributary
+    q = qu*tributary
+    slip = np.zeros(n + 1)
+    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding; all touching at the start
+    w = np.zeros(n + 1)
+    nodes = np.arange(n + 1)
+    for step in range(1, increments + 1):
+        force = np.zeros(dofs)
+        force[2*(n//2)] = load*step/increments
+        committed = slip.copy()
+        for _ in range(200):
+            matrix = band.copy()
+            rhs = force.copy()
+            elastic = state == 1
+            matrix[upper, 2*nodes[elastic]] += k[elastic]
+            rhs[2*nodes[elastic]] += k[elastic]*committed[elastic]
+            rhs[2*nodes[state == 2]] -= q[state == 2]
+            w = scipy.linalg.solve_banded((upper, upper), matrix, rhs)[0::2]
+            new = state.copy()
+            reaction = k*(w - committed)
+            new[(state == 1) & (reaction < 0)] = 0
+            new[(state == 1) & (reaction > q)] = 2
+            new[(state == 0) & (w > committed)] = 1
+            new[(state == 2) & (w - q/k < committed)] = 1
+            if np.array_equal(new, state):
+                break
+            state = new
+        else:
+            fail('reference: the active-set loop did not settle')
+        slip = np.where(state == 2, w - q/k, committed)
+    return w, slip, state == 2
+
+
+def check_bed(args):
+    finished = run(args.uniarc, args.deck, args.out, args.define)
+    if finished.returncode != 0:
+        fail(f'exit code {finished.returncode}')
+    values = deck_parameters(args.deck, args.define)
+    refine = args.refine
+    w_ref, slip_ref, yielding_ref = plastic_bed_reference(values['L'], refine*int(values['n']), 1.0,
+                                                          values['k'], values['qu'], values['P'], 20)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    shape = table(os.path.join(args.out, stem + '.shape'))
+    last = shape[shape['step'] == shape['step'].max()]
+    order = np.argsort(last['x0'])
+    w = -last['uy'][order]
+    contact = table(os.path.join(args.out, stem + '.contact'))
+    rows = contact[contact['step'] == contact['step'].max()]
+    rows = rows[np.argsort(rows['s'])]
+    w0 = np.max(np.abs(w_ref))
+    deflection = np.max(np.abs(w - w_ref[::refine]))/w0
+    slip = np.max(np.abs(rows['slip'] - slip_ref[::refine]))/w0
+    print(f'bed: w0 {w[len(w)//2]:.10e} against {w_ref[len(w_ref)//2]:.10e}; largest deflection error '
+          f'{deflection:.2e} of w0, slip error {slip:.2e} of w0; yielding {int(np.sum(rows["yielding"]))} '
+          f'candidates, reference {int(np.sum(yielding_ref[::refine]))}')
+    if deflection > args.rtol or slip > args.rtol:
+        fail(f'deflections or slips beyond {args.rtol} of w0')
+    if not np.array_equal(rows['yielding'] == 1, yielding_ref[::refine]):
+        fail('the yielding candidates differ from the reference')
+
+
+def check_elastic(args):
+    """The deck with QU huge against the same deck without QU= (written next to the results): the
+    plastic law must leave the elastic path untouched, row for row and digit for digit."""
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    elastic_deck = os.path.join(args.out, stem + '.inp')
+    with open(args.deck) as source, open(elastic_deck, 'w') as target:
+        for line in source:
+            target.write(re.sub(r',\s*QU\s*=\s*[^,\s]+', '', line) if line.upper().startswith('*FOUNDATION') else line)
+    plastic = run(args.uniarc, args.deck, args.out + '/plastic', ['qu=1e300'])
+    elastic = run(args.uniarc, elastic_deck, args.out + '/elastic', [])
+    if plastic.returncode != 0 or elastic.returncode != 0:
+        fail('a run failed')
+
+    def rows(path):
+        with open(path) as handle:
+            return [line for line in handle if not line.startswith('#')]
+
+    a = rows(os.path.join(args.out, 'plastic', stem + '.path'))
+    b = rows(os.path.join(args.out, 'elastic', stem + '.path'))
+    if a != b:
+        fail('the path files differ')
+    print(f'elastic: {len(a)} lines of the path files equal')
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--uniarc', required=True)
+    parser.add_argument('--deck', required=True)
+    parser.add_argument('--out', required=True)
+    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic'])
+    parser.add_argument('--define', action='append', default=[])
+    parser.add_argument('--rtol', type=float, default=1e-3)
+    parser.add_argument('--refine', type=int, default=16)
+    args = parser.parse_args()
+    {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic}[args.mode](args)
+    print('ok')
+
+
+if __name__ == '__main__':
+    main()
