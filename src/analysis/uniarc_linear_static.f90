@@ -16,7 +16,7 @@ module uniarc_linear_static
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, add_context, make_error, error_analysis
    use uniarc_model, only: model_t, dofs_per_node
-   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
@@ -224,6 +224,7 @@ contains
          do i = 1, 2
             if (map%equation(i, node) > 0) g(c) = g(c) + gradient(i)*x(map%equation(i, node))
          end do
+         g(c) = g(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          if (.not. in_set(model, set, c)) cycle   ! a tangential spring acts with its partner
          if (map%candidate_equation(c) > 0) then
             r(c) = x(map%candidate_equation(c))

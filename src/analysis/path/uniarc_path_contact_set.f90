@@ -9,7 +9,7 @@ module uniarc_path_contact_set
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
@@ -170,7 +170,8 @@ contains
    end function units_at
 
    !> Reactions and current gaps of every candidate: a reaction unknown of x, or for a condensed spring
-   !> −g/t in the working set `active` and 0 out of it.
+   !> −g/t in the working set `active` and 0 out of it; the gap of a Pasternak bed point is the one with
+   !> the bed's surface, g + d.
    pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -184,6 +185,7 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian)
+         gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          reaction(c) = 0.0_dp
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))

@@ -18,7 +18,7 @@ module uniarc_path_state
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact, candidate_gap
+   use uniarc_contact, only: assemble_contact, candidate_gap, bed_values
    implicit none
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
@@ -197,7 +197,7 @@ contains
                                 internal, reference, element_scale, roundoff)
       if (size(state%map%candidate_equation) > 0) then
          call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                               system%tangent, internal)
+                               system%tangent, internal, bed_values(state%map, x))
       end if
       if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
    end subroutine equilibrium_at
