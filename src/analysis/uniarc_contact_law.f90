@@ -16,7 +16,8 @@
 !> that the caller (the model builder, the deck) turns into messages.
 module uniarc_contact_law
    use uniarc_kinds, only: dp
-   use uniarc_model, only: contact_candidate_t, foundation_t, foundation_pasternak, gap_fixed_direction, gap_circle_inside, &
+   use uniarc_model, only: contact_candidate_t, foundation_t, foundation_pasternak, gap_fixed_direction, &
+                           gap_circle_inside, &
                            gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction, &
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact
    use uniarc_obstacle_shapes, only: ellipse_gap, polyline_gap

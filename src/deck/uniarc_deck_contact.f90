@@ -11,7 +11,8 @@ module uniarc_deck_contact
    use uniarc_expression, only: sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real
-   use uniarc_model, only: foundation_t, foundation_winkler, foundation_pasternak, side_left, side_right, side_inner, side_outer, &
+   use uniarc_model, only: foundation_t, foundation_winkler, foundation_pasternak, side_left, side_right, &
+                           side_inner, side_outer, &
                            side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside, &
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact, &
                            tangential_bonded

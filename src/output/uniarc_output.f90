@@ -133,7 +133,8 @@ contains
          if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring: no surface of its own
          point = surface_point(model, c)
          ! a Pasternak bed point's contact with the surface is rigid, the bed under it is not
-         rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp .and. .not. model%contacts(c)%bed_stiffness(2) > 0.0_dp)
+         rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp .and. &
+                             .not. model%contacts(c)%bed_stiffness(2) > 0.0_dp)
          call put_row(surface, medium_name(model, model%contacts(c)%group)//' '//integer_to_string(c)//' '// &
                       integer_to_string(model%node_label(model%contacts(c)%node))//' '// &
                       trim(format_number(point(1)))//' '//trim(format_number(point(2)))//' '// &
