@@ -7,8 +7,8 @@ Usage (one CTest per call):
                      [--w0-rtol R] [--compare-winkler]
 
 The deck must define the parameters L, n, EI, k, G, P (the beam's length, its number of elements, its
-bending stiffness, the bed's Winkler modulus and shear-layer stiffness, the load) and track w0, the
-deflection under the load (positive into the bed); uniarc is run once per --gp with -D G=value.
+bending stiffness, the bed's Winkler modulus and shear-layer stiffness, the load) and track w0 and
+w_end, the deflections under the load and at an end (positive into the bed); uniarc is run once per --gp with -D G=value.
 
 The reference is computed here from the continuum problem, with a discretisation of its own (not
 uniarc's finite elements, nor its end condition of the bed):
@@ -27,9 +27,12 @@ G = 0 and 2; the extrapolations from 100/200 and from 200/400 agree within 2e-6 
 
 Checks: uniarc's w0 against the reference's within --w0-rtol; the contact region's half-length
 (s_contact_2 - s_contact_1)/2 from the path file against the reference's within one element of each
-mesh (the contact edges are nodes in both); and with --compare-winkler, that the first --gp (0:
-Winkler's bed) has the longer contact, i.e. the shorter lift-off region, than the others, in uniarc
-and in the reference alike. Exit 1 on any failure.
+mesh (the contact edges are nodes in both); w_end within --end-rtol (the ends' uplift moves with the
+contact edge, which both meshes resolve to a node: over n = 80, 160, 320 uniarc's w_end changes by 2.3e-3
+and 6e-4 relative at G = 2, the reference's over 100, 200, 400 intervals by 3e-4 and 8e-5, and the two
+differ by 6e-4 at n = 160, N = 200); and with --compare-winkler, that the first --gp (0: Winkler's bed)
+has the longer contact (so the shorter separated ends) and the larger uplift of the ends than the
+others, in uniarc and in the reference alike. Exit 1 on any failure.
 """
 import argparse
 import os
@@ -41,7 +44,8 @@ from uniarc_check import read_table, run_uniarc
 
 
 def reference(L, EI, k, G, P, n_beam, extension_lengths=6.0):
-    """w0 and the contact half-length of the FD model in the module docstring (n_beam intervals)."""
+    """w0, the contact half-length and the deflection of the beam's end w_end of the FD model in the
+    module docstring (n_beam intervals; deflections positive into the bed)."""
     h = L / n_beam
     ell = np.sqrt(G / k) if G > 0 else 0.0
     n_ext = int(np.ceil(extension_lengths * ell / h)) if G > 0 else 0
@@ -98,7 +102,7 @@ def reference(L, EI, k, G, P, n_beam, extension_lengths=6.0):
         raise SystemExit('FAIL: the reference solution violates complementarity')
     nodes = np.flatnonzero(active)
     half_length = (nodes.max() - nodes.min()) * h / 2
-    return x[n_beam // 2], half_length
+    return x[n_beam // 2], half_length, x[0]
 
 
 def main():
@@ -109,6 +113,7 @@ def main():
     parser.add_argument('--gp', action='append', type=float, required=True)
     parser.add_argument('--fd-nodes', type=int, default=200)
     parser.add_argument('--w0-rtol', type=float, default=2e-4)
+    parser.add_argument('--end-rtol', type=float, default=2e-3)
     parser.add_argument('--compare-winkler', action='store_true')
     args = parser.parse_args()
     stem = os.path.splitext(os.path.basename(args.deck))[0]
@@ -126,25 +131,34 @@ def main():
         params = deck_parameters(args.deck)
         params['G'] = G
         L, n = params['L'], int(params['n'])
-        w0_fine, a_ref = reference(L, params['EI'], params['k'], G, params['P'], args.fd_nodes)
-        w0_coarse, _ = reference(L, params['EI'], params['k'], G, params['P'], args.fd_nodes // 2)
+        w0_fine, a_ref, end_ref = reference(L, params['EI'], params['k'], G, params['P'], args.fd_nodes)
+        w0_coarse, _, _ = reference(L, params['EI'], params['k'], G, params['P'], args.fd_nodes // 2)
         w0_ref = w0_fine + (w0_fine - w0_coarse) / 3
         w0 = last['w0']
         a = (last['s_contact_2'] - last['s_contact_1']) / 2
         a_tol = L / n + L / args.fd_nodes
+        end = last['w_end']
         print(f'G = {G}: w0 {w0!r} vs reference {w0_ref!r} (relative {abs(w0 - w0_ref) / abs(w0_ref):.3g}, '
               f'allowed {args.w0_rtol}); contact half-length {a!r} vs {a_ref!r} (allowed {a_tol:.3g})')
         if not abs(w0 - w0_ref) <= args.w0_rtol * abs(w0_ref):
             problems.append(f'w0 at G = {G}')
         if not abs(a - a_ref) <= a_tol:
             problems.append(f'contact half-length at G = {G}')
-        lengths.append((a, a_ref))
+        print(f'G = {G}: w_end {end!r} vs reference {end_ref!r} (relative {abs(end - end_ref) / abs(end_ref):.3g}, '
+              f'allowed {args.end_rtol})')
+        if not abs(end - end_ref) <= args.end_rtol * abs(end_ref):
+            problems.append(f'w_end at G = {G}')
+        lengths.append((a, a_ref, end, end_ref))
     if args.compare_winkler:
-        for (a, a_ref), G in zip(lengths[1:], args.gp[1:]):
+        for (a, a_ref, end, end_ref), G in zip(lengths[1:], args.gp[1:]):
             print(f'contact half-length G = {args.gp[0]}: {lengths[0][0]!r} (reference {lengths[0][1]!r}); '
                   f'G = {G}: {a!r} (reference {a_ref!r})')
             if not (a < lengths[0][0] and a_ref < lengths[0][1]):
                 problems.append(f'contact at G = {G} not shorter than at G = {args.gp[0]}')
+            print(f'uplift of the ends G = {args.gp[0]}: {-lengths[0][2]!r} (reference {-lengths[0][3]!r}); '
+                  f'G = {G}: {-end!r} (reference {-end_ref!r})')
+            if not (0 < -end < -lengths[0][2] and 0 < -end_ref < -lengths[0][3]):
+                problems.append(f'the ends at G = {G} not lifted less than at G = {args.gp[0]}')
     if problems:
         print('FAIL: ' + '; '.join(problems))
         sys.exit(1)
