@@ -16,6 +16,11 @@
 !> A foundation's tangential spring that follows its radial partner (contact_candidate_t%partner) is in
 !> the set only with it (`in_set`): never a variable of the LCP, it is switched with its partner.
 !>
+!> A point of a Pasternak bed (docs/theory.md §3.10) is a rigid contact with the bed's surface, whose
+!> deflection d_c (into the bed) is an unknown of its own (dof_map_t%bed_equation): its gap is
+!> g_c + d_c, so the row in the set reads −a_cᵀδu − δd_c = g_c + d_c, and the bed's row is its
+!> equilibrium Σ_j K_b(c, j) d_j − r_c = 0 (F_aug = K_b d − r there, tangent K_b and −1 at r_c).
+!>
 !> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
 !> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
@@ -24,14 +29,14 @@ module uniarc_contact
    use uniarc_model, only: model_t, contact_candidate_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_contact_plastic, only: slip_shift
-   use uniarc_dof_map, only: dof_map_t
+   use uniarc_dof_map, only: dof_map_t, bed_deflection
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
-   public :: in_set
+   public :: in_set, bed_values
 
 contains
 
@@ -42,7 +47,9 @@ contains
    !> With plastic candidates (uniarc_contact_plastic): `slip` (one per candidate) shifts their gaps,
    !> and a `yielding` candidate of the set has the row r = q (augmented) or the constant force q along
    !> a_c without stiffness (condensed), its bearing limit q (docs/theory.md §3.9).
-   subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal, slip, yielding)
+   !> `deflections` (one per candidate, default 0): the Pasternak bed's surface deflections d_c.
+   subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal, slip, yielding, &
+                               deflections)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -52,10 +59,16 @@ contains
       real(dp), intent(inout) :: internal(:)
       real(dp), intent(in), optional :: slip(:)
       logical, intent(in), optional :: yielding(:)
+      real(dp), intent(in), optional :: deflections(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
-      integer :: c, i, j, row, node, eq(2)
+      real(dp), allocatable :: d(:)
+      integer :: c, i, j, row, node, eq(2), bed
       logical :: yields
+      allocate (d(size(reactions)), source=0.0_dp)
+      if (present(deflections)) d = deflections
       do c = 1, size(map%candidate_equation)
+         bed = map%bed_equation(c)
+         if (bed > 0) call add_bed_row(model%contacts(c), map, c, d, reactions(c), tangent, internal)
          row = map%candidate_equation(c)
          yields = .false.
          if (present(yielding)) yields = yielding(c) .and. model%contacts(c)%plastic
@@ -73,6 +86,7 @@ contains
             call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
                                gradient, hessian)
             if (candidate%plastic) gap = gap + slip_shift(model, c, slip)
+            gap = gap + d(c)
             do i = 1, 2
                if (eq(i) == 0) cycle
                ! Equilibrium rows: −a_c r_c in F_aug; its derivative −r ∂a/∂u in the tangent.
@@ -92,6 +106,7 @@ contains
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
                end do
                call band_add(tangent, row, row, -candidate%flexibility)
+               if (bed > 0) call band_add(tangent, row, bed, -1.0_dp)
             else
                internal(row) = reactions(c)
                call band_add(tangent, row, row, 1.0_dp)
@@ -106,7 +121,9 @@ contains
    !> (assemble_contact; round-off apart), at the cost of the flipped candidates only.
    !> `slip` (optional, one per candidate) shifts the gaps of plastic candidates (assemble_contact); a
    !> yielding candidate is never flipped (uniarc_path_contact_set, sign_rule).
-   subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual, slip)
+   !> `deflections` (one per candidate, default 0): the Pasternak bed's surface deflections d_c.
+   subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual, slip, &
+                              deflections)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :), reactions(:)
@@ -114,6 +131,7 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
       real(dp), intent(in), optional :: slip(:)
+      real(dp), intent(in), optional :: deflections(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       logical, allocatable :: before(:)
       logical :: entering
@@ -129,10 +147,22 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
                             gradient, hessian)
          if (model%contacts(c)%plastic) gap = gap + slip_shift(model, c, slip)
+         if (present(deflections)) gap = gap + deflections(c)
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
-                             reactions(c), entering, tangent, residual)
+                             reactions(c), entering, tangent, residual, map%bed_equation(c))
       end do
    end subroutine toggle_contacts
+
+   !> The Pasternak beds' surface deflections d_c in unknowns x, one per candidate (0 for the others).
+   pure function bed_values(map, x) result(values)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: x(:)
+      real(dp) :: values(size(map%candidate_equation))
+      integer :: c
+      do c = 1, size(values)
+         values(c) = bed_deflection(map, c, x)
+      end do
+   end function bed_values
 
    !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag, and
    !> for a tangential spring that follows a radial partner (contact_candidate_t%partner) the partner's
@@ -154,12 +184,15 @@ contains
    !>   a r moves into or out of the residual of the equilibrium rows;
    !> - augmented row: entering, the row −aᵀ, −t with residual g + t r (w = 0 enforced); leaving, the
    !>   identity row with residual −r (r = 0 enforced).
-   subroutine set_membership(row, eq, gap, gradient, hessian, flexibility, reaction, entering, tangent, residual)
+   !> - a Pasternak bed point (`bed` > 0, its deflection's equation; `gap` then g + d): the row has −1
+   !>   at d in the set, 0 out of it.
+   subroutine set_membership(row, eq, gap, gradient, hessian, flexibility, reaction, entering, tangent, residual, bed)
       integer, intent(in) :: row, eq(2)
       real(dp), intent(in) :: gap, gradient(2), hessian(2, 2), flexibility, reaction
       logical, intent(in) :: entering
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: residual(:)
+      integer, intent(in), optional :: bed
       real(dp) :: sign, spring_reaction
       integer :: i, j
       if (row == 0) then
@@ -179,15 +212,43 @@ contains
             if (eq(i) > 0) call band_set(tangent, row, eq(i), -gradient(i))
          end do
          call band_set(tangent, row, row, -flexibility)
+         if (present(bed)) then
+            if (bed > 0) call band_set(tangent, row, bed, -1.0_dp)
+         end if
          residual(row) = gap + flexibility*reaction
       else
          do i = 1, 2
             if (eq(i) > 0) call band_set(tangent, row, eq(i), 0.0_dp)
          end do
          call band_set(tangent, row, row, 1.0_dp)
+         if (present(bed)) then
+            if (bed > 0) call band_set(tangent, row, bed, 0.0_dp)
+         end if
          residual(row) = -reaction
       end if
    end subroutine set_membership
+
+   !> The row of Pasternak bed point c (module header): F_aug = Σ_j K_b(c, j) d_j − r_c on its deflection's
+   !> equation, the tangent K_b(c, ·) on the deflections of c and its neighbours and −1 at its reaction.
+   pure subroutine add_bed_row(candidate, map, c, deflections, reaction, tangent, internal)
+      type(contact_candidate_t), intent(in) :: candidate
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: c
+      real(dp), intent(in) :: deflections(:)    !< (n_contacts) d of every candidate
+      real(dp), intent(in) :: reaction          !< r_c
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(inout) :: internal(:)
+      integer :: bed, k, neighbours(3)
+      bed = map%bed_equation(c)
+      neighbours = [candidate%bed_previous, c, candidate%bed_next]
+      internal(bed) = -reaction
+      do k = 1, 3
+         if (neighbours(k) == 0) cycle
+         internal(bed) = internal(bed) + candidate%bed_stiffness(k)*deflections(neighbours(k))
+         call band_add(tangent, bed, map%bed_equation(neighbours(k)), candidate%bed_stiffness(k))
+      end do
+      if (map%candidate_equation(c) > 0) call band_add(tangent, bed, map%candidate_equation(c), -1.0_dp)
+   end subroutine add_bed_row
 
    !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).

@@ -16,7 +16,8 @@
 !> that the caller (the model builder, the deck) turns into messages.
 module uniarc_contact_law
    use uniarc_kinds, only: dp
-   use uniarc_model, only: contact_candidate_t, foundation_t, gap_fixed_direction, gap_circle_inside, &
+   use uniarc_model, only: contact_candidate_t, foundation_t, foundation_pasternak, gap_fixed_direction, &
+                           gap_circle_inside, &
                            gap_circle_outside, side_left, side_right, side_inner, side_outer, side_direction, &
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact
    use uniarc_obstacle_shapes, only: ellipse_gap, polyline_gap
@@ -26,6 +27,7 @@ module uniarc_contact_law
    public :: winkler_flexibility, spring_flexibility, foundation_candidates
    public :: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, path_coordinates
    public :: normals_valid, normals_branch, normals_opposed, normals_folded, foundation_straight
+   public :: foundation_not_open_chain, pasternak_bed, open_chain
    public :: foundation_problem
 
    !> Outcomes of `nodal_left_normals` and `foundation_candidates`.
@@ -34,6 +36,8 @@ module uniarc_contact_law
    integer, parameter :: normals_opposed = 2      !< two elements of the set both start, or both end, at a node
    integer, parameter :: normals_folded = 3       !< two elements fold back on each other: no mean normal
    integer, parameter :: foundation_straight = 4  !< SIDE inner/outer on a straight set: no concave side
+   !> a Pasternak bed (G_p > 0) on a set that is not one open chain of elements (a ring, branches, gaps)
+   integer, parameter :: foundation_not_open_chain = 5
 
    !> Length of the mean of two unit normals under which they are taken as opposite (a fold of the set).
    real(dp), parameter :: fold_tolerance = 1.0e-9_dp
@@ -227,6 +231,17 @@ contains
             candidates(i)%yield_force = foundation%bearing_limit*lengths(i)
          end if
       end do
+      if (foundation%law == foundation_pasternak .and. foundation%shear_modulus > 0.0_dp) then
+         ! The shear layer couples the nodes: one open chain, the bed's unknowns in its order.
+         if (.not. open_chain(size(coordinates, 2), connectivity, foundation%elements, nodes)) then
+            status = foundation_not_open_chain
+            deallocate (candidates)
+            allocate (candidates(0))
+            return
+         end if
+         call pasternak_bed(foundation%modulus, foundation%shear_modulus, lengths, &
+                            path_coordinates(coordinates, nodes), candidates(1:n))
+      end if
       if (.not. foundation%tangential_modulus > 0.0_dp) return
       ! Tangential springs (the tangential subgrade modulus of bedded-beam lining models): at each node
       ! a spring k_t = K_t × L along the tangent t = n turned by +90°, lumped as the radial bed; gap
@@ -246,6 +261,71 @@ contains
       end do
    end subroutine foundation_candidates
 
+   !> The Pasternak bed (Pasternak 1954; Kerr 1964) on the n points of one open chain (`candidates`, in
+   !> chain order, already Winkler candidates of modulus K): the surface deflection w (into the bed)
+   !> with K w − G_p w'' = p along the arc length s, discretised by linear elements between consecutive
+   !> points (Galerkin, docs/theory.md §3.10):
+   !>     K_b = K × diag(tributary lengths)                 (Winkler's part lumped as Winkler's bed)
+   !>         + G_p/h [1 −1; −1 1] per element of length h  (the shear layer, consistent)
+   !>         + √(K G_p) at both end points                 (the semi-infinite bed beyond each end:
+   !>           w = w_end exp(−|x|/ℓ), ℓ = √(G_p/K), whose shear force G_p w' = √(K G_p) w_end; Kerr
+   !>           1964, Selvadurai 1979 §2.5)
+   !> Each candidate becomes a rigid contact with the surface (flexibility 0) and gets its row of K_b
+   !> and its neighbours (local indices, made global by the builder). Units: K force/length², G_p
+   !> force, lengths in the model's unit; K_b force/length.
+   pure subroutine pasternak_bed(modulus, shear_modulus, lengths, s, candidates)
+      real(dp), intent(in) :: modulus                  !< K > 0
+      real(dp), intent(in) :: shear_modulus            !< G_p > 0
+      real(dp), intent(in) :: lengths(:)               !< (n) tributary lengths
+      real(dp), intent(in) :: s(:)                     !< (n) arc length at the points
+      type(contact_candidate_t), intent(inout) :: candidates(:)   !< (n)
+      real(dp) :: coupling, end_stiffness
+      integer :: i, n
+      n = size(candidates)
+      end_stiffness = sqrt(modulus*shear_modulus)
+      do i = 1, n
+         candidates(i)%flexibility = 0.0_dp
+         candidates(i)%bed_stiffness = [0.0_dp, modulus*lengths(i), 0.0_dp]
+         candidates(i)%bed_previous = 0
+         candidates(i)%bed_next = 0
+      end do
+      do i = 1, n - 1
+         coupling = shear_modulus/(s(i + 1) - s(i))
+         candidates(i)%bed_stiffness(2) = candidates(i)%bed_stiffness(2) + coupling
+         candidates(i + 1)%bed_stiffness(2) = candidates(i + 1)%bed_stiffness(2) + coupling
+         candidates(i)%bed_stiffness(3) = -coupling
+         candidates(i + 1)%bed_stiffness(1) = -coupling
+         candidates(i)%bed_next = i + 1
+         candidates(i + 1)%bed_previous = i
+      end do
+      candidates(1)%bed_stiffness(2) = candidates(1)%bed_stiffness(2) + end_stiffness
+      candidates(n)%bed_stiffness(2) = candidates(n)%bed_stiffness(2) + end_stiffness
+   end subroutine pasternak_bed
+
+   !> Whether `nodes` (the chain order of `elements`, `chain_nodes`) is one open chain: n − 1 elements,
+   !> each from a node to the next one in that order.
+   pure logical function open_chain(n_nodes, connectivity, elements, nodes)
+      integer, intent(in) :: n_nodes                  !< number of nodes of the model
+      integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
+      integer, intent(in) :: elements(:)
+      integer, intent(in) :: nodes(:)
+      integer, allocatable :: position(:)
+      logical, allocatable :: linked(:)
+      integer :: i, p
+      open_chain = .false.
+      if (size(nodes) /= size(elements) + 1) return
+      allocate (position(n_nodes), source=0)
+      allocate (linked(size(nodes)), source=.false.)
+      position(nodes) = [(i, i=1, size(nodes))]
+      do i = 1, size(elements)
+         p = position(connectivity(1, elements(i)))
+         if (p == 0 .or. p == size(nodes)) return
+         if (linked(p) .or. position(connectivity(2, elements(i))) /= p + 1) return
+         linked(p) = .true.
+      end do
+      open_chain = .true.
+   end function open_chain
+
    !> What a `foundation_candidates` status other than normals_valid means, for messages: what is wrong
    !> at the node concerned (branch, opposed, folded), or with the whole set (foundation_straight).
    pure function foundation_problem(status) result(text)
@@ -258,6 +338,9 @@ contains
          text = 'two elements of the set running in opposite directions'
       case (foundation_straight)
          text = 'a straight element set, which has no concave side'
+      case (foundation_not_open_chain)
+         text = 'a set that is not one open chain of elements (a Pasternak bed couples consecutive nodes '// &
+                'along one open line: no ring, branch or second chain)'
       case default
          text = 'two elements of the set folded back on each other'
       end select

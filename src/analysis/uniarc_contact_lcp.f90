@@ -18,7 +18,7 @@ module uniarc_contact_lcp
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_model, only: model_t
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
                           band_move, band_multiply
    use uniarc_contact, only: candidate_gap, set_membership, in_set
@@ -93,6 +93,9 @@ module uniarc_contact_lcp
       integer :: m = 0
       integer, allocatable :: row(:)          !< (m) equation of the candidate's reaction (0: condensed)
       integer, allocatable :: eq(:, :)        !< (2, m) equations of its node's translations (0: held)
+      !> (m) equation of the Pasternak bed's deflection d under it (0: none); its gap is g + d, so a_c
+      !> has a 1 there (docs/theory.md §3.10)
+      integer, allocatable :: bed(:)
       real(dp), allocatable :: gradient(:, :) !< (2, m) a_c = ∂g/∂u at the state
       real(dp), allocatable :: hessian(:, :, :)  !< (2, 2, m) ∂a_c/∂u at the state
       real(dp), allocatable :: flexibility(:) !< (m) t_c = 1/k_c (0: rigid)
@@ -254,17 +257,19 @@ contains
       type(contact_lcp_operator_t), intent(inout) :: lcp
       integer :: j, c, node
       lcp%m = size(unilateral)
-      allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%gradient(2, lcp%m), lcp%hessian(2, 2, lcp%m), &
+      allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%bed(lcp%m), lcp%gradient(2, lcp%m), lcp%hessian(2, 2, lcp%m), &
                 lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m))
       do j = 1, lcp%m
          c = unilateral(j)
          node = model%contacts(c)%node
          lcp%row(j) = map%candidate_equation(c)
          lcp%eq(:, j) = map%equation(1:2, node)
+         lcp%bed(j) = map%bed_equation(c)
          lcp%flexibility(j) = model%contacts(c)%flexibility
          lcp%active(j) = active(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), lcp%gap(j), &
                             lcp%gradient(:, j), lcp%hessian(:, :, j))
+         lcp%gap(j) = lcp%gap(j) + bed_deflection(map, c, x)
          if (lcp%row(j) > 0) then
             lcp%reaction(j) = x(lcp%row(j))
          else if (lcp%active(j)) then
@@ -307,6 +312,7 @@ contains
          do i = 1, 2
             if (self%eq(i, j) > 0) largest_displacement = max(largest_displacement, abs(particular(self%eq(i, j))))
          end do
+         if (self%bed(j) > 0) largest_displacement = max(largest_displacement, abs(particular(self%bed(j))))
          if (self%row(j) == 0) then
             ! condensed spring: r = −(g + a·p)/t in the set, the gap g + a·p out of it
             if (self%active(j)) then
@@ -347,6 +353,7 @@ contains
                   if (self%eq(i, j) > 0) self%round_off(j) = max(self%round_off(j), &
                                                                  abs(self%gradient(i, j))*particular(self%eq(i, j)))
                end do
+               if (self%bed(j) > 0) self%round_off(j) = max(self%round_off(j), particular(self%bed(j)))
             end if
          end do
       end if
@@ -433,6 +440,7 @@ contains
                if (self%eq(i, j) > 0) self%work(self%eq(i, j), 1) = self%work(self%eq(i, j), 1) + &
                                                                      y(j)*self%gradient(i, j)
             end do
+            if (self%bed(j) > 0) self%work(self%bed(j), 1) = self%work(self%bed(j), 1) + y(j)
             self%work(self%row(j), 1) = self%work(self%row(j), 1) + y(j)*self%flexibility(j)
          end if
       end do
@@ -481,7 +489,8 @@ contains
          if (.not. flip(j)) cycle
          self%active(j) = .not. self%active(j)
          call set_membership(self%row(j), self%eq(:, j), self%gap(j), self%gradient(:, j), self%hessian(:, :, j), &
-                             self%flexibility(j), self%reaction(j), self%active(j), self%matrix, self%residual)
+                             self%flexibility(j), self%reaction(j), self%active(j), self%matrix, self%residual, &
+                             self%bed(j))
       end do
    end subroutine toggle
 
@@ -550,7 +559,8 @@ contains
       end select
    end subroutine border_vector
 
-   !> a_cᵀ v at candidate j's node for an augmented vector v.
+   !> a_cᵀ v at candidate j's node for an augmented vector v (with the bed's deflection under a Pasternak
+   !> bed point).
    pure real(dp) function along(self, j, v)
       type(contact_lcp_operator_t), intent(in) :: self
       integer, intent(in) :: j
@@ -560,6 +570,7 @@ contains
       do i = 1, 2
          if (self%eq(i, j) > 0) along = along + self%gradient(i, j)*v(self%eq(i, j))
       end do
+      if (self%bed(j) > 0) along = along + v(self%bed(j))
    end function along
 
    !> v ← v + s a_c at candidate j's node (an augmented vector v).
@@ -572,6 +583,7 @@ contains
       do i = 1, 2
          if (self%eq(i, j) > 0) v(self%eq(i, j)) = v(self%eq(i, j)) + s*self%gradient(i, j)
       end do
+      if (self%bed(j) > 0) v(self%bed(j)) = v(self%bed(j)) + s
    end subroutine add_along
 
    !> δλ of the bordered system for a response v = K_S⁻¹(·): the constraint with the given target.

@@ -10,7 +10,7 @@ module uniarc_dof_map
    implicit none
    private
    public :: dof_map_t, build_dof_map, element_equations, node_adjacency, reverse_cuthill_mckee
-   public :: ordering_bandwidth, candidate_live
+   public :: ordering_bandwidth, candidate_live, bed_point, bed_deflection
 
    !> The equation numbering of a model.
    type :: dof_map_t
@@ -24,6 +24,10 @@ module uniarc_dof_map
       !> reaction is −g/t in contact, docs/theory.md §3.1). A candidate with neither an equation nor this
       !> flag is inert (both translations of its node held).
       logical, allocatable :: condensed(:)
+      !> (n_contacts): equation of the surface deflection of a Pasternak bed point (0 if none), numbered
+      !> right after the candidate's reaction; a displacement (metric 1) whose row is the bed's
+      !> equilibrium K_b d = r (docs/theory.md §3.10)
+      integer, allocatable :: bed_equation(:)
       real(dp), allocatable :: metric(:)      !< (n_equations): 1 for a displacement, 0 for a reaction
    end type dof_map_t
 
@@ -42,6 +46,8 @@ contains
    !> while a stiff spring (k up to 1e20) keeps the augmented row, where its flexibility t sits on the
    !> diagonal instead of a penalty k in K. A candidate whose node has both translations held can never
    !> move and gets no equation (inert).
+   !> A point of a Pasternak bed (`bed_point`) has a rigid contact with the bed's surface: its reaction
+   !> and, right after it, the surface's deflection (`bed_equation`), even under a held node.
    subroutine build_dof_map(model, map)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(out) :: map
@@ -69,6 +75,7 @@ contains
       allocate (map%equation(dofs_per_node, model%n_nodes), source=0)
       allocate (map%candidate_equation(n_candidates), source=0)
       allocate (map%condensed(n_candidates), source=.false.)
+      allocate (map%bed_equation(n_candidates), source=0)
       if (n_candidates > 0) then
          stiffness = node_stiffness(model)
          do c = 1, n_candidates
@@ -89,7 +96,13 @@ contains
          end do
          c = first_candidate(node)
          do while (c > 0)
-            if (.not. (model%fixed(1, node) .and. model%fixed(2, node) .or. map%condensed(c))) then
+            if (bed_point(model, c)) then
+               ! a Pasternak bed point: its reaction and the bed's deflection there, even under a held
+               ! node (the bed goes on deforming beside it)
+               map%candidate_equation(c) = next + 1
+               map%bed_equation(c) = next + 2
+               next = next + 2
+            else if (.not. (model%fixed(1, node) .and. model%fixed(2, node) .or. map%condensed(c))) then
                next = next + 1
                map%candidate_equation(c) = next
             end if
@@ -103,6 +116,9 @@ contains
             if (map%equation(k, i) > 0) map%metric(map%equation(k, i)) = 1.0_dp
          end do
       end do
+      do c = 1, n_candidates
+         if (map%bed_equation(c) > 0) map%metric(map%bed_equation(c)) = 1.0_dp
+      end do
       map%half_bandwidth = 0
       do i = 1, model%n_elements
          map%half_bandwidth = max(map%half_bandwidth, spread_of(element_equations(model, map, i)))
@@ -111,9 +127,23 @@ contains
          if (map%candidate_equation(c) == 0) cycle
          node = model%contacts(c)%node
          map%half_bandwidth = max(map%half_bandwidth, &
-                                  spread_of([map%equation(:, node), map%candidate_equation(c)]))
+                                  spread_of([map%equation(:, node), map%candidate_equation(c), map%bed_equation(c)]))
+         ! the shear layer couples a bed point to its neighbours
+         associate (candidate => model%contacts(c))
+            if (candidate%bed_previous > 0) map%half_bandwidth = max(map%half_bandwidth, &
+               spread_of([map%bed_equation(c), map%bed_equation(candidate%bed_previous)]))
+            if (candidate%bed_next > 0) map%half_bandwidth = max(map%half_bandwidth, &
+               spread_of([map%bed_equation(c), map%bed_equation(candidate%bed_next)]))
+         end associate
       end do
    end subroutine build_dof_map
+
+   !> True if candidate c is a point of a Pasternak bed (its deflection is an unknown).
+   pure logical function bed_point(model, c)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: c
+      bed_point = model%contacts(c)%bed_stiffness(2) > 0.0_dp
+   end function bed_point
 
    !> True if candidate c takes part in the analysis: it has a reaction equation or is condensed.
    pure logical function candidate_live(map, c)
@@ -121,6 +151,16 @@ contains
       integer, intent(in) :: c
       candidate_live = map%candidate_equation(c) > 0 .or. map%condensed(c)
    end function candidate_live
+
+   !> The surface deflection d of candidate c's Pasternak bed in unknowns x (0 for other candidates):
+   !> the gap with the surface is g(u) + d (docs/theory.md §3.10).
+   pure real(dp) function bed_deflection(map, c, x)
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: c
+      real(dp), intent(in) :: x(:)
+      bed_deflection = 0.0_dp
+      if (map%bed_equation(c) > 0) bed_deflection = x(map%bed_equation(c))
+   end function bed_deflection
 
    !> Stiffness scale of each node (n_nodes): Σ over its elements of EA/L + 12 EI/L³, the size of the
    !> translational diagonal of the elastic stiffness there (Przemieniecki 1968, §5.2). A spring up to

@@ -17,11 +17,11 @@ module uniarc_linear_static
    use uniarc_error, only: error_t, add_context, make_error, error_analysis
    use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node
-   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
-   use uniarc_contact, only: candidate_gap, assemble_contact, in_set
+   use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
    use uniarc_path_mechanism, only: find_mechanism
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
@@ -49,7 +49,7 @@ contains
    !> uniarc_path_mechanism); a singular matrix (analysis: the supports and the contacts of the set do not hold the
    !> structure); a contact LCP that is not solved (analysis).
    subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
-                                  lcp_residual)
+                                  lcp_residual, deflections)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(out) :: displacement(:, :)
       integer, intent(out) :: negative_pivots
@@ -58,6 +58,8 @@ contains
       logical, allocatable, intent(out), optional :: active(:)
       integer, intent(out), optional :: lcp_pivots
       real(dp), intent(out), optional :: lcp_residual
+      !> (n_contacts) the Pasternak beds' surface deflections under each candidate (0 for the others)
+      real(dp), allocatable, intent(out), optional :: deflections(:)
       type(dof_map_t) :: map
       type(band_matrix_t) :: assembled, factors
       type(contact_linearization_t) :: lin
@@ -153,6 +155,7 @@ contains
       if (present(active)) active = set
       if (present(lcp_pivots)) lcp_pivots = pivots
       if (present(lcp_residual)) lcp_residual = worst
+      if (present(deflections)) deflections = bed_values(map, x)
    end subroutine solve_linear_static
 
    !> Prescribed displacements ū of held DOFs (support settlements) as loads on the free DOFs:
@@ -237,6 +240,7 @@ contains
          do i = 1, 2
             if (map%equation(i, node) > 0) g(c) = g(c) + gradient(i)*x(map%equation(i, node))
          end do
+         g(c) = g(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          if (.not. in_set(model, set, c)) cycle   ! a tangential spring acts with its partner
          if (map%candidate_equation(c) > 0) then
             r(c) = x(map%candidate_equation(c))

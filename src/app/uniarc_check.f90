@@ -256,7 +256,7 @@ contains
          call line('tracks', integer_to_string(size(model%tracks)))
       end if
       call line('analysis', analysis_text())
-      call line('equations', integer_to_string(map%n_equations)//', half bandwidth '// &
+      call line('equations', integer_to_string(map%n_equations)//bed_text(map)//', half bandwidth '// &
                 integer_to_string(map%half_bandwidth))
       call available_memory(available, origin)
       if (available >= 0.0_dp) then
@@ -322,7 +322,19 @@ contains
       if (allocated(model%contacts)) n_candidates = size(model%contacts)
       text = integer_to_string(model%n_nodes)//' nodes, '//integer_to_string(model%n_elements)//' elements, '// &
              integer_to_string(n_candidates)//' contact candidates; '//integer_to_string(map%n_equations)// &
-             ' equations, half bandwidth '//integer_to_string(map%half_bandwidth)
+             ' equations'//bed_text(map)//', half bandwidth '//integer_to_string(map%half_bandwidth)
    end function counts_text
+
+   !> " (N of them the Pasternak beds' deflections)" when a bed has unknowns of its own (they
+   !> are in the equations and the memory estimate), else nothing.
+   pure function bed_text(map) result(text)
+      type(dof_map_t), intent(in) :: map
+      character(len=:), allocatable :: text
+      integer :: n_bed
+      text = ''
+      n_bed = 0
+      if (allocated(map%bed_equation)) n_bed = count(map%bed_equation > 0)
+      if (n_bed > 0) text = ' ('//integer_to_string(n_bed)//' of them the Pasternak beds'' deflections)'
+   end function bed_text
 
 end module uniarc_check

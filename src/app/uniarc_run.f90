@@ -6,6 +6,7 @@ module uniarc_run
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: candidate_reactions
+   use uniarc_contact, only: bed_values
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, &
                                  driver_next_analysis_step
@@ -172,7 +173,8 @@ contains
       do k = 1, n_steps
          associate (record => records(k))
             call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
-                                     error, record%reactions, active, record%lcp_pivots, record%lcp_residual)
+                                     error, record%reactions, active, record%lcp_pivots, record%lcp_residual, &
+                                     record%bed_deflections)
             if (allocated(error)) then
                call name_analysis_step(model, k, error)
                return
@@ -459,6 +461,7 @@ contains
             record%slip = state%slip
             record%yielding = state%yielding .and. state%active
          end if
+         record%bed_deflections = bed_values(state%map, state%u)
          summary = summarize_contact(model, record%reactions, state%active)
          record%groups = summarize_groups(model, record%reactions, state%active)
          if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic

@@ -11,12 +11,13 @@ module uniarc_deck_contact
    use uniarc_expression, only: sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real
-   use uniarc_model, only: foundation_t, foundation_winkler, side_left, side_right, side_inner, side_outer, &
+   use uniarc_model, only: foundation_t, foundation_winkler, foundation_pasternak, side_left, side_right, &
+                           side_inner, side_outer, &
                            side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside, &
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact, &
                            tangential_bonded
    use uniarc_model_builder, only: add_foundation, add_springs, add_obstacle
-   use uniarc_contact_law, only: foundation_straight, foundation_problem
+   use uniarc_contact_law, only: foundation_straight, foundation_problem, foundation_not_open_chain
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
                                 resolve_elements
    implicit none
@@ -30,15 +31,18 @@ module uniarc_deck_contact
 contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
-   !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u]: a Winkler foundation along an
-   !> element set, lumped to its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`).
+   !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u] [, TYPE=WINKLER|PASTERNAK
+   !> [, GP=G_p]] [, GAP=g0]: a Winkler foundation along an element set, lumped to its nodes, with
+   !> tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit q_u if asked
+   !> (`bearing_limit`); or a Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`;
+   !> uniarc_contact_law, pasternak_bed); an initial gap g0.
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
    !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
    !> diagonal foundation matrix C_b in the paper's Eq. (7), Δr_b = C_b Δu_b; flexibility 1/k.
    !> The reaction direction n (the direction in which the foundation pushes, toward the free side) is
    !> fixed (DIRECTION) or the nodal normal of the set on the side away from the foundation (SIDE; the
-   !> concave side of INNER/OUTER from the sign of the set's total turning). Gap g = n·u (offset 0).
+   !> concave side of INNER/OUTER from the sign of the set's total turning). Gap g = g0 + n·u.
    subroutine read_foundation(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -51,7 +55,8 @@ contains
       character(len=:), allocatable :: side
 
       call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
-                                        'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU='], error)
+                                        'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU=', 'TYPE=', &
+                                        'GP=', 'GAP='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -99,9 +104,9 @@ contains
          return
       end if
 
-      foundation%law = foundation_winkler
+      call foundation_law(source, card, deck, foundation, error)
+      if (allocated(error)) return
       foundation%bilateral = option_index(card, 'BILATERAL') > 0
-      foundation%gap = 0.0_dp
       if (direction_option > 0) then
          call option_real(source, card, deck, direction_option, 'an angle in degrees', angle, error)
          if (allocated(error)) return
@@ -128,7 +133,11 @@ contains
       ! The builder derives the candidates (uniarc_contact_law); its error is said here with the position.
       call add_foundation(deck%model, foundation, error, status, bad_node)
       if (.not. allocated(error)) return
-      if (status == foundation_straight) then
+      if (status == foundation_not_open_chain) then
+         call raise(source, card%line, card%options(set_option)%value_column, 'expected one open chain of ' // &
+                    'elements for TYPE=PASTERNAK (its shear layer couples consecutive nodes along one line: ' // &
+                    'no ring, branch or second chain), found '''//field%text//'''', error)
+      else if (status == foundation_straight) then
          call raise(source, card%line, card%options(side_option)%value_column, 'expected a curved ' // &
                     'element set for SIDE='//side//' (no concave side on a straight one: use ' // &
                     'SIDE=LEFT|RIGHT or DIRECTION=angle), found '''//field%text//''' straight', error)
@@ -565,7 +574,7 @@ contains
       type(deck_t), intent(inout) :: deck
       real(dp), intent(out) :: limit
       type(error_t), allocatable, intent(out) :: error
-      integer :: k
+      integer :: k, t
       limit = 0.0_dp
       k = option_index(card, 'QU')
       if (k == 0) return
@@ -573,6 +582,16 @@ contains
          call raise(source, card%line, card%options(k)%column, 'expected QU= without BILATERAL (the ' // &
                     'bearing limit is that of a compression-only medium), found both', error)
          return
+      end if
+      t = option_index(card, 'TYPE')
+      if (t > 0) then
+         if (to_upper(card%options(t)%value) == 'PASTERNAK') then
+            ! the plastic law is that of a spring's own flexibility; a Pasternak bed's points touch its
+            ! surface rigidly (docs/theory.md §3.9, §3.10)
+            call raise(source, card%line, card%options(k)%column, 'expected QU= on a Winkler foundation ' // &
+                       '(TYPE=WINKLER), found it with TYPE=PASTERNAK', error)
+            return
+         end if
       end if
       call option_real(source, card, deck, k, 'a bearing limit', limit, error)
       if (allocated(error)) return
@@ -586,5 +605,61 @@ contains
          deck%plastic_column = card%options(k)%column
       end if
    end subroutine bearing_limit
+   !> TYPE=WINKLER|PASTERNAK, GP=G_p and GAP=g0 of *FOUNDATION: the law of the bed and its initial gap.
+   !> TYPE=PASTERNAK needs GP (≥ 0, force: the shear layer's stiffness per unit width; 0 is Winkler's
+   !> bed, the same candidates); GP is refused with Winkler's law. GAP (≥ 0, length; default 0) is the
+   !> gap g0 between the structure and the bed's surface at the start, at every node.
+   subroutine foundation_law(source, card, deck, foundation, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(in) :: deck
+      type(foundation_t), intent(inout) :: foundation
+      type(error_t), allocatable, intent(out) :: error
+      integer :: type_option, gp_option, gap_option
+      foundation%law = foundation_winkler
+      foundation%shear_modulus = 0.0_dp
+      foundation%gap = 0.0_dp
+      type_option = option_index(card, 'TYPE')
+      gp_option = option_index(card, 'GP')
+      gap_option = option_index(card, 'GAP')
+      if (type_option > 0) then
+         select case (to_upper(card%options(type_option)%value))
+         case ('WINKLER')
+            foundation%law = foundation_winkler
+         case ('PASTERNAK')
+            foundation%law = foundation_pasternak
+         case default
+            call raise(source, card%line, card%options(type_option)%value_column, 'expected TYPE=WINKLER ' // &
+                       'or PASTERNAK, found '''//clip(card%options(type_option)%value)//'''', error)
+            return
+         end select
+      end if
+      if (foundation%law == foundation_pasternak) then
+         if (gp_option == 0) then
+            call raise(source, card%line, card%options(type_option)%column, 'expected GP=G_p (the shear ' // &
+                       'layer''s stiffness, a force) with TYPE=PASTERNAK, found none', error)
+            return
+         end if
+         call option_real(source, card, deck, gp_option, 'a shear-layer stiffness', foundation%shear_modulus, error)
+         if (allocated(error)) return
+         if (foundation%shear_modulus < 0.0_dp .or. .not. foundation%shear_modulus < huge(1.0_dp)) then
+            call raise(source, card%line, card%options(gp_option)%value_column, &
+                       'expected GP >= 0 (0: Winkler''s bed), found '//real_to_string(foundation%shear_modulus), error)
+            return
+         end if
+      else if (gp_option > 0) then
+         call raise(source, card%line, card%options(gp_option)%column, 'expected GP= only with ' // &
+                    'TYPE=PASTERNAK on *FOUNDATION, found it on a Winkler foundation', error)
+         return
+      end if
+      if (gap_option == 0) return
+      call option_real(source, card, deck, gap_option, 'an initial gap', foundation%gap, error)
+      if (allocated(error)) return
+      if (foundation%gap < 0.0_dp .or. .not. foundation%gap < huge(1.0_dp)) then
+         call raise(source, card%line, card%options(gap_option)%value_column, &
+                    'expected GAP >= 0 (the gap between the structure and the bed at the start), found '// &
+                    real_to_string(foundation%gap), error)
+      end if
+   end subroutine foundation_law
 
 end module uniarc_deck_contact

@@ -19,7 +19,7 @@ module uniarc_model
    public :: find_node_set, find_element_set, element_length, tracked_values
    public :: contact_candidate_t, contact_group_t
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
-   public :: foundation_t, foundation_winkler
+   public :: foundation_t, foundation_winkler, foundation_pasternak
    public :: tangential_contact, tangential_bonded
    public :: side_left, side_right, side_inner, side_outer, side_direction
    public :: thermal_load_t
@@ -141,6 +141,15 @@ module uniarc_model
       !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9)
       logical :: plastic = .false.
       real(dp) :: yield_force = 0.0_dp
+      !> a point of a Pasternak bed (foundation_pasternak): the contact is rigid (flexibility 0) with the
+      !> bed's surface, whose deflection d (into the bed, along −direction) is an unknown of its own, and
+      !> the gap is g0 + n·u + d. `bed_stiffness` is the candidate's row of the bed stiffness K_b
+      !> (force per length; docs/theory.md §3.10): coupling to the previous point of the bed, itself, the
+      !> next one; `bed_previous`, `bed_next` those points' candidate indices (0: none). Not a bed point
+      !> when bed_stiffness(2) = 0.
+      real(dp) :: bed_stiffness(3) = 0.0_dp
+      integer :: bed_previous = 0
+      integer :: bed_next = 0
    end type contact_candidate_t
 
    !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
@@ -151,6 +160,9 @@ module uniarc_model
 
    !> Laws of a foundation (the reaction of the bed against the deflection toward it).
    integer, parameter :: foundation_winkler = 1  !< Winkler (1867): independent springs, K per unit length
+   !> Pasternak (1954): Winkler's springs under a shear layer of stiffness G_p (force), so that the bed's
+   !> surface deflection w satisfies K w − G_p w'' = p (Kerr 1964); G_p = 0 is Winkler's bed
+   integer, parameter :: foundation_pasternak = 2
 
    !> Laws of a foundation's tangential springs (*FOUNDATION, TANGENTIAL=).
    integer, parameter :: tangential_contact = 1  !< acting where the node's radial spring is in contact
@@ -184,6 +196,8 @@ module uniarc_model
       integer :: tangential_law = tangential_contact
       !> q_u: bearing limit of the bed, force per unit length (> 0); 0: no limit (elastic), the default
       real(dp) :: bearing_limit = 0.0_dp
+      !> G_p: the shear-layer stiffness of a Pasternak bed (force, i.e. force per unit width; ≥ 0)
+      real(dp) :: shear_modulus = 0.0_dp
    end type foundation_t
 
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).

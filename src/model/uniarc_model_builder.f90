@@ -29,7 +29,8 @@ module uniarc_model_builder
                            gap_fixed_direction, element_beam_column, thermal_load_t, end_joint_t, &
                            load_pattern_t
    use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
-                                 path_coordinates, normals_valid, foundation_straight, foundation_problem
+                                 path_coordinates, normals_valid, foundation_straight, foundation_problem, &
+                                 foundation_not_open_chain
    implicit none
    private
    public :: model_builder_t, finish_model
@@ -477,8 +478,9 @@ contains
    !>
    !> Errors (category error_input): a side (not side_direction) on a set whose nodal normals are not
    !> defined, or inner/outer on a straight set. Then `status` (if present) is the contact law's code
-   !> (normals_branch, normals_opposed, normals_folded, foundation_straight) and `bad_node` the node
-   !> concerned (0 for foundation_straight), and nothing is added.
+   !> (normals_branch, normals_opposed, normals_folded, foundation_straight, foundation_not_open_chain)
+   !> and `bad_node` the node concerned (0 for the last two), and nothing is added. A Pasternak bed
+   !> (G_p > 0) must lie on one open chain of elements.
    subroutine add_foundation(builder, foundation, error, status, bad_node)
       type(model_builder_t), intent(inout) :: builder
       type(foundation_t), intent(in) :: foundation
@@ -495,7 +497,7 @@ contains
       if (present(status)) status = outcome
       if (present(bad_node)) bad_node = node
       if (outcome /= normals_valid) then
-         if (outcome == foundation_straight) then
+         if (outcome == foundation_straight .or. outcome == foundation_not_open_chain) then
             problem = foundation_problem(outcome)
          else
             problem = 'at node '//integer_to_string(builder%node_label(node))//', '//foundation_problem(outcome)
@@ -600,6 +602,13 @@ contains
       where (builder%contacts(first:first + size(candidates) - 1)%partner > 0) &
          builder%contacts(first:first + size(candidates) - 1)%partner = &
          builder%contacts(first:first + size(candidates) - 1)%partner + first - 1
+      ! so are a Pasternak bed point's neighbours on its bed
+      where (builder%contacts(first:first + size(candidates) - 1)%bed_previous > 0) &
+         builder%contacts(first:first + size(candidates) - 1)%bed_previous = &
+         builder%contacts(first:first + size(candidates) - 1)%bed_previous + first - 1
+      where (builder%contacts(first:first + size(candidates) - 1)%bed_next > 0) &
+         builder%contacts(first:first + size(candidates) - 1)%bed_next = &
+         builder%contacts(first:first + size(candidates) - 1)%bed_next + first - 1
       builder%n_contacts = builder%n_contacts + size(candidates)
       builder%contact_groups(group)%name = name
       builder%contact_groups(group)%candidates = [(i, i = first, builder%n_contacts)]

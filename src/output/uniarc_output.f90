@@ -38,6 +38,9 @@ module uniarc_output
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: displacement(:, :)   !< (3, n_nodes) total nodal displacements
       real(dp), allocatable :: reactions(:)         !< (n_contacts) reaction of every contact candidate
+      !> (n_contacts) the Pasternak beds' surface deflection under every candidate (0 for the others;
+      !> unallocated: none), which the contact table's gap includes (the gap with the bed's surface)
+      real(dp), allocatable :: bed_deflections(:)
       integer :: n_contact = 0            !< candidates in contact
       integer :: contact_regions = 0      !< number of contiguous contact regions
       real(dp) :: s_contact(2) = 0.0_dp   !< ends of the first contact region
@@ -139,7 +142,9 @@ contains
       do c = 1, size(model%contacts)
          if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring: no surface of its own
          point = surface_point(model, c)
-         rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp)
+         ! a Pasternak bed point's contact with the surface is rigid, the bed under it is not
+         rigid = merge(1, 0, model%contacts(c)%flexibility == 0.0_dp .and. &
+                             .not. model%contacts(c)%bed_stiffness(2) > 0.0_dp)
          call put_row(surface, medium_name(model, model%contacts(c)%group)//' '//integer_to_string(c)//' '// &
                       integer_to_string(model%node_label(model%contacts(c)%node))//' '// &
                       trim(format_number(point(1)))//' '//trim(format_number(point(2)))//' '// &
@@ -373,6 +378,10 @@ contains
       call flush_table(files%forces, error)
       if (allocated(error) .or. .not. files%with_contact) return
       gaps = candidate_gaps(model, record%displacement)
+      ! a Pasternak bed point's gap is with the bed's surface (the others untouched, −0 included)
+      if (allocated(record%bed_deflections)) then
+         where (model%contacts%bed_stiffness(2) > 0.0_dp) gaps = gaps + record%bed_deflections
+      end if
       lengths = candidate_lengths(model)
       allocate (reactions(size(model%contacts)), source=0.0_dp)
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &

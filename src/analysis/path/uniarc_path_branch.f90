@@ -17,7 +17,7 @@ module uniarc_path_branch
    use uniarc_strings, only: real_to_string
    use uniarc_model, only: model_t, dofs_per_node, iteration_riks
    use uniarc_assembly, only: gather_nodal
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: commit_plastic
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
@@ -173,7 +173,7 @@ contains
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
                                hessian)
-            opening = opening + dot_product(gradient, shape(1:2, node))
+            opening = opening + dot_product(gradient, shape(1:2, node)) + bed_deflection(state%map, c, phi)
          end do
          if (opening < 0.0_dp) sign_of = -1.0_dp
          return

@@ -9,7 +9,7 @@ module uniarc_path_contact_set
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
    use uniarc_contact_plastic, only: slip_shift, plastic_violation
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
@@ -200,7 +200,8 @@ contains
    end function units_at
 
    !> Reactions and current gaps of every candidate: a reaction unknown of x, or for a condensed spring
-   !> −g/t in the working set `active` and 0 out of it.
+   !> −g/t in the working set `active` and 0 out of it; the gap of a Pasternak bed point is the one with
+   !> the bed's surface, g + d.
    !> Plastic media: the gaps include the committed `slip` (optional, one per candidate), and a condensed
    !> candidate at its limit (`yielding`, optional) has r = q.
    pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding)
@@ -219,6 +220,7 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian)
          if (model%contacts(c)%plastic) gap(c) = gap(c) + slip_shift(model, c, slip)
+         gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          reaction(c) = 0.0_dp
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))

@@ -21,7 +21,7 @@ module uniarc_path_newton
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
                                 has_contacts, new_linearization, candidate_values
-   use uniarc_contact, only: toggle_contacts
+   use uniarc_contact, only: toggle_contacts, bed_values
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
                                      degenerate_tangent
    use uniarc_model, only: control_arclength, control_displacement
@@ -261,7 +261,7 @@ contains
                      ! candidates' rows and springs edited in place, no assembly.
                      call toggle_contacts(model, state%map, lin%nodal, candidate_values(state%map, lin%x), &
                                           new_active .neqv. trial%active, new_active, system%tangent, &
-                                          lin%rhs(:, 1), state%slip)
+                                          lin%rhs(:, 1), state%slip, bed_values(state%map, lin%x))
                      trial%active = new_active
                      call restart_test(test)
                      reuse_factors = .false.

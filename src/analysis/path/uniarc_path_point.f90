@@ -5,7 +5,7 @@
 module uniarc_path_point
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t
-   use uniarc_dof_map, only: candidate_live
+   use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, masked_norm, nodal_displacements
    use uniarc_path_contact_set, only: candidate_state, violation
@@ -63,7 +63,7 @@ contains
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
                                hessian)
-            g = gap(c)   ! with the plastic slip (docs/theory.md §3.9)
+            g = gap(c)   ! with the plastic slip (docs/theory.md §3.9) and a Pasternak bed's surface
             state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
             if (state%point%in_contact(c)) then
                state%point%contact_value(c) = reaction(c)
@@ -101,6 +101,7 @@ contains
          do i = 1, 2
             if (state%map%equation(i, node) > 0) along = along + gradient(i)*v(state%map%equation(i, node))
          end do
+         along = along + bed_deflection(state%map, c, v)
       end function along
    end subroutine describe_point
 

@@ -9,7 +9,7 @@ module uniarc_path_stability
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
                           band_factorize, band_get, band_add
-   use uniarc_dof_map, only: candidate_live
+   use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, set_membership
    use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at, hold_floating
    use uniarc_path_contact_set, only: candidate_state, contact_units
@@ -217,9 +217,11 @@ contains
          node = model%contacts(c)%node
          row = state%map%candidate_equation(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         g = g + bed_deflection(state%map, c, state%u)
          ! Released as if leaving the set (its residual is not needed here).
          call set_membership(row, state%map%equation(1:2, node), g, gradient, hessian, &
-                             model%contacts(c)%flexibility, reaction(c), .false., piece, scratch)
+                             model%contacts(c)%flexibility, reaction(c), .false., piece, scratch, &
+                             state%map%bed_equation(c))
          if (row > 0) n_rows = n_rows - 1
       end do
       if (allocated(state%floating_equation)) &

@@ -20,7 +20,7 @@ module uniarc_path_state
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact, candidate_gap
+   use uniarc_contact, only: assemble_contact, candidate_gap, bed_values
    use uniarc_contact_plastic, only: has_plastic, commit_slip
    implicit none
    private
@@ -228,13 +228,15 @@ contains
       if (size(state%map%candidate_equation) > 0) then
          if (present(yielding)) then
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal, state%slip, yielding)
+                                  system%tangent, internal, state%slip, yielding, &
+                                  deflections=bed_values(state%map, x))
          else if (allocated(state%yielding)) then
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal, state%slip, state%yielding)
+                                  system%tangent, internal, state%slip, state%yielding, &
+                                  deflections=bed_values(state%map, x))
          else
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal)
+                                  system%tangent, internal, deflections=bed_values(state%map, x))
          end if
       end if
       if (allocated(state%floating_equation)) then
