@@ -439,8 +439,8 @@ contains
    !> Whether a converged attempt landed farther from its predictor than the predictor's own length
    !> (displacement norm): Newton's corrections are O(Δl²) on the branch the predictor follows, while
    !> a step that converges on another branch lands at a distance of its own. Measured on every deck
-   !> of the repository: at most 0.37 of the predictor on the traced branches; 36 for Walker's arch
-   !> under load control jumping past its limit point onto the inverted branch.
+   !> of the repository: at most 0.98 of the predictor on the traced branches (arch_above_long_path);
+   !> 36 for Walker's arch under load control jumping past its limit point onto the inverted branch.
    pure logical function far_from_predictor(map, trial)
       type(dof_map_t), intent(in) :: map
       type(step_trial_t), intent(in) :: trial
@@ -453,7 +453,8 @@ contains
    !> last increment (the path walked back). On a traced branch the chord of a step is close to the
    !> tangents at both its ends (half the turning angle of the step); a step that converged on a
    !> crossing branch lands where that branch's tangent is across it. Measured on every deck of the
-   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent and 40° (cos ≥ 0.77) to the
+   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent away from sharp folds, 58°
+   !> (|cos| 0.52) at the folds of arch_above_long_path, and 40° (cos ≥ 0.77) to the
    !> last increment; Walker's arch (ex. 3, k = 1e5, max_increment 50) jumping onto another loop: 87°.
    pure logical function off_branch(map, increment, last, tangent)
       type(dof_map_t), intent(in) :: map
