@@ -24,6 +24,7 @@ module uniarc_path_driver
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
+   use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
    implicit none
    private
@@ -189,6 +190,7 @@ contains
       else
          call find_critical_events(previous, driver%state%point, outcome%events)
          call find_contact_events(previous, driver%state%point, outcome%events)
+         call find_contact_branching(previous, driver%state%point, outcome%events)
       end if
       allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
       do k = 1, size(outcome%events)

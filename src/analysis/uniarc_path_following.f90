@@ -36,6 +36,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
+   use uniarc_path_hidden, only: find_hidden_pair
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
@@ -47,6 +48,11 @@ module uniarc_path_following
 
    !> How a real is written in the messages of a failed step (λ, the step length): 6 digits suffice.
    character(len=*), parameter :: message_edit = '(es12.5)'
+   !> A converged arc-length step whose chord ||Δu|| exceeds this many step lengths Δl has left the
+   !> branch it followed (docs/theory.md §2.3): Chan's corrections land near the step length on the
+   !> branch (measured on every deck of the repository: at most 1.25), while a step that
+   !> crossed onto another branch lands at the distance between the branches.
+   real(dp), parameter :: overlong_ratio = 2.0_dp
 
 contains
 
@@ -266,8 +272,11 @@ contains
    !> Each attempt (uniarc_path_newton, attempt_step) works on a trial of its own; the committed state
    !> is changed only by the attempt that converges. `cuts` (optional) returns the halvings of the step
    !> length before that attempt (0: the first converged), or, on failure, the halvings made.
-   !> A converged attempt off the branch it followed (far_from_predictor, off_branch) is cut like one
-   !> that did not converge.
+   !> A converged attempt off the branch it followed is cut like one that did not converge
+   !> (docs/theory.md §2.3): far from its predictor (far_from_predictor), its landing tangent across
+   !> the step or a reversal (off_branch), a chord longer than overlong_ratio step lengths (arc length),
+   !> a change of the inertia by more than one while the step can be halved, or a pair of critical
+   !> points hidden in the step (uniarc_path_hidden, find_hidden_pair).
    !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why;
    !> under load control from a stable state, that this is where the load reaches a limit point); a
    !> singular tangent at the converged state.
@@ -281,8 +290,9 @@ contains
       type(path_state_t) :: before
       real(dp) :: length, factor, remaining
       real(dp), allocatable :: landing(:)
+      character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit
+      logical :: to_limit, hidden
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -398,8 +408,24 @@ contains
             landing = state%tangent_displacement
             if (degenerate_tangent(state, landing)) landing = 0.0_dp
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either.
-            if (degenerate_step(before, trial) .or. &
-                .not. off_branch(state%map, trial%increment, before%last_increment, landing)) then
+            jump = ''
+            if (.not. degenerate_step(before, trial)) then
+               if (off_branch(state%map, trial%increment, before%last_increment, landing)) then
+                  jump = 'the path''s tangent there is across the step, or the step reverses the last one'
+               else if (options%control == control_arclength .and. &
+                        masked_norm(state%map, trial%increment) > overlong_ratio*length) then
+                  jump = 'it lies more than '//integer_to_string(nint(overlong_ratio))//' step lengths from the start'
+               else if (abs(state%point%neg_pivots - before%point%neg_pivots) > 1 .and. &
+                        .not. (state%point%liftoff .or. before%point%liftoff) .and. &
+                        0.5_dp*length >= options%min_increment*state%first_length) then
+                  jump = 'the count of negative pivots changed by more than one critical point can change it'
+               else
+                  call find_hidden_pair(model, before, state, system, length, hidden)
+                  if (hidden) jump = 'the state half-way along the step is not between its ends: a loop of '// &
+                                     'the path, two critical points, passed in one step'
+               end if
+            end if
+            if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length)
                if (allocated(state%bifurcation)) then
@@ -411,8 +437,7 @@ contains
             state = before
             system%holds_committed = .false.
             system%holds_converged = .false.
-            trial%reason = 'the converged state is off the branch the step followed (the path''s tangent there is'// &
-                           ' across the step, or the step reverses the last one)'
+            trial%reason = 'the converged state is off the branch the step followed ('//jump//')'
             trial%converged = .false.
             length = 0.5_dp*length
             halvings = halvings + 1
@@ -448,8 +473,8 @@ contains
    !> Whether a converged attempt landed farther from its predictor than the predictor's own length
    !> (displacement norm): Newton's corrections are O(Δl²) on the branch the predictor follows, while
    !> a step that converges on another branch lands at a distance of its own. Measured on every deck
-   !> of the repository: at most 0.37 of the predictor on the traced branches; 36 for Walker's arch
-   !> under load control jumping past its limit point onto the inverted branch.
+   !> of the repository: at most 0.98 of the predictor on the traced branches (arch_above_long_path);
+   !> 36 for Walker's arch under load control jumping past its limit point onto the inverted branch.
    pure logical function far_from_predictor(map, trial)
       type(dof_map_t), intent(in) :: map
       type(step_trial_t), intent(in) :: trial
@@ -462,7 +487,8 @@ contains
    !> last increment (the path walked back). On a traced branch the chord of a step is close to the
    !> tangents at both its ends (half the turning angle of the step); a step that converged on a
    !> crossing branch lands where that branch's tangent is across it. Measured on every deck of the
-   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent and 40° (cos ≥ 0.77) to the
+   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent away from sharp folds, 58°
+   !> (|cos| 0.52) at the folds of arch_above_long_path, and 40° (cos ≥ 0.77) to the
    !> last increment; Walker's arch (ex. 3, k = 1e5, max_increment 50) jumping onto another loop: 87°.
    pure logical function off_branch(map, increment, last, tangent)
       type(dof_map_t), intent(in) :: map

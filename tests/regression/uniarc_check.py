@@ -14,6 +14,7 @@ Usage (one CTest per call):
                   [--expect-crit-count KIND=N]... [--expect-crit-before KIND[#k]<KIND[#j]]...
                   [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
+                  [--expect-all COLUMN>=VALUE]...                   # (from above or from below)
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
@@ -200,6 +201,17 @@ def check_path_features(args, names, rows):
         if not ok:
             failures.append(label)
     for expectation in args.expect_all:
+        if '>=' in expectation:
+            column, bound = expectation.split('>=')
+            if column not in names:
+                failures.append(f'no column {column} in {names}')
+                continue
+            smallest = min(row[names.index(column)] for row in rows)
+            ok = smallest >= float(bound)
+            print(f'{"ok" if ok else "FAIL"}: every {column} >= {bound} (smallest {smallest!r})')
+            if not ok:
+                failures.append(f'{column} reaches {smallest!r} < {bound}')
+            continue
         column, bound = expectation.split('<=')
         if column not in names:
             failures.append(f'no column {column} in {names}')

@@ -14,14 +14,10 @@
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
-   use uniarc_model, only: model_t, control_arclength
-   use uniarc_path_state, only: commit_plastic
-   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                bifurcation_state_t, commit_joint_state
-   use uniarc_path_newton, only: attempt_step
-   use uniarc_path_stability, only: commit_tangent
-   use uniarc_path_point, only: describe_point
+   use uniarc_model, only: model_t
+   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
+                                bifurcation_state_t
+   use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_critical_points, only: critical_event_t, find_critical_events
    implicit none
    private
@@ -55,9 +51,8 @@ contains
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       type(path_point_t) :: pa, pb, probe
-      type(path_state_t) :: restore, probe_state, state_a, state_b
+      type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
-      type(error_t), allocatable :: error
       real(dp) :: ha, hb, h, fa, fb, fp, width, t
       integer :: k, same_side, last_side, side
       logical :: limit, bifurcation, probed, converged
@@ -167,11 +162,8 @@ contains
             call keep_bifurcation(state_b)
          end if
       end if
-      if (probed) then
-         ! The system holds the last probe's tangent: the committed one again for the next step.
-         restore = after
-         call commit_tangent(model, restore, system, .false., error)
-      end if
+      ! The system holds the last probe's tangent: the committed one again for the next step.
+      if (probed) call restore_tangent(model, after, system)
 
    contains
 
@@ -223,35 +215,8 @@ contains
          type(path_point_t), intent(out) :: point
          type(path_state_t), intent(out) :: state
          logical, intent(out) :: ok
-         type(step_trial_t) :: trial
-         type(error_t), allocatable :: commit_error
-         trial%length = step_h
-         call attempt_step(model, before, system, trial)
-         ok = trial%converged
-         if (.not. ok) return
-         ! The commit of path_advance (uniarc_path_following), on a copy.
-         state = before
-         state%u = state%u + trial%increment
-         state%lambda = state%lambda + trial%dlambda
-         state%active = trial%active
-         call commit_plastic(model, state, trial%yielding)
-         state%last_increment = trial%increment
-         state%point%s = state%point%s + masked_norm(state%map, trial%increment)
-         call commit_joint_state(model, state)
-         call commit_tangent(model, state, system, .false., commit_error)
-         if (allocated(commit_error)) then
-            ok = .false.
-            return
-         end if
-         if (model%analysis%control == control_arclength) then
-            if (masked_dot(state%map, trial%increment, state%tangent_displacement) < 0.0_dp) then
-               state%direction = -1
-            else
-               state%direction = 1
-            end if
-         end if
-         call describe_point(model, state, before%point%step + 1, trial%iterations, trial%lcp_pivots)
-         point = state%point
+         call re_solve_step(model, before, system, step_h, state, ok)
+         if (ok) point = state%point
       end subroutine re_solve
 
    end subroutine locate_critical_points

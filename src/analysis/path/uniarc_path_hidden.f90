@@ -1,0 +1,72 @@
+!> Critical points hidden in a step (docs/theory.md §2.3): a step long against the path's turning can
+!> pass two limit points (a loop of the path) or two changes of the inertia at once, or converge on
+!> a neighbouring branch across such a loop. Its ends then agree — same sign of dλ/ds, same count of
+!> negative pivots — and neither the locator (uniarc_path_locate) nor the angle tests see anything.
+!> The state half-way along the step tells: re-solved from the step's start with half its length, it
+!> lies on the loop and disagrees with both ends, or (Chan's corrections are drawn to the fold) it
+!> stops near the start while the full step ended far beyond. Only steps that turn are checked: the
+!> re-solution costs as much as the step.
+module uniarc_path_hidden
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t
+   use uniarc_path_state, only: path_state_t, path_system_t, masked_dot, masked_norm
+   use uniarc_path_probe, only: re_solve_step, restore_tangent
+   use uniarc_path_integrator, only: degenerate_tangent
+   implicit none
+   private
+   public :: find_hidden_pair
+
+   !> A step is checked when the path's tangent at its end makes more than 25° with its chord (|cos|
+   !> below this): the chord of a step on a branch is close to the tangents at its ends (at most 22°
+   !> from the landing tangent on the decks of the repository away from sharp folds, docs/theory.md
+   !> §2.3; up to 58° at the folds of ex. 3's long path, which the check passes), while the step that
+   !> skipped a loop of ex. 3 (k = 1e5) made 42°. 16 of the 2393 accepted arc-length steps of the
+   !> repository's decks are checked.
+   real(dp), parameter :: turning_cosine = 0.9_dp
+   !> The second half of a checked step may be at most this many times as long as its first.
+   real(dp), parameter :: halves_ratio = 3.0_dp
+
+contains
+
+   !> `hides`: whether the converged step from `before` (the committed state at its start, system not
+   !> allocated) to `after` (the state it reached with `trial`, of length `length` in the units of
+   !> state%step_length) hides a pair of critical points: its ends agree in the sign of dλ/ds and
+   !> the count of negative pivots, but the state re-solved half-way (a step of length/2 from
+   !> `before`) has the other sign or another count, or the step's second half is more than three
+   !> times as long as its first (||u_b − u_h|| > 3||u_h − u_a||: on a branch the halves are alike; a
+   !> step through a sharp fold has its half-way state beyond the full step's end, a ratio below 1;
+   !> the loop skipped by ex. 3 at k = 1e5 with steps of 20 times the first, 15). Checked only where
+   !> the path's tangent at `after` makes more than 25° with the chord. `system` holds after's
+   !> committed tangent on entry and on return. A half step that does not converge proves nothing
+   !> (false).
+   subroutine find_hidden_pair(model, before, after, system, length, hides)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: before, after
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: length
+      logical, intent(out) :: hides
+      type(path_state_t) :: half
+      real(dp), allocatable :: chord(:)
+      real(dp) :: size_chord, size_tangent, first, second
+      logical :: ok
+      hides = .false.
+      if (before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp) return
+      if (before%point%neg_pivots /= after%point%neg_pivots) return
+      ! A degenerate landing tangent (round-off of a load the contacts carry) has no direction.
+      if (degenerate_tangent(after, after%tangent_displacement)) return
+      chord = after%u - before%u
+      size_chord = masked_norm(after%map, chord)
+      size_tangent = masked_norm(after%map, after%tangent_displacement)
+      if (.not. (size_chord > 0.0_dp .and. size_tangent > 0.0_dp)) return
+      if (abs(masked_dot(after%map, chord, after%tangent_displacement)) >= turning_cosine*size_chord*size_tangent) return
+      call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
+      if (ok) then
+         first = masked_norm(after%map, half%u - before%u)
+         second = masked_norm(after%map, after%u - half%u)
+         hides = half%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp .or. &
+                 half%point%neg_pivots /= after%point%neg_pivots .or. second > halves_ratio*first
+      end if
+      call restore_tangent(model, after, system)
+   end subroutine find_hidden_pair
+
+end module uniarc_path_hidden
