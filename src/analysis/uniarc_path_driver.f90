@@ -25,6 +25,7 @@ module uniarc_path_driver
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    use uniarc_assembly, only: gather_nodal
+   use uniarc_model_steps, only: prescribed_at, has_prescribed
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -104,6 +105,7 @@ contains
       call path_initialize(model, driver%state, error)
       if (allocated(error)) return
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%stop = stop_none
       driver%started = .true.
@@ -138,6 +140,7 @@ contains
          return
       end if
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%step_offset = driver%state%point%step
       driver%stop = stop_none
@@ -177,6 +180,7 @@ contains
          return
       end if
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
@@ -198,11 +202,22 @@ contains
          ! The switch's tracked values: those of the state at the bifurcation it left from.
          allocate (nodal_switch, mold=driver%displacement)
          call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_switch)
+         call add_prescribed(model, driver%state%point%switch_lambda, nodal_switch)
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
       outcome%stop = driver%stop
    end subroutine driver_step
+
+   !> nodal (dofs_per_node, n_nodes) += the prescribed displacements of the held DOFs at λ (support
+   !> settlements; uniarc_model_steps prescribed_at): the displacements of every DOF, for the tracks
+   !> and the result files. Untouched when the model prescribes none.
+   pure subroutine add_prescribed(model, lambda, nodal)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: lambda
+      real(dp), intent(inout) :: nodal(:, :)
+      if (has_prescribed(model)) nodal = nodal + prescribed_at(model, lambda)
+   end subroutine add_prescribed
 
    !> The first stop rule that holds at a converged point (step, λ, tracked values), or stop_none.
    pure integer function stop_reason(rules, step, lambda, tracked) result(reason)

@@ -8,19 +8,21 @@ module uniarc_deck_loads
    use uniarc_expression, only: find_parameter, parameter_table_t, set_parameter, sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
-   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss, analysis_nonlinear
+   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
    use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds, &
                                    add_thermal_load, add_prescribed_displacement
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
+   use uniarc_growth, only: grow_integers
    implicit none
    private
    public :: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
+   public :: check_prescribed_nodes
 
 contains
 
    !> *BOUNDARY: lines `target, type` with a named type, or `target, first_dof [, last_dof [, value]]`;
-   !> a value prescribes the displacement of the held DOFs (a support settlement, scaled by λ; *STATIC
-   !> only).
+   !> a value prescribes the displacement of the held DOFs (a support settlement, scaled by λ like the
+   !> loads, under *STATIC and *PATH).
    subroutine read_boundary(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -89,11 +91,6 @@ contains
             end if
             held(first_dof:last_dof) = .true.
             if (size(fields) > 3) then
-               if (deck%model%analysis%kind == analysis_nonlinear) then
-                  call raise(source, line, fields(4)%column, 'expected no prescribed displacement under *PATH '// &
-                             '(support settlements are in the linear analysis, *STATIC, so far)', error)
-                  return
-               end if
                call field_real(source, deck%parameters, line, fields(4), 'a prescribed displacement', settlement, &
                                error)
                if (allocated(error)) return
@@ -103,6 +100,13 @@ contains
                   do k = first_dof, last_dof
                      call add_prescribed_displacement(deck%model, nodes(j), k, settlement)
                   end do
+                  deck%n_prescribed = deck%n_prescribed + 1
+                  call grow_integers(deck%prescribed_node, deck%n_prescribed)
+                  call grow_integers(deck%prescribed_line, deck%n_prescribed)
+                  call grow_integers(deck%prescribed_column, deck%n_prescribed)
+                  deck%prescribed_node(deck%n_prescribed) = nodes(j)
+                  deck%prescribed_line(deck%n_prescribed) = line
+                  deck%prescribed_column(deck%n_prescribed) = fields(4)%column
                end do
             end if
          end if
@@ -357,6 +361,26 @@ contains
          end do
       end do
    end subroutine read_temperature
+
+   !> At the end of the deck: a node with a prescribed displacement may not be a contact candidate (its
+   !> gap is evaluated on the displacements the analysis solves for, which do not include the
+   !> prescribed ones): refused at the value's field.
+   subroutine check_prescribed_nodes(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, c
+      do i = 1, deck%n_prescribed
+         do c = 1, deck%model%n_contacts
+            if (deck%model%contacts(c)%node /= deck%prescribed_node(i)) cycle
+            call raise(source, deck%prescribed_line(i), deck%prescribed_column(i), 'expected no prescribed '// &
+                       'displacement at node '//integer_to_string(deck%model%node_label(deck%prescribed_node(i)))// &
+                       ', a contact candidate (its gap would not see the motion): prescribe the displacement '// &
+                       'of a node next to it', error)
+            return
+         end do
+      end do
+   end subroutine check_prescribed_nodes
 
    !> A load, temperature change or prescribed displacement beyond 1e100 in magnitude is refused at its
    !> field (file:line:col, exit code 2), as stiffnesses beyond 1e100 are (uniarc_deck_mesh): the

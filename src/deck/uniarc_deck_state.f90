@@ -52,6 +52,10 @@ module uniarc_deck_state
       integer :: loose_analysis_line = 0, loose_analysis_column = 0
       integer :: analysis_column = 0                  !< column of the analysis card of the open step
       integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
+      !> Where each prescribed displacement (*BOUNDARY with a value) was given, node by node: checked
+      !> against the contact candidates at the end of the deck (uniarc_deck_loads, check_prescribed_nodes)
+      integer :: n_prescribed = 0
+      integer, allocatable :: prescribed_node(:), prescribed_line(:), prescribed_column(:)
    end type deck_t
 
 contains

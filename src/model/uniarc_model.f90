@@ -237,6 +237,9 @@ module uniarc_model
       real(dp), allocatable :: nodal_load(:, :)                  !< (3, n_nodes)
       type(distributed_load_t), allocatable :: distributed_loads(:)
       type(thermal_load_t), allocatable :: thermal_loads(:)
+      !> (3, n_nodes) prescribed displacements of held DOFs (*BOUNDARY with a value inside the step),
+      !> scaled like the loads; unallocated: none
+      real(dp), allocatable :: prescribed(:, :)
    end type load_pattern_t
 
    !> One analysis step of a deck with *STEP cards: its name, its own load pattern (scaled by the

@@ -9,12 +9,17 @@
 !> λ_j the load factor at which step j ended (as Abaqus and CalculiX keep the loads of earlier steps,
 !> Abaqus Analysis User's Guide, "Defining an analysis"; CalculiX CrunchiX User's Manual, *STEP).
 !> A deck without *STEP is one step, the model itself.
+!>
+!> Prescribed displacements (support settlements, *BOUNDARY with a value) are a pattern like the loads:
+!> those of step k scale with its λ, those of the earlier steps are held at λ_j times theirs
+!> (`prescribed_at`, docs/theory.md §2.9).
 module uniarc_model_steps
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, load_pattern_t, analysis_linear
+   use uniarc_model, only: model_t, load_pattern_t, analysis_linear, dofs_per_node
    implicit none
    private
    public :: n_analysis_steps, step_model
+   public :: prescribed_at, has_prescribed
 
 contains
 
@@ -53,11 +58,14 @@ contains
          patterns(k) = model%steps(k)%loads
          patterns(k)%factor = 1.0_dp
          call merge_patterns(patterns, stepped)
+         call merge_prescribed(patterns, stepped)
          allocate (stepped%held(0))
       else
          stepped%nodal_load = model%steps(k)%loads%nodal_load
          stepped%distributed_loads = model%steps(k)%loads%distributed_loads
          stepped%thermal_loads = model%steps(k)%loads%thermal_loads
+         if (allocated(stepped%prescribed)) deallocate (stepped%prescribed)
+         if (allocated(model%steps(k)%loads%prescribed)) stepped%prescribed = model%steps(k)%loads%prescribed
          allocate (stepped%held(k - 1))
          do j = 1, k - 1
             stepped%held(j) = model%steps(j)%loads
@@ -104,5 +112,52 @@ contains
          end associate
       end do
    end subroutine merge_patterns
+
+   !> The prescribed displacements of the patterns, each times its factor, added to those of `stepped`
+   !> (a linear static step: the settlements of every step so far, with those given before the steps).
+   pure subroutine merge_prescribed(patterns, stepped)
+      type(load_pattern_t), intent(in) :: patterns(:)
+      type(model_t), intent(inout) :: stepped
+      integer :: j
+      do j = 1, size(patterns)
+         if (.not. allocated(patterns(j)%prescribed)) cycle
+         if (.not. allocated(stepped%prescribed)) allocate (stepped%prescribed(dofs_per_node, stepped%n_nodes), &
+                                                            source=0.0_dp)
+         stepped%prescribed = stepped%prescribed + patterns(j)%factor*patterns(j)%prescribed
+      end do
+   end subroutine merge_prescribed
+
+   !> The model prescribes the displacement of some held DOF: its own pattern, a held one, or a step's.
+   pure logical function has_prescribed(model)
+      type(model_t), intent(in) :: model
+      integer :: j
+      has_prescribed = allocated(model%prescribed)
+      if (allocated(model%held)) then
+         do j = 1, size(model%held)
+            has_prescribed = has_prescribed .or. allocated(model%held(j)%prescribed)
+         end do
+      end if
+      if (allocated(model%steps)) then
+         do j = 1, size(model%steps)
+            has_prescribed = has_prescribed .or. allocated(model%steps(j)%loads%prescribed)
+         end do
+      end if
+   end function has_prescribed
+
+   !> The displacements (dofs_per_node, n_nodes) of the held DOFs at load factor λ: λ ū of the model's
+   !> own pattern plus λ_j ū_j of each held one (zero where nothing is prescribed). The path following
+   !> solves for the free DOFs; these are the others' (docs/theory.md §2.9).
+   pure function prescribed_at(model, lambda) result(field)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: lambda
+      real(dp) :: field(dofs_per_node, model%n_nodes)
+      integer :: j
+      field = 0.0_dp
+      if (allocated(model%prescribed)) field = lambda*model%prescribed
+      if (.not. allocated(model%held)) return
+      do j = 1, size(model%held)
+         if (allocated(model%held(j)%prescribed)) field = field + model%held(j)%factor*model%held(j)%prescribed
+      end do
+   end function prescribed_at
 
 end module uniarc_model_steps
