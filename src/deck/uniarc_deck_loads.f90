@@ -203,7 +203,7 @@ contains
          call data_fields(source, line, fields)
          if (size(fields) >= 2) then
             if (to_upper(fields(2)%text) == 'WEIGHT') then
-               call require_field_count(source, line, fields, 3, 4, 'elset, WEIGHT, weight per length, angle', error)
+               call require_field_count(source, line, fields, 2, 4, 'elset, WEIGHT, weight per length, angle', error)
             else
                call require_field_count(source, line, fields, 3, 3, 'elset, type, value', error)
             end if
@@ -246,10 +246,16 @@ contains
             call set_parameter(table, 'y', position(2, j))
             call set_parameter(table, 's', position(3, j))
             call set_parameter(table, 'theta', position(4, j))
-            call field_real(source, table, line, fields(3), 'a load value', value, error)
-            if (allocated(error)) return
-            call check_magnitude(source, line, fields(3), value, error)
-            if (allocated(error)) return
+            if (load_type == 'WEIGHT' .and. section_default(fields, 3)) then
+               ! the section's weight (*SECTION, WEIGHT=, within 1e100 there)
+               call section_value(source, deck, line, fields, 3, elements(j), .true., value, error)
+               if (allocated(error)) return
+            else
+               call field_real(source, table, line, fields(3), 'a load value', value, error)
+               if (allocated(error)) return
+               call check_magnitude(source, line, fields(3), value, error)
+               if (allocated(error)) return
+            end if
             select case (load_type)
             case ('PX')
                call add_line_load(deck%model, elements(j), dof_ux, value)
@@ -332,7 +338,11 @@ contains
             call set_parameter(table, 'y', position(2, j))
             call set_parameter(table, 's', position(3, j))
             call set_parameter(table, 'theta', position(4, j))
-            call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+            if (section_default(fields, 2)) then
+               call section_value(source, deck, line, fields, 2, elements(j), .false., alpha, error)
+            else
+               call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+            end if
             if (allocated(error)) return
             call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error)
             if (allocated(error)) return
@@ -361,6 +371,47 @@ contains
          end do
       end do
    end subroutine read_temperature
+
+   !> Field k of a data line is absent or empty: its value is the section's (*SECTION, WEIGHT= or ALPHA=).
+   pure logical function section_default(fields, k)
+      type(field_t), intent(in) :: fields(:)
+      integer, intent(in) :: k
+      section_default = size(fields) < k
+      if (.not. section_default) section_default = len(fields(k)%text) == 0
+   end function section_default
+
+   !> The weight per unit length (`weight`) or the coefficient of thermal expansion of element
+   !> `element`'s section, for a load line whose field k is absent or empty; an error at that field (or
+   !> after the line) when the section gives none.
+   subroutine section_value(source, deck, line, fields, k, element, weight, value, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: line, k, element
+      type(field_t), intent(in) :: fields(:)
+      logical, intent(in) :: weight
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer :: column, s
+      logical :: given
+      s = deck%model%element_section(element)
+      if (weight) then
+         given = deck%model%sections(s)%has_weight
+         value = deck%model%sections(s)%weight
+      else
+         given = deck%model%sections(s)%has_alpha
+         value = deck%model%sections(s)%alpha
+      end if
+      if (given) return
+      if (size(fields) >= k) then
+         column = fields(k)%column
+      else
+         column = len_trim(source%lines(line)%text) + 1
+      end if
+      call raise(source, line, column, 'expected '//trim(merge('a weight per unit length          ', &
+                 'a coefficient of thermal expansion', weight))//' here or on the section of element '// &
+                 integer_to_string(deck%model%element_label(element))//' (*SECTION, NAME='// &
+                 deck%model%sections(s)%name//', '//trim(merge('WEIGHT=', 'ALPHA= ', weight))//'), found none', error)
+   end subroutine section_value
 
    !> At the end of the deck: a node with a prescribed displacement may not be a contact candidate (its
    !> gap is evaluated on the displacements the analysis solves for, which do not include the

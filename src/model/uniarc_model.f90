@@ -51,6 +51,11 @@ module uniarc_model
       real(dp) :: ea = 0.0_dp
       real(dp) :: ei = 0.0_dp
       real(dp) :: gas = 0.0_dp   !< shear stiffness κGA (force) of a Timoshenko beam; 0: none given
+      !> *SECTION, WEIGHT= and ALPHA=: the weight per unit length (force/length, for *DLOAD WEIGHT) and
+      !> the coefficient of thermal expansion (1/temperature, for *TEMPERATURE) of its elements
+      logical :: has_weight = .false., has_alpha = .false.
+      real(dp) :: weight = 0.0_dp
+      real(dp) :: alpha = 0.0_dp
    end type section_t
 
    !> The joint between an element end and its node (docs/input.md `*RELEASE`): rigid (the default), a

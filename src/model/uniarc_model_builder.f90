@@ -41,6 +41,7 @@ module uniarc_model_builder
    public :: penetration_tolerance
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
+   public :: set_section_weight, set_section_alpha
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -126,6 +127,24 @@ contains
       builder%sections(builder%n_sections)%gas = 0.0_dp
       if (present(gas)) builder%sections(builder%n_sections)%gas = gas
    end subroutine add_section
+
+   !> The weight per unit length `weight` (force/length, ≥ 0) of the elements of the last section added,
+   !> which *DLOAD WEIGHT takes when the card gives none.
+   pure subroutine set_section_weight(builder, weight)
+      type(model_builder_t), intent(inout) :: builder
+      real(dp), intent(in) :: weight
+      builder%sections(builder%n_sections)%has_weight = .true.
+      builder%sections(builder%n_sections)%weight = weight
+   end subroutine set_section_weight
+
+   !> The coefficient of thermal expansion `alpha` (1/temperature) of the elements of the last section
+   !> added, which *TEMPERATURE takes when the card gives none.
+   pure subroutine set_section_alpha(builder, alpha)
+      type(model_builder_t), intent(inout) :: builder
+      real(dp), intent(in) :: alpha
+      builder%sections(builder%n_sections)%has_alpha = .true.
+      builder%sections(builder%n_sections)%alpha = alpha
+   end subroutine set_section_alpha
 
    !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
    !> and unloaded.
