@@ -15,7 +15,6 @@ module uniarc_support_reactions
    use uniarc_band, only: band_matrix_t, band_allocate, band_multiply
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_model_steps, only: prescribed_at
    implicit none
    private
    public :: support_reactions, prescribed_force
@@ -79,23 +78,18 @@ contains
    end subroutine support_reactions
 
    !> The force of the prescribed displacements along their motion: P = Σ_d ū_d r_d / max_d |ū_d| over
-   !> the held DOFs, ū the pattern that moves with λ (the model's own prescribed displacements; without
-   !> them, the held ones of earlier steps) and r the reactions (support_reactions). For one moving
-   !> DOF it is the support's reaction along the motion; for a rigid plate (equal ū at its nodes) the
-   !> resultant of its reactions along the motion: the force that pushes the support. 0 when nothing
-   !> is prescribed.
+   !> the held DOFs, ū the pattern that moves with λ (the model's own prescribed displacements, those
+   !> of its analysis step) and r the reactions (support_reactions). For one moving DOF it is the
+   !> support's reaction along the motion; for a rigid plate (equal ū at its nodes) the resultant of its
+   !> reactions along the motion: the force that pushes the support. 0 when the model has no pattern
+   !> of its own.
    pure real(dp) function prescribed_force(model, reactions) result(force)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: reactions(:, :)
-      real(dp), allocatable :: motion(:, :)
       force = 0.0_dp
-      if (allocated(model%prescribed)) then
-         motion = model%prescribed
-      else
-         motion = prescribed_at(model, 0.0_dp)
-      end if
-      if (.not. any(motion /= 0.0_dp)) return
-      force = sum(motion*reactions)/maxval(abs(motion))
+      if (.not. allocated(model%prescribed)) return
+      if (.not. any(model%prescribed /= 0.0_dp)) return
+      force = sum(model%prescribed*reactions)/maxval(abs(model%prescribed))
    end function prescribed_force
 
 end module uniarc_support_reactions

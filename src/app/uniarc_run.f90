@@ -230,7 +230,7 @@ contains
       type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       type(model_t) :: stepped
-      real(dp), allocatable :: end_lambda(:)
+      real(dp), allocatable :: end_lambda(:), reactions(:, :)
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
       integer :: k, n_critical, n_contact_events, k_step, n_steps
       logical :: done
@@ -327,7 +327,13 @@ contains
             if (allocated(io_error)) exit
          end if
          k_step = k_step + 1
-         stepped = step_model(model, k_step, end_lambda)
+         if (allocated(model%steps(k_step)%fixed)) then
+            ! The forces of the supports where the step begins, for those it removes (step_model).
+            call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions)
+            stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
+         else
+            stepped = step_model(model, k_step, end_lambda)
+         end if
          call driver_next_analysis_step(stepped, driver, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)

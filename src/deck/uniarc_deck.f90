@@ -75,6 +75,7 @@ contains
       if (deck%n_steps > 0) then
          model%steps = deck%steps(1:deck%n_steps)
          model%analysis = model%steps(1)%analysis
+         model%fixed = model%steps(1)%fixed   ! the supports of the first step (the builder's: the last's)
       end if
    end subroutine read_deck
 

@@ -10,7 +10,7 @@ module uniarc_deck_loads
                                  require_field_count, field_real
    use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
    use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds, &
-                                   add_thermal_load, add_prescribed_displacement
+                                   add_thermal_load, add_prescribed_displacement, remove_support
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
    use uniarc_growth, only: grow_integers
    implicit none
@@ -20,22 +20,32 @@ module uniarc_deck_loads
 
 contains
 
-   !> *BOUNDARY: lines `target, type` with a named type, or `target, first_dof [, last_dof [, value]]`;
-   !> a value prescribes the displacement of the held DOFs (a support settlement, scaled by λ like the
-   !> loads, under *STATIC and *PATH).
+   !> *BOUNDARY [, REMOVE]: lines `target, type` with a named type, or `target, first_dof [, last_dof
+   !> [, value]]`; a value prescribes the displacement of the held DOFs (a support settlement, scaled by
+   !> λ like the loads, under *STATIC and *PATH). Inside a *STEP (nonlinear steps): the supports it
+   !> adds hold their DOFs where they are when the step begins, a value moves them from there, and
+   !> REMOVE (no values) releases held DOFs, whose reactions the step ramps down (docs/theory.md §2.10).
+   !> Outside the steps, a value in a deck with steps is a load outside them (refused at *STEP).
    subroutine read_boundary(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, k, line, first_dof, last_dof
-      logical :: held(3), named
+      integer :: i, j, k, line, first_dof, last_dof, c
+      logical :: held(3), named, remove
       real(dp) :: settlement
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
 
-      call check_options(source, card, [character(len=1) ::], error)
+      call check_options(source, card, [character(len=6) :: 'REMOVE'], error)
       if (allocated(error)) return
+      remove = option_index(card, 'REMOVE') > 0
+      if (remove .and. .not. deck%in_step) then
+         call raise(source, card%line, card%options(option_index(card, 'REMOVE'))%column, 'expected REMOVE '// &
+                    'inside a *STEP (a support is removed in an analysis step; before the steps, leave it out)', &
+                    error)
+         return
+      end if
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)
@@ -90,6 +100,11 @@ contains
                end if
             end if
             held(first_dof:last_dof) = .true.
+            if (size(fields) > 3 .and. remove) then
+               call raise(source, line, fields(4)%column, 'expected no value with REMOVE (a removed support '// &
+                          'is released, not moved), found '''//clip(fields(4)%text)//'''', error)
+               return
+            end if
             if (size(fields) > 3) then
                call field_real(source, deck%parameters, line, fields(4), 'a prescribed displacement', settlement, &
                                error)
@@ -108,10 +123,34 @@ contains
                   deck%prescribed_line(deck%n_prescribed) = line
                   deck%prescribed_column(deck%n_prescribed) = fields(4)%column
                end do
+               if (.not. deck%in_step .and. deck%loose_load_line == 0) then
+                  deck%loose_load_line = line
+                  deck%loose_load_column = fields(4)%column
+               end if
             end if
          end if
          do j = 1, size(nodes)
-            call add_support(deck%model, nodes(j), held)
+            if (deck%in_step) then
+               ! A support changed in a step: the node may not be a contact candidate (its gap is
+               ! evaluated on the solved displacements, which do not include a held node's).
+               do c = 1, deck%model%n_contacts
+                  if (deck%model%contacts(c)%node /= nodes(j)) cycle
+                  call raise(source, line, fields(1)%column, 'expected no support changed in a step at node '// &
+                             integer_to_string(deck%model%node_label(nodes(j)))//', a contact candidate (its '// &
+                             'gap would not see the support''s displacement)', error)
+                  return
+               end do
+            end if
+            if (remove) then
+               if (.not. all(deck%model%fixed(:, nodes(j)) .or. .not. held)) then
+                  call raise(source, line, fields(2)%column, 'expected held DOFs to remove, found a free one '// &
+                             'at node '//integer_to_string(deck%model%node_label(nodes(j))), error)
+                  return
+               end if
+               call remove_support(deck%model, nodes(j), held)
+            else
+               call add_support(deck%model, nodes(j), held)
+            end if
          end do
       end do
    end subroutine read_boundary

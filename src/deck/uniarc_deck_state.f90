@@ -56,6 +56,9 @@ module uniarc_deck_state
       !> against the contact candidates at the end of the deck (uniarc_deck_loads, check_prescribed_nodes)
       integer :: n_prescribed = 0
       integer, allocatable :: prescribed_node(:), prescribed_line(:), prescribed_column(:)
+      !> The supports when the open step began, and where its first *BOUNDARY card is (0: none yet)
+      logical, allocatable :: step_start_fixed(:, :)
+      integer :: step_boundary_line = 0, step_boundary_column = 0
    end type deck_t
 
 contains

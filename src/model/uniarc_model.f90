@@ -253,6 +253,9 @@ module uniarc_model
       character(len=:), allocatable :: name
       type(load_pattern_t) :: loads
       type(analysis_options_t) :: analysis
+      !> (3, n_nodes) the DOFs held during the step (*BOUNDARY inside *STEP adds supports, *BOUNDARY,
+      !> REMOVE takes them away; docs/theory.md §2.10); unallocated: those of the model
+      logical, allocatable :: fixed(:, :)
    end type analysis_step_t
 
    !> The whole model.

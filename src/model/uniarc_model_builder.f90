@@ -42,6 +42,7 @@ module uniarc_model_builder
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
    public :: set_section_weight, set_section_alpha
+   public :: remove_support, supports
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -300,6 +301,21 @@ contains
       builder%fixed(:, node) = builder%fixed(:, node) .or. held
    end subroutine add_support
 
+   !> Release the DOFs `held` of `node` (an analysis step's *BOUNDARY, REMOVE): they are free from then on.
+   pure subroutine remove_support(builder, node, held)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node
+      logical, intent(in) :: held(dofs_per_node)
+      builder%fixed(:, node) = builder%fixed(:, node) .and. .not. held
+   end subroutine remove_support
+
+   !> The DOFs held so far (dofs_per_node, n_nodes).
+   pure function supports(builder) result(fixed)
+      type(model_builder_t), intent(in) :: builder
+      logical :: fixed(dofs_per_node, builder%n_nodes)
+      fixed = builder%fixed(:, 1:builder%n_nodes)
+   end function supports
+
    !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
    pure subroutine add_nodal_load(builder, node, dof, value)
       type(model_builder_t), intent(inout) :: builder
@@ -380,11 +396,13 @@ contains
       has_prescribed_displacements = builder%n_prescribed > 0
    end function has_prescribed_displacements
 
-   !> Move the loads added so far (nodal, distributed, temperature changes) into `pattern` (an analysis
-   !> step's, *STEP) and start again without loads; the element's load records start afresh too.
+   !> Move the loads added so far (nodal, distributed, temperature changes, prescribed displacements) into
+   !> `pattern` (an analysis step's, *STEP) and start again without loads; the element's load records
+   !> start afresh too.
    pure subroutine take_loads(builder, pattern)
       type(model_builder_t), intent(inout) :: builder
       type(load_pattern_t), intent(out) :: pattern
+      integer :: i
       if (allocated(builder%nodal_load)) then
          pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
          builder%nodal_load = 0.0_dp
@@ -397,6 +415,14 @@ contains
       builder%n_loads = 0
       builder%n_thermal = 0
       if (allocated(builder%load_index)) builder%load_index = 0
+      if (builder%n_prescribed > 0) then
+         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), source=0.0_dp)
+         do i = 1, builder%n_prescribed
+            pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
+               pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
+         end do
+         builder%n_prescribed = 0
+      end if
    end subroutine take_loads
 
    !> The load record of `element` in `slot`, made if the element has none there yet.

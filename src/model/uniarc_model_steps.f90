@@ -39,16 +39,28 @@ contains
    !> and each ends at λ = 1) gets them added to its own loads instead, times end_lambda(j): its solution
    !> is that of all the loads so far, as superposition requires.
    !> A model without steps is returned as it is (k = 1).
-   function step_model(model, k, end_lambda) result(stepped)
+   !>
+   !> Supports that change at step k (`model%steps(k)%fixed`, nonlinear steps; docs/theory.md §2.10):
+   !> a DOF held from step k on is held where it was when the step began, `start_displacement`
+   !> (dofs_per_node, n_nodes; every DOF's), a pattern held at factor 1; a DOF released at step k
+   !> carries the force its support applied then, `start_reactions` (dofs_per_node, n_nodes,
+   !> uniarc_support_reactions), as a load held at factor 1 and the same load reversed in the step's own
+   !> pattern: the support's force is ramped down with λ and gone at λ = 1 (Abaqus Analysis User's
+   !> Guide, "Boundary conditions": a removed boundary condition's reaction is ramped down over the
+   !> step). The prescribed displacements of earlier steps at the released DOFs no longer act. Without
+   !> the two arrays (the first step, or a caller that does not change supports) nothing changes.
+   function step_model(model, k, end_lambda, start_displacement, start_reactions) result(stepped)
       type(model_t), intent(in) :: model
       integer, intent(in) :: k
       real(dp), intent(in) :: end_lambda(:)
+      real(dp), intent(in), optional :: start_displacement(:, :), start_reactions(:, :)
       type(model_t) :: stepped
       type(load_pattern_t), allocatable :: patterns(:)
       integer :: j
       stepped = model
       if (.not. allocated(model%steps)) return
       stepped%analysis = model%steps(k)%analysis
+      if (allocated(model%steps(k)%fixed)) stepped%fixed = model%steps(k)%fixed
       if (model%steps(k)%analysis%kind == analysis_linear) then
          allocate (patterns(k))
          do j = 1, k - 1
@@ -65,14 +77,45 @@ contains
          stepped%distributed_loads = model%steps(k)%loads%distributed_loads
          stepped%thermal_loads = model%steps(k)%loads%thermal_loads
          if (allocated(stepped%prescribed)) deallocate (stepped%prescribed)
-         if (allocated(model%steps(k)%loads%prescribed)) stepped%prescribed = model%steps(k)%loads%prescribed
+         if (allocated(model%steps(k)%loads%prescribed)) then
+            stepped%prescribed = model%steps(k)%loads%prescribed
+            where (.not. stepped%fixed) stepped%prescribed = 0.0_dp   ! released in the step
+         end if
          allocate (stepped%held(k - 1))
          do j = 1, k - 1
             stepped%held(j) = model%steps(j)%loads
             stepped%held(j)%factor = end_lambda(j)
+            if (allocated(stepped%held(j)%prescribed)) &
+               where (.not. stepped%fixed) stepped%held(j)%prescribed = 0.0_dp
          end do
+         if (k > 1 .and. present(start_displacement) .and. present(start_reactions)) &
+            call change_supports(model%steps(k - 1)%fixed, start_displacement, start_reactions, stepped)
       end if
    end function step_model
+
+   !> The supports of `stepped` against those of the step before, `before`: the held pattern of the
+   !> DOFs added (held where they are, `start_displacement`) and of the DOFs released (their supports'
+   !> forces `start_reactions`, held), and those forces reversed in the step's own loads (step_model).
+   pure subroutine change_supports(before, start_displacement, start_reactions, stepped)
+      logical, intent(in) :: before(:, :)
+      real(dp), intent(in) :: start_displacement(:, :), start_reactions(:, :)
+      type(model_t), intent(inout) :: stepped
+      type(load_pattern_t) :: change
+      logical :: added(dofs_per_node, stepped%n_nodes), released(dofs_per_node, stepped%n_nodes)
+      added = stepped%fixed .and. .not. before
+      released = before .and. .not. stepped%fixed
+      if (.not. (any(added) .or. any(released))) return
+      change%factor = 1.0_dp
+      allocate (change%nodal_load(dofs_per_node, stepped%n_nodes), source=0.0_dp)
+      allocate (change%distributed_loads(0), change%thermal_loads(0))
+      where (released) change%nodal_load = start_reactions
+      stepped%nodal_load = stepped%nodal_load - change%nodal_load
+      if (any(added)) then
+         allocate (change%prescribed(dofs_per_node, stepped%n_nodes), source=0.0_dp)
+         where (added) change%prescribed = start_displacement
+      end if
+      stepped%held = [stepped%held, change]
+   end subroutine change_supports
 
    !> The loads of `patterns`, each times its factor, as the reference loads of `stepped`: nodal loads
    !> summed, distributed loads and temperature changes listed one after another (the assembly sums
