@@ -129,7 +129,8 @@ contains
                   trim(merge('*STATIC', '*PATH  ', step%analysis%kind == analysis_linear))//', loads on '// &
                   integer_to_string(count(any(step%loads%nodal_load /= 0.0_dp, dim=1)))//' nodes, '// &
                   integer_to_string(size(step%loads%distributed_loads))//' element loads, '// &
-                  integer_to_string(size(step%loads%thermal_loads))//' temperature changes'
+                  integer_to_string(size(step%loads%thermal_loads))//' temperature changes'// &
+                  trim(support_changes(model, k))
             end associate
          end do
       end if
@@ -437,6 +438,29 @@ contains
       if (allocated(error)) io_error%message = io_error%message//'; before that: '//error%message
       call move_alloc(io_error, error)
    end subroutine conclude_outputs
+
+   !> What analysis step k changes of the supports, for the --check summary: ', N DOFs held from
+   !> here, N released, N moved' (the counts that are not zero), or ''.
+   pure function support_changes(model, k) result(text)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      character(len=:), allocatable :: text
+      integer :: added, released, moved
+      text = ''
+      added = 0
+      released = 0
+      moved = 0
+      if (allocated(model%steps(k)%fixed) .and. k > 1) then
+         if (allocated(model%steps(k - 1)%fixed)) then
+            added = count(model%steps(k)%fixed .and. .not. model%steps(k - 1)%fixed)
+            released = count(model%steps(k - 1)%fixed .and. .not. model%steps(k)%fixed)
+         end if
+      end if
+      if (allocated(model%steps(k)%loads%prescribed)) moved = count(model%steps(k)%loads%prescribed /= 0.0_dp)
+      if (added > 0) text = text//', '//counted(added, 'DOF')//' held from here'
+      if (released > 0) text = text//', '//counted(released, 'DOF')//' released'
+      if (moved > 0) text = text//', '//counted(moved, 'DOF')//' moved'
+   end function support_changes
 
    !> The committed state of the path as a row of the result files (`stepped`: the model of the
    !> analysis step traced, uniarc_model_steps; it has the prescribed displacements of the step).
