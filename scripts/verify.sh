@@ -177,6 +177,9 @@ SOURCES = [
     ('members_timoshenko', '', 'closed form: w = PL³/3EI + PL/κGA, θ = PL²/2EI'),
     ('members_spring_base_column', '', 'Timoshenko & Gere 1961 ch. 2: αL tan αL = kL/EI'),
     ('members_hinge', '', 'closed form (statics of the hinge, then cantilever and simple span)'),
+    ('members_joint_moment_limit_ring', '', 'Neal 1977, mechanism method: P_c = 4 MY/R'),
+    ('members_joint_moment_limit_collapse', '', 'statics: P_c = MY/b'),
+    ('members_joint_moment_limit', '', 'closed form in the deck (cantilever halves, joint at MY)'),
     ('members_spring_joint', '', 'closed form: w = PL³/3EI + Pb²/k, θ = PL²/2EI + Pb/k'),
     ('obstacle_column_against_step', '', 'hand solution in the deck (propped cantilever)'),
     ('obstacle_cantilever_on_ellipse', '', 'hand solution in the deck (reaction along the normal)'),
@@ -378,7 +381,9 @@ SECTIONS = [
          'Decks `tests/regression/decks/{timo_cantilever,hinge_gerber,spring_joint,timoshenko_column,'
          'spring_base_column}.inp` '
          '(docs/theory.md §1.10): the Timoshenko element and the jointed beams are exact for nodal loads, so '
-         'the linear cases meet their closed forms to round-off; the column is corotational.', []),
+         'the linear cases meet their closed forms to round-off; the column is corotational. Joints with a '
+         'moment limit (docs/theory.md §1.11): decks `joint_moment_limit_{beam,collapse,ring}.inp`, traced on '
+         'the corotational path, so their closed forms (small displacements) hold to the geometry\'s effect.', []),
         ('Obstacles of any shape: ellipse and polyline', 'obstacle_',
          'Decks `tests/regression/decks/{ring_circle_cavity,ring_oval_cavity,column_step,'
          'cantilever_on_ellipse}.inp` (docs/theory.md §3.7). The ellipse with a = b is compared with the '

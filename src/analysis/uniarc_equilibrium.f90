@@ -39,8 +39,10 @@ contains
    !> alone leaves (a chord computed from coordinates of size |x| carries ε|x|, times the largest axial
    !> or bending stiffness of the element); no iteration can go below it, so it
    !> is a floor of the convergence test (it matters for rings of many short elements far from the origin).
+   !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
+   !> moment limit (uniarc_joint_plasticity), the history the elements' return mapping starts from.
    subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
-                                   force_scale, roundoff)
+                                   force_scale, roundoff, joint_plastic)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -51,6 +53,7 @@ contains
       real(dp), intent(out) :: reference(:)
       real(dp), intent(out) :: force_scale
       real(dp), intent(out), optional :: roundoff
+      real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node)
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), rate(2*dofs_per_node)
       type(element_response_t) :: response
@@ -68,7 +71,11 @@ contains
       position_noise = 0.0_dp
       do e = 1, model%n_elements
          u = element_displacements(model, e, total)
-         call element_response(model, e, u, transformation_corotational, response)
+         if (present(joint_plastic)) then
+            call element_response(model, e, u, transformation_corotational, response, joint_plastic(:, e))
+         else
+            call element_response(model, e, u, transformation_corotational, response)
+         end if
          call band_add_element(tangent, element_equations(model, map, e), response%tangent)
          call scatter_add(element_equations(model, map, e), response%internal_force, internal)
          if (moving .and. allocated(model%prescribed)) then

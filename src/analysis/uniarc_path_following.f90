@@ -23,12 +23,13 @@ module uniarc_path_following
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
-   use uniarc_model, only: model_t, control_displacement, control_arclength, control_load
+   use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, candidate_reactions, equilibrium_at
+                                nodal_displacements, candidate_reactions, equilibrium_at, commit_joint_state, &
+                                yielded_joints
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -65,6 +66,7 @@ contains
          if (allocated(error)) return
          allocate (state%u(state%map%n_equations), source=0.0_dp)
          allocate (state%last_increment(state%map%n_equations), source=0.0_dp)
+         if (has_moment_limits(model)) allocate (state%joint_plastic(2, model%n_elements), source=0.0_dp)
          allocate (state%fixed_load(state%map%n_equations))
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          state%length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
@@ -319,6 +321,7 @@ contains
                   error%message = error%message//'; under load control this is where the load reaches a '// &
                                   'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
                end if
+               call add_mechanism_hint(model, state, error)
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                return
             end if
@@ -336,9 +339,11 @@ contains
             ! for the next step's angle tests.
             if (degenerate_step(before, trial)) state%last_increment = 0.0_dp
             state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+            call commit_joint_state(model, state)
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)
+               call add_mechanism_hint(model, state, error)
                call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
                return
             end if
@@ -445,6 +450,22 @@ contains
          off_branch = off_branch .or. masked_dot(map, increment, last) < 0.0_dp
       end if
    end function off_branch
+
+   !> A step that fails from a state whose joints are at their moment limit (`*RELEASE, MY=`): with them
+   !> as hinges the structure may be a mechanism — a plastic collapse, past which no equilibrium holds
+   !> a higher load (docs/theory.md §1.11). The message names them.
+   subroutine add_mechanism_hint(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(error_t), intent(inout) :: error
+      character(len=:), allocatable :: labels
+      integer :: count
+      call yielded_joints(model, state, count, labels)
+      if (count == 0) return
+      error%message = error%message//'; '//integer_to_string(count)//' joint(s) at the moment limit MY ('// &
+                      labels//'): with them as hinges the structure may be a mechanism (plastic collapse at '// &
+                      'lambda = '//real_to_string(state%lambda, message_edit)//')'
+   end subroutine add_mechanism_hint
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)

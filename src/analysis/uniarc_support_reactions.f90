@@ -29,12 +29,15 @@ contains
    !> that of the analysis with the held DOFs numbered and without the contact unknowns, a size the
    !> analysis has already allocated (the memory check, uniarc_check), so it is allocated without a
    !> returned error.
-   subroutine support_reactions(model, displacement, lambda, linear, reactions)
+   !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
+   !> moment limit (the path's state), passed to the equilibrium as the path following does.
+   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
       logical, intent(in) :: linear
       real(dp), allocatable, intent(out) :: reactions(:, :)
+      real(dp), intent(in), optional :: joint_plastic(:, :)
       type(model_t) :: unsupported
       type(dof_map_t) :: map
       type(band_matrix_t) :: stiffness
@@ -69,8 +72,13 @@ contains
          call assemble_reference_load(unsupported, map, .true., reference)
       else
          call assemble_reference_load(unsupported, map, .false., fixed_load)
-         call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
-                                   reference, force_scale)
+         if (present(joint_plastic)) then
+            call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
+                                      reference, force_scale, joint_plastic=joint_plastic)
+         else
+            call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
+                                      reference, force_scale)
+         end if
       end if
       allocate (reactions(dofs_per_node, model%n_nodes))
       call gather_nodal(map, internal - lambda*reference, reactions)

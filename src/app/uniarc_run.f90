@@ -330,7 +330,12 @@ contains
          k_step = k_step + 1
          if (allocated(model%steps(k_step)%fixed)) then
             ! The forces of the supports where the step begins, for those it removes (step_model).
-            call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions)
+            if (allocated(driver%state%joint_plastic)) then
+               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions, &
+                                      driver%state%joint_plastic)
+            else
+               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions)
+            end if
             stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
          else
             stepped = step_model(model, k_step, end_lambda)
@@ -481,6 +486,7 @@ contains
          record%reactions = candidate_reactions(state)
          summary = summarize_contact(model, record%reactions, state%active)
          record%groups = summarize_groups(model, record%reactions, state%active)
+         if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic
       end associate
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
@@ -488,7 +494,12 @@ contains
       record%reaction_max = summary%reaction_max
       record%reaction_sum = summary%reaction_sum
       if (has_prescribed(model)) then
-         call support_reactions(stepped, record%displacement, record%lambda, .false., reactions)
+         if (allocated(driver%state%joint_plastic)) then
+            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions, &
+                                   driver%state%joint_plastic)
+         else
+            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions)
+         end if
          record%prescribed_force = prescribed_force(stepped, reactions)
       end if
    end subroutine record_state

@@ -18,7 +18,7 @@ module uniarc_deck
                                  check_options, field_real
    use uniarc_model, only: model_t, analysis_nonlinear, control_arclength
    use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kinds
-   use uniarc_deck_element, only: restrain_truss_nodes, read_release
+   use uniarc_deck_element, only: restrain_truss_nodes, read_release, check_moment_limit_analysis
    use uniarc_deck_state, only: parameter_override_t, deck_t
    use uniarc_deck_mesh, only: read_section, read_node, read_element, read_generator, read_node_set, &
                                read_element_set
@@ -272,6 +272,12 @@ contains
          return
       end if
       call check_computed_imperfection(source, deck, error)
+      if (allocated(error)) return
+      if (deck%n_steps > 0) then
+         call check_moment_limit_analysis(source, deck, deck%steps(1)%analysis%kind /= analysis_nonlinear, error)
+      else
+         call check_moment_limit_analysis(source, deck, deck%model%analysis%kind /= analysis_nonlinear, error)
+      end if
       if (allocated(error)) return
       bad = unused_node(deck%model)
       if (bad > 0) then

@@ -10,13 +10,14 @@ module uniarc_deck_element
    use uniarc_strings, only: field_t, to_upper, integer_to_string, real_to_string
    use uniarc_deck_source, only: source_t, card_t, raise, clip, option_index, check_options, data_fields, &
                                  require_field_count, field_real, field_integer
-   use uniarc_deck_state, only: deck_t, resolve_elements
+   use uniarc_deck_state, only: deck_t, resolve_elements, option_real
    use uniarc_model, only: element_beam_column, element_truss, element_timoshenko, dof_rz, section_t, &
                            end_joint_t
    use uniarc_model_builder, only: set_end_joint, element_kinds
    implicit none
    private
    public :: read_element_type, check_element_section, read_release, restrain_truss_nodes
+   public :: check_moment_limit_analysis
 
 contains
 
@@ -67,6 +68,8 @@ contains
    !> target (an element label or set), a hinge (no k, or k = 0: no moment passes) or a linear rotational
    !> spring of stiffness k > 0 (moment per radian) between the element end and its node. A truss end
    !> has no moment to release, and an end takes one release: both are errors at the target.
+   !> Option `MY=` (> 0, moment): every spring of the card is elastic–perfectly plastic with that moment
+   !> limit (uniarc_joint_plasticity); a line of the card without k > 0 (a hinge) is then an error.
    subroutine read_release(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -76,10 +79,26 @@ contains
       integer, allocatable :: elements(:), kinds(:)
       type(field_t), allocatable :: fields(:)
       type(end_joint_t) :: joint
-      real(dp) :: stiffness
+      real(dp) :: stiffness, moment_limit
+      integer :: my_option
 
-      call check_options(source, card, [character(len=1) ::], error)
+      call check_options(source, card, ['MY='], error)
       if (allocated(error)) return
+      moment_limit = 0.0_dp
+      my_option = option_index(card, 'MY')
+      if (my_option > 0) then
+         call option_real(source, card, deck, my_option, 'a moment limit', moment_limit, error)
+         if (allocated(error)) return
+         if (.not. (moment_limit > 0.0_dp .and. moment_limit < huge(1.0_dp))) then
+            call raise(source, card%line, card%options(my_option)%value_column, 'expected a moment limit MY > 0, '// &
+                       'found '//real_to_string(moment_limit), error)
+            return
+         end if
+         if (deck%moment_limit_line == 0) then
+            deck%moment_limit_line = card%line
+            deck%moment_limit_column = card%options(my_option)%value_column
+         end if
+      end if
       if (card%n_data == 0) then
          call raise(source, card%line, len_trim(source%lines(card%line)%text) + 1, 'expected data lines ' // &
                     '`target, end [, k]` after *RELEASE, found none', error)
@@ -110,6 +129,20 @@ contains
             end if
             if (stiffness > 0.0_dp) joint = end_joint_t(hinge=.false., compliance=1.0_dp/stiffness)
          end if
+         if (moment_limit > 0.0_dp) then
+            if (joint%hinge) then
+               if (size(fields) == 3) then
+                  call raise(source, line, fields(3)%column, 'expected a rotational stiffness k > 0 with MY= (a '// &
+                             'moment limit is that of a spring joint; a hinge carries no moment), found 0', error)
+               else
+                  call raise(source, line, len_trim(source%lines(line)%text) + 1, 'expected a rotational stiffness '// &
+                             '`, k` (k > 0) with MY= (a moment limit is that of a spring joint; a hinge carries no '// &
+                             'moment), found none', error)
+               end if
+               return
+            end if
+            joint%moment_limit = moment_limit
+         end if
          kinds = element_kinds(deck%model, deck%model%n_elements)
          do j = 1, size(elements)
             e = elements(j)
@@ -133,6 +166,19 @@ contains
          end do
       end do
    end subroutine read_release
+
+   !> A moment limit (`*RELEASE, MY=`) is history that the steps of a path commit: a linear analysis
+   !> (*STATIC, or no analysis card; `linear`) cannot follow it. Error at the first MY= value.
+   subroutine check_moment_limit_analysis(source, deck, linear, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      logical, intent(in) :: linear
+      type(error_t), allocatable, intent(out) :: error
+      if (deck%moment_limit_line == 0 .or. .not. linear) return
+      call raise(source, deck%moment_limit_line, deck%moment_limit_column, 'expected *PATH with a moment limit MY= '// &
+                 '(the plastic rotations of its joints are history that the steps of a path commit), found a '// &
+                 'linear analysis (*STATIC)', error)
+   end subroutine check_moment_limit_analysis
 
    !> Hold the rotation of every node that no element end holds: a node used only by truss elements or
    !> by hinged element ends (`*RELEASE` without k).

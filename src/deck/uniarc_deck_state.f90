@@ -59,6 +59,8 @@ module uniarc_deck_state
       !> The supports when the open step began, and where its first *BOUNDARY card is (0: none yet)
       logical, allocatable :: step_start_fixed(:, :)
       integer :: step_boundary_line = 0, step_boundary_column = 0
+      !> where the first `*RELEASE, MY=` value is (a moment limit needs *PATH), 0 if none
+      integer :: moment_limit_line = 0, moment_limit_column = 0
    end type deck_t
 
 contains

@@ -24,6 +24,7 @@ module uniarc_model
    public :: side_left, side_right, side_inner, side_outer, side_direction
    public :: thermal_load_t
    public :: element_timoshenko, end_joint_t, end_joints_of
+   public :: has_moment_limits
    public :: gap_ellipse_inside, gap_ellipse_outside, gap_polyline
    public :: load_pattern_t, analysis_step_t
 
@@ -59,10 +60,12 @@ module uniarc_model
    end type section_t
 
    !> The joint between an element end and its node (docs/input.md `*RELEASE`): rigid (the default), a
-   !> hinge (no moment passes), or a linear rotational spring M = k (θ_node − θ_end) of compliance 1/k.
+   !> hinge (no moment passes), or a linear rotational spring M = k (θ_node − θ_end) of compliance 1/k,
+   !> optionally elastic–perfectly plastic: M = k (θ_node − θ_end − θ_p), |M| ≤ M_y (`*RELEASE, MY=`).
    type :: end_joint_t
       logical :: hinge = .false.
       real(dp) :: compliance = 0.0_dp   !< 1/k (radian per moment) of a spring; 0: rigid
+      real(dp) :: moment_limit = 0.0_dp !< M_y > 0 of a spring with a moment limit; 0: none (linear)
    end type end_joint_t
 
    !> A named set of nodes (internal indices).
@@ -360,6 +363,14 @@ contains
       type(end_joint_t) :: joints(2)
       if (allocated(model%end_joints)) joints = model%end_joints(:, e)
    end function end_joints_of
+
+   !> True when a joint of the model has a moment limit (`*RELEASE, MY=`): its elements then carry a
+   !> plastic rotation per end as history (docs/theory.md §1.11).
+   pure logical function has_moment_limits(model)
+      type(model_t), intent(in) :: model
+      has_moment_limits = .false.
+      if (allocated(model%end_joints)) has_moment_limits = any(model%end_joints%moment_limit > 0.0_dp)
+   end function has_moment_limits
 
    !> Values of the tracked quantities (`*TRACK`, one per track, in the order of `tracks`):
    !> scale × u(dof, node), from the nodal displacements `displacement` (dofs_per_node, n_nodes).

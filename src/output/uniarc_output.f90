@@ -25,7 +25,7 @@ module uniarc_output
    use uniarc_provenance, only: provenance_t, provenance_lines
    use uniarc_contact_summary, only: contact_summary_t
    use uniarc_model_steps, only: has_prescribed
-   use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths
+   use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
    implicit none
    private
    public :: step_record_t, output_files_t
@@ -55,6 +55,9 @@ module uniarc_output
       !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
       !> written as the group's own path columns when the model has more than one group
       type(contact_summary_t), allocatable :: groups(:)
+      !> (2, n_elements) committed plastic rotations of the joints with a moment limit (`*RELEASE, MY=`);
+      !> unallocated without such joints
+      real(dp), allocatable :: joint_plastic(:, :)
    end type step_record_t
 
    !> One table: its blank-separated file and, with --csv, its comma-separated twin.
@@ -110,7 +113,8 @@ contains
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
       call open_table(results, files%contact, results%stem//'.contact', &
-                      'step lambda medium candidate node s gap reaction length pressure', comments, csv, error)
+                      'step lambda medium candidate node s gap reaction length pressure tangential_displacement '// &
+                      'tangential_force shear', comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -333,20 +337,28 @@ contains
    !> N_end V_end M_end` — the section forces at node 1 and node 2 (uniarc_output_forces,
    !> element_end_forces: element frame, N tension positive, M = EI κ positive toward the left normal,
    !> V = dM/ds). STEM.contact, one row per candidate: `step lambda medium candidate node s gap reaction
-   !> length pressure` — its coordinate along its group, gap, reaction, tributary length
-   !> (candidate_lengths) and reaction/length.
+   !> length pressure tangential_displacement tangential_force shear` — its coordinate along its group,
+   !> gap, reaction, tributary length (candidate_lengths) and reaction/length; then, where its foundation
+   !> has tangential springs (tangential_springs), the spring's gap t·u, its reaction on the node along t
+   !> and reaction/length (0 0 0 without one).
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: forces(:, :), gaps(:), lengths(:), reactions(:)
+      real(dp) :: tangential(3)
+      integer, allocatable :: spring(:)
       character(len=:), allocatable :: head
       integer :: e, c
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
-      forces = element_end_forces(model, record%displacement, record%lambda)
+      if (allocated(record%joint_plastic)) then
+         forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic)
+      else
+         forces = element_end_forces(model, record%displacement, record%lambda)
+      end if
       do e = 1, model%n_elements
          call put_row(files%forces, head//integer_to_string(model%element_label(e))//' '// &
                       integer_to_string(model%node_label(model%connectivity(1, e)))//' '// &
@@ -361,12 +373,15 @@ contains
       allocate (reactions(size(model%contacts)), source=0.0_dp)
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
+      spring = tangential_springs(model)
       do c = 1, size(model%contacts)
-         if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: not a contact
+         if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: on its radial one's row
+         tangential = 0.0_dp
+         if (spring(c) > 0) tangential = [gaps(spring(c)), reactions(spring(c)), reactions(spring(c))/lengths(spring(c))]
          call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                       integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                       numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                    reactions(c)/lengths(c)]))
+                                    reactions(c)/lengths(c), tangential]))
       end do
       call put_row(files%contact, '')
       call put_row(files%contact, '')

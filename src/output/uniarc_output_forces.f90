@@ -36,7 +36,7 @@ module uniarc_output_forces
    use uniarc_contact_law, only: candidate_gap, tributary_lengths
    implicit none
    private
-   public :: element_end_forces, candidate_gaps, candidate_lengths
+   public :: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
 
 contains
 
@@ -44,10 +44,13 @@ contains
    !> and load factor `lambda`: rows (N_start, V_start, M_start, N_end, V_end, M_end), shape
    !> (6, n_elements), in the deck's force and force × length units, in the element's frame and the
    !> beam convention of the module header. A truss has V = M = 0 (no transverse load on its span).
-   pure function element_end_forces(model, displacement, lambda) result(forces)
+   !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
+   !> moment limit (the path's state; uniarc_joint_plasticity), which the end moments depend on.
+   pure function element_end_forces(model, displacement, lambda, joint_plastic) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
+      real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: forces(6, model%n_elements)
       real(dp) :: thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements)
       real(dp) :: deformation(3), q(3), end_forces(4), t(2), n(2), f(2*dofs_per_node)
@@ -104,7 +107,12 @@ contains
       end if
 
       do e = 1, model%n_elements
-         call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         if (present(joint_plastic)) then
+            call element_response(model, e, element_displacements(model, e, displacement), transformation, response, &
+                                  joint_plastic(:, e))
+         else
+            call element_response(model, e, element_displacements(model, e, displacement), transformation, response)
+         end if
          q = response%basic_force - lambda*thermal(:, e)
          if (has_held) q = q - held_thermal(:, e)
          call transform_deformations(transformation, element_coordinates(model, e), &
@@ -183,6 +191,41 @@ contains
          end associate
       end do
    end function candidate_gaps
+
+   !> The tangential spring (`*FOUNDATION, KT=`) of every contact candidate: the index of the candidate
+   !> that is its foundation's tangential spring at the same node (uniarc_contact_law: one per node of a
+   !> bed with K_t > 0, gap g = t·u along the tangent t, the bed's direction n turned by +90°), 0 where
+   !> the candidate has none (a bed without K_t, springs, obstacles; and the tangential springs
+   !> themselves). Shape (n_contacts).
+   pure function tangential_springs(model) result(spring)
+      type(model_t), intent(in) :: model
+      integer, allocatable :: spring(:)
+      integer, allocatable :: radial_at_node(:)
+      integer :: g, k, c
+      allocate (spring(0))
+      if (.not. allocated(model%contacts)) return
+      deallocate (spring)
+      allocate (spring(size(model%contacts)), source=0)
+      if (.not. allocated(model%contact_groups)) return
+      if (.not. any(model%contacts%tangential)) return
+      allocate (radial_at_node(model%n_nodes), source=0)
+      do g = 1, size(model%contact_groups)
+         associate (members => model%contact_groups(g)%candidates)
+            do k = 1, size(members)
+               c = members(k)
+               if (.not. model%contacts(c)%tangential) radial_at_node(model%contacts(c)%node) = c
+            end do
+            do k = 1, size(members)
+               c = members(k)
+               if (.not. model%contacts(c)%tangential) cycle
+               if (radial_at_node(model%contacts(c)%node) > 0) spring(radial_at_node(model%contacts(c)%node)) = c
+            end do
+            do k = 1, size(members)
+               radial_at_node(model%contacts(members(k))%node) = 0
+            end do
+         end associate
+      end do
+   end function tangential_springs
 
    !> The tributary length of every contact candidate (initial geometry, length units), over which
    !> its reaction is spread as a contact pressure: for a foundation's candidate, half the lengths of

@@ -168,13 +168,20 @@ contains
    !> and V the means of their values at the two ends (equal without a load along the span; the values
    !> at mid-element for a uniform one). The moments are in the beam convention M = EI κ and V = dM/ds
    !> (see the module header).
-   pure function element_forces(model, displacement, lambda) result(forces)
+   !> `joint_plastic` (optional, (2, n_elements); absent or an unallocated actual argument without joints
+   !> with a moment limit): their committed plastic rotations.
+   pure function element_forces(model, displacement, lambda, joint_plastic) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
+      real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: forces(4, model%n_elements)
       real(dp) :: ends(6, model%n_elements)
-      ends = element_end_forces(model, displacement, lambda)
+      if (present(joint_plastic)) then
+         ends = element_end_forces(model, displacement, lambda, joint_plastic)
+      else
+         ends = element_end_forces(model, displacement, lambda)
+      end if
       forces(1, :) = 0.5_dp*(ends(1, :) + ends(4, :))
       forces(2, :) = 0.5_dp*(ends(2, :) + ends(5, :))
       forces(3, :) = ends(3, :)
@@ -235,7 +242,7 @@ contains
          call put_line(file, integer_text(model%node_label(i)))
       end do
 
-      forces = element_forces(model, record%displacement, record%lambda)
+      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic)
       call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
       call write_scalars(file, 'axial_force', forces(1, :))
       call write_scalars(file, 'shear_force', forces(2, :))
@@ -277,7 +284,7 @@ contains
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
 
-      forces = element_forces(model, record%displacement, record%lambda)
+      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic)
       call put_line(file, '<CellData Scalars="bending_moment">')
       call write_xml_reals(file, 'axial_force', 1, forces(1, :))
       call write_xml_reals(file, 'shear_force', 1, forces(2, :))

@@ -6,6 +6,7 @@ Usage (one CTest per call):
   forces_check.py --uniarc BIN --deck DECK --out DIR [--define NAME=VALUE]... [--param NAME=VALUE]...
                   [--expect-forces COLUMN=EXPR:TOL]...   # every element row of the checked step
                   [--expect-contact COLUMN=EXPR:TOL]...  # every candidate row of the checked step
+                  [--expect-contact-sum EXPR=VALUE:TOL]... # a sum over the candidate rows of the checked step
                   [--expect-path EXPR]...                # a condition true on every row of STEM.path
                   [--expect-steps TABLE=S1,S2,...]       # the steps written to STEM.TABLE, in order
                   [--step N]                             # the step checked (default: the last written)
@@ -18,6 +19,8 @@ current position of the row's nodes read from STEM.shape: `x_start`, `y_start`, 
 checked step; that step must be a snapshot of STEM.shape, e.g. the last). The math module's names are
 there too. A COLUMN=EXPR:TOL holds when |column - EXPR| <= TOL * max(1, max over the rows of |EXPR|):
 a tolerance relative to the size of the expected values of the column (absolute for values below 1).
+An EXPR=VALUE:TOL of --expect-contact-sum holds when the sum of EXPR over the candidate rows of the
+checked step is VALUE to TOL * max(1, |VALUE|) (the resultant of the medium's forces, for equilibrium).
 
 The tables are read as their users read them, by name: numpy.genfromtxt(names=True, dtype=None) and
 pandas.read_csv(sep=r'\\s+', comment='#'), which must agree; every table's format (column names, the
@@ -79,6 +82,7 @@ def main():
     parser.add_argument('--param', action='append', default=[])
     parser.add_argument('--expect-forces', action='append', default=[])
     parser.add_argument('--expect-contact', action='append', default=[])
+    parser.add_argument('--expect-contact-sum', action='append', default=[])
     parser.add_argument('--expect-path', action='append', default=[])
     parser.add_argument('--expect-steps', action='append', default=[])
     parser.add_argument('--step', type=int)
@@ -109,7 +113,7 @@ def main():
         if written != wanted:
             failures.append(f'{stem}.{table} has the steps {written}, not {wanted}')
 
-    if args.expect_forces or args.expect_contact:
+    if args.expect_forces or args.expect_contact or args.expect_contact_sum:
         forces = read_by_name(f'{base}.forces')
         step = args.step if args.step is not None else int(forces['step'].iloc[-1])
         shape = read_by_name(f'{base}.shape')
@@ -149,6 +153,18 @@ def main():
             else:
                 failures += check_rows(f'{stem}.contact step {step}', rows,
                                        [parse_expectation(t) for t in args.expect_contact], candidate_environment)
+        for text in args.expect_contact_sum:
+            expression, rest = text.rsplit('=', 1)
+            value, tolerance = (float(eval(x, vars(math), dict(params))) for x in rest.rsplit(':', 1))
+            contact = read_by_name(f'{base}.contact')
+            rows = contact[contact['step'] == step]
+            total = sum(float(eval(expression, vars(math), candidate_environment(row)))
+                        for row in rows.to_dict('records'))
+            ok = not rows.empty and abs(total - value) <= tolerance * max(1.0, abs(value))
+            print(f'{"ok" if ok else "FAIL"}: {stem}.contact step {step}: sum of {expression} over {len(rows)} rows '
+                  f'= {total:.12g}, expected {value:.12g} (tolerance {tolerance:.1e})')
+            if not ok:
+                failures.append(f'{stem}.contact sum of {expression} = {total:.12g}, not {value:.12g}')
 
     if args.expect_path:
         path = read_by_name(f'{base}.path')

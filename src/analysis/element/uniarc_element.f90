@@ -22,6 +22,7 @@ module uniarc_element
    use uniarc_basic_truss, only: truss_basic_response
    use uniarc_basic_timoshenko, only: timoshenko_basic_response, beam_bending_flexibility
    use uniarc_end_joints, only: jointed_basic_response, has_joints
+   use uniarc_joint_plasticity, only: plastic_joint_response, has_moment_limit
    implicit none
    private
    public :: element_response_t, element_response, analysis_transformation, element_stiffness_scale
@@ -40,6 +41,9 @@ module uniarc_element
       !> Bending moments (M_start, M_end) at node 1 and node 2, beam convention M = EI κ (positive when
       !> the element bends towards its left normal): (−M1, M2).
       real(dp) :: end_moments(2) = 0.0_dp
+      !> Plastic rotations (radian) of the joints at node 1 and node 2 at this trial state: the committed
+      !> ones plus the increments of the return mapping (uniarc_joint_plasticity); 0 without a moment limit.
+      real(dp) :: plastic_rotation(2) = 0.0_dp
    end type element_response_t
 
 contains
@@ -53,16 +57,19 @@ contains
    !> gives EA (and EI for a beam, κGA for the Timoshenko beam). A beam with a hinge or a rotational
    !> spring at an end (end_joints_of) takes its bending law from uniarc_end_joints, the joints in
    !> series with the member's flexibility. The basic law is referred to the initial length L0 (small
-   !> strains). No errors: the deck guarantees a section (with κGA > 0 for a Timoshenko beam) and a
-   !> nonzero length for every element.
-   pure subroutine element_response(model, e, u, transformation, response)
+   !> strains). A joint with a moment limit (`*RELEASE, MY=`) is elastic–perfectly plastic
+   !> (uniarc_joint_plasticity): `plastic` (2, optional; 0 when absent) are its committed plastic
+   !> rotations at node 1 and node 2, response%plastic_rotation the trial ones. No errors: the deck
+   !> guarantees a section (with κGA > 0 for a Timoshenko beam) and a nonzero length for every element.
+   pure subroutine element_response(model, e, u, transformation, response, plastic)
       type(model_t), intent(in) :: model
       integer, intent(in) :: e
       real(dp), intent(in) :: u(2*dofs_per_node)
       integer, intent(in) :: transformation
       type(element_response_t), intent(out) :: response
+      real(dp), intent(in), optional :: plastic(2)
       type(chord_t) :: chord
-      real(dp) :: deformation(3), basic_stiffness(3, 3), end_forces(4)
+      real(dp) :: deformation(3), basic_stiffness(3, 3), end_forces(4), committed(2)
       type(end_joint_t) :: joints(2)
 
       call transform_deformations(transformation, element_coordinates(model, e), u, chord, deformation)
@@ -73,7 +80,14 @@ contains
             call truss_basic_response(chord%initial_length, section%ea, deformation, response%basic_force, &
                                       basic_stiffness)
          case (element_timoshenko)
-            if (has_joints(joints)) then
+            if (has_moment_limit(joints)) then
+               committed = 0.0_dp
+               if (present(plastic)) committed = plastic
+               call plastic_joint_response(section%ea/chord%initial_length, &
+                                           beam_bending_flexibility(chord%initial_length, section%ei, section%gas), &
+                                           joints, deformation, committed, response%basic_force, basic_stiffness, &
+                                           response%plastic_rotation)
+            else if (has_joints(joints)) then
                call jointed_basic_response(section%ea/chord%initial_length, &
                                            beam_bending_flexibility(chord%initial_length, section%ei, section%gas), &
                                            joints, deformation, response%basic_force, basic_stiffness)
@@ -82,7 +96,14 @@ contains
                                               deformation, response%basic_force, basic_stiffness)
             end if
          case default
-            if (has_joints(joints)) then
+            if (has_moment_limit(joints)) then
+               committed = 0.0_dp
+               if (present(plastic)) committed = plastic
+               call plastic_joint_response(section%ea/chord%initial_length, &
+                                           beam_bending_flexibility(chord%initial_length, section%ei, 0.0_dp), &
+                                           joints, deformation, committed, response%basic_force, basic_stiffness, &
+                                           response%plastic_rotation)
+            else if (has_joints(joints)) then
                call jointed_basic_response(section%ea/chord%initial_length, &
                                            beam_bending_flexibility(chord%initial_length, section%ei, 0.0_dp), &
                                            joints, deformation, response%basic_force, basic_stiffness)

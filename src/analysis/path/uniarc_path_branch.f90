@@ -20,7 +20,7 @@ module uniarc_path_branch
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
-                                masked_norm, nodal_displacements
+                                masked_norm, nodal_displacements, commit_joint_state
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -87,6 +87,7 @@ contains
       critical%u = state%bifurcation%u
       critical%active = state%bifurcation%active
       critical%lambda = state%bifurcation%lambda
+      if (allocated(state%bifurcation%joint_plastic)) critical%joint_plastic = state%bifurcation%joint_plastic
       system%holds_committed = .false.
       system%holds_converged = .false.
       ! φ without reactions, orthogonal to the primary path, unit, signed.
@@ -127,6 +128,7 @@ contains
       state%last_increment = trial%increment
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
       state%step_length = xi
+      call commit_joint_state(model, state)
       call commit_tangent(model, state, system, .false., error)
       if (allocated(error)) then
          call move_alloc(system, state%system)

@@ -17,7 +17,7 @@ module uniarc_path_locate
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, control_arclength
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                bifurcation_state_t
+                                bifurcation_state_t, commit_joint_state
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -198,6 +198,7 @@ contains
          after%bifurcation%position = before%point%step + after%point%bifurcation_fraction
          after%bifurcation%s = near%point%s
          after%bifurcation%liftoff = near%point%liftoff
+         if (allocated(near%joint_plastic)) after%bifurcation%joint_plastic = near%joint_plastic
          if (near%point%liftoff .and. allocated(near%liftoff_mode)) then
             after%bifurcation%mode = near%liftoff_mode
          else if (allocated(near%eigenvector)) then
@@ -226,6 +227,7 @@ contains
          state%active = trial%active
          state%last_increment = trial%increment
          state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+         call commit_joint_state(model, state)
          call commit_tangent(model, state, system, .false., commit_error)
          if (allocated(commit_error)) then
             ok = .false.

@@ -13,7 +13,9 @@
 module uniarc_path_state
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
+   use uniarc_strings, only: integer_to_string
+   use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
@@ -22,6 +24,7 @@ module uniarc_path_state
    implicit none
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
+   public :: commit_joint_state, yielded_joints
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
 
@@ -67,6 +70,7 @@ module uniarc_path_state
       !> (the mode on the admissible cone, docs/theory.md §2.2)
       real(dp), allocatable :: mode(:)
       logical :: liftoff = .false.
+      real(dp), allocatable :: joint_plastic(:, :)  !< (2, n_elements) its joints' plastic rotations
    end type bifurcation_state_t
 
    !> The system of equations the steps work in: the augmented tangent K_T in band storage (n × n,
@@ -96,6 +100,10 @@ module uniarc_path_state
       real(dp), allocatable :: u(:)             !< committed unknowns: displacements and reactions
       logical, allocatable :: active(:)         !< committed working set of contact candidates
       real(dp), allocatable :: reactions(:)     !< committed reaction of every candidate (0 out of the set)
+      !> (2, n_elements) committed plastic rotations (radian) of the joints with a moment limit at node 1
+      !> and node 2 of every element (uniarc_joint_plasticity), the history an attempt starts from;
+      !> unallocated when no joint has a limit.
+      real(dp), allocatable :: joint_plastic(:, :)
       real(dp) :: lambda = 0.0_dp
       real(dp), allocatable :: fixed_load(:)    !< u-independent part of the reference load R_r
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
@@ -193,14 +201,53 @@ contains
       real(dp), intent(in) :: nodal(:, :)
       real(dp), intent(out) :: internal(:), reference(:), element_scale
       real(dp), intent(out), optional :: roundoff
-      call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
-                                internal, reference, element_scale, roundoff)
+      if (allocated(state%joint_plastic)) then
+         call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
+                                   internal, reference, element_scale, roundoff, state%joint_plastic)
+      else
+         call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
+                                   internal, reference, element_scale, roundoff)
+      end if
       if (size(state%map%candidate_equation) > 0) then
          call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
                                system%tangent, internal)
       end if
       if (allocated(state%floating_equation)) call hold_floating(model, state, active, nodal, system%tangent)
+      if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent)
    end subroutine equilibrium_at
+
+   !> A node whose every element end is a joint at its moment limit (`*RELEASE, MY=` on all the ends that
+   !> meet there) has, at that state, no rotational stiffness: the joints pass their moments ±MY whatever
+   !> it turns, its row of K_T is zero and its rotation is indeterminate — not a mechanism of the
+   !> structure. As hold_floating does for a free rigid motion, its rotation is held in the tangent only,
+   !> by a spring of the stiffness k of its stiffest joint: the residual is untouched, so the correction
+   !> of the rotation is the node's moment residual over k — zero when the joints' moments balance there
+   !> (exactly, as they are ±MY), and an equilibrium that cannot be met (a moment on the node beyond what
+   !> the joints pass) stays a failed step.
+   subroutine hold_yielded_nodes(model, map, tangent)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp) :: stiffness(model%n_nodes)
+      type(end_joint_t) :: joints(2)
+      integer :: e, i, node, j
+      stiffness = 0.0_dp
+      do e = 1, model%n_elements
+         joints = end_joints_of(model, e)
+         do i = 1, 2
+            if (.not. joints(i)%moment_limit > 0.0_dp) cycle
+            node = model%connectivity(i, e)
+            stiffness(node) = max(stiffness(node), 1.0_dp/joints(i)%compliance)
+         end do
+      end do
+      do node = 1, model%n_nodes
+         if (.not. stiffness(node) > 0.0_dp) cycle
+         j = map%equation(dof_rz, node)
+         if (j == 0) cycle
+         if (band_get(tangent, j, j) /= 0.0_dp) cycle
+         call band_add(tangent, j, j, stiffness(node))
+      end do
+   end subroutine hold_yielded_nodes
 
    !> The tangent of a structure held only by its contacts, where the working set `active` does not
    !> hold one of its free rigid motions v (no candidate of the set has a_cᵀv ≠ 0 at its node): the
@@ -243,6 +290,60 @@ contains
          call band_add(tangent, j, j, diagonal)
       end do
    end subroutine hold_floating
+
+   !> Commit the joints' history at the state's unknowns `state%u` (the converged state of a step,
+   !> just committed): the plastic rotations of the return mapping from the committed ones
+   !> (uniarc_joint_plasticity), as OpenSees' commitState stores a material's trial state. Nothing
+   !> without joints with a moment limit (state%joint_plastic unallocated).
+   subroutine commit_joint_state(model, state)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), allocatable :: nodal(:, :)
+      type(element_response_t) :: response
+      type(end_joint_t) :: joints(2)
+      integer :: e
+      if (.not. allocated(state%joint_plastic)) return
+      call nodal_displacements(model, state, nodal)
+      do e = 1, model%n_elements
+         joints = end_joints_of(model, e)
+         if (.not. any(joints%moment_limit > 0.0_dp)) cycle
+         call element_response(model, e, element_displacements(model, e, nodal), transformation_corotational, &
+                               response, state%joint_plastic(:, e))
+         state%joint_plastic(:, e) = response%plastic_rotation
+      end do
+   end subroutine commit_joint_state
+
+   !> The joints at their moment limit at the committed state (count), and the labels of the elements
+   !> they belong to, for the message of a path that ends in a mechanism of yielded joints.
+   subroutine yielded_joints(model, state, count, labels)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      integer, intent(out) :: count
+      character(len=:), allocatable, intent(out) :: labels
+      real(dp), allocatable :: nodal(:, :)
+      type(element_response_t) :: response
+      type(end_joint_t) :: joints(2)
+      integer :: e, i
+      count = 0
+      labels = ''
+      if (.not. allocated(state%joint_plastic)) return
+      call nodal_displacements(model, state, nodal)
+      do e = 1, model%n_elements
+         joints = end_joints_of(model, e)
+         if (.not. any(joints%moment_limit > 0.0_dp)) cycle
+         call element_response(model, e, element_displacements(model, e, nodal), transformation_corotational, &
+                               response, state%joint_plastic(:, e))
+         do i = 1, 2
+            if (.not. joints(i)%moment_limit > 0.0_dp) cycle
+            if (abs(response%basic_force(1 + i)) < (1.0_dp - 1.0e-6_dp)*joints(i)%moment_limit) cycle
+            count = count + 1
+            if (count > 8) cycle
+            if (count > 1) labels = labels//', '
+            labels = labels//'element '//integer_to_string(model%element_label(e))//' end '//integer_to_string(i)
+         end do
+      end do
+      if (count > 8) labels = labels//', ...'
+   end subroutine yielded_joints
 
    !> The reaction unknowns of x, one per candidate (0 for inert ones).
    pure function candidate_values(map, x) result(values)
