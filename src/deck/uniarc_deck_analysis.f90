@@ -250,6 +250,14 @@ contains
       type(error_t), allocatable, intent(out) :: error
       select case (key)
       case ('INCREMENT')
+         ! As loads and stiffnesses are (uniarc_deck_loads, uniarc_deck_mesh): a first step beyond 1e100
+         ! times the reference load overflows the corotational kinematics in double precision.
+         if (.not. abs(value) <= 1.0e100_dp) then
+            call raise(source, line, value_column, 'expected an increment at most 1e100 in magnitude '// &
+                       '(larger steps overflow the equations in double precision: rescale the loads), found '// &
+                       real_to_string(value), error)
+            return
+         end if
          analysis%first_increment = value
          return
       case ('STOP_VALUE')

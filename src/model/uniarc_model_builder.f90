@@ -309,11 +309,11 @@ contains
       builder%fixed(:, node) = builder%fixed(:, node) .and. .not. held
    end subroutine remove_support
 
-   !> The DOFs held so far (dofs_per_node, n_nodes).
+   !> The DOFs held so far (dofs_per_node, n_nodes; none before the first node).
    pure function supports(builder) result(fixed)
       type(model_builder_t), intent(in) :: builder
       logical :: fixed(dofs_per_node, builder%n_nodes)
-      fixed = builder%fixed(:, 1:builder%n_nodes)
+      if (builder%n_nodes > 0) fixed = builder%fixed(:, 1:builder%n_nodes)
    end function supports
 
    !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
