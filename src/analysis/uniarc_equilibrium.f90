@@ -6,6 +6,12 @@
 !>   g(u, λ) = H(u) + λ R(u) − F(u),   K_T = ∂F/∂u − ∂H/∂u − λ ∂R/∂u,
 !> H = Σ_j λ_j R_j(u) the held patterns (model%held); H is assembled into F with its sign reversed, so
 !> that every caller keeps reading g = λ R − F.
+!>
+!> Prescribed displacements of held DOFs (support settlements, uniarc_model_steps prescribed_at): the
+!> held DOFs have no equation; they are displaced by ū(λ) = λ ū + Σ_j λ_j ū_j, so that F = F(u_f, ū(λ))
+!> and ∂g/∂λ = R − K_fp ū (K_fp the tangent's columns of the held DOFs). So that the path following
+!> (which takes R as ∂g/∂λ) stays consistent, −K_fp ū is added to R and λ times it to F: g is unchanged,
+!> and K_T too (the derivatives of the two additions cancel) (docs/theory.md §2.9).
 module uniarc_equilibrium
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, dofs_per_node, load_pressure, load_fixed_direction, load_pattern_t
@@ -17,6 +23,7 @@ module uniarc_equilibrium
    use uniarc_corotational, only: follower_pressure
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element_loads, only: thermal_load_vector
+   use uniarc_model_steps, only: prescribed_at, has_prescribed
    implicit none
    private
    public :: assemble_equilibrium
@@ -48,16 +55,22 @@ contains
       real(dp), intent(out), optional :: roundoff
       real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node)
-      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
+      real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), rate(2*dofs_per_node)
       type(element_response_t) :: response
       integer :: e, i
+      real(dp), allocatable :: total(:, :)
+      logical :: moving
+      ! The displacements of every DOF: the free ones given, the held ones prescribed (module header).
+      moving = has_prescribed(model)
+      total = displacement
+      if (moving) total = total + prescribed_at(model, lambda)
       call band_zero(tangent)
       internal = 0.0_dp
       reference = fixed_load
       force_scale = 0.0_dp
       position_noise = 0.0_dp
       do e = 1, model%n_elements
-         u = element_displacements(model, e, displacement)
+         u = element_displacements(model, e, total)
          if (present(joint_plastic)) then
             call element_response(model, e, u, transformation_corotational, response, joint_plastic(:, e))
          else
@@ -65,6 +78,15 @@ contains
          end if
          call band_add_element(tangent, element_equations(model, map, e), response%tangent)
          call scatter_add(element_equations(model, map, e), response%internal_force, internal)
+         if (moving .and. allocated(model%prescribed)) then
+            ! −K_e ū_e of the step's own prescribed pattern: R += it, F += λ times it (module header).
+            rate = element_displacements(model, e, model%prescribed)
+            if (any(rate /= 0.0_dp)) then
+               f = -matmul(response%tangent, rate)
+               call scatter_add(element_equations(model, map, e), f, reference)
+               call scatter_add(element_equations(model, map, e), lambda*f, internal)
+            end if
+         end if
          force_scale = force_scale + dot_product(response%internal_force, response%internal_force)
          x = element_coordinates(model, e)
          position_noise = position_noise + (element_stiffness_scale(model, e) &
@@ -75,7 +97,7 @@ contains
       if (allocated(model%thermal_loads)) then
          do i = 1, size(model%thermal_loads)
             e = model%thermal_loads(i)%element
-            call thermal_load_vector(model, model%thermal_loads(i), element_displacements(model, e, displacement), &
+            call thermal_load_vector(model, model%thermal_loads(i), element_displacements(model, e, total), &
                                      transformation_corotational, f, k)
             call scatter_add(element_equations(model, map, e), f, reference)
             call band_add_element(tangent, element_equations(model, map, e), lambda*k)
@@ -83,7 +105,7 @@ contains
       end if
       if (allocated(model%held)) then
          do i = 1, size(model%held)
-            call subtract_held_pattern(model, map, model%held(i), displacement, tangent, internal)
+            call subtract_held_pattern(model, map, model%held(i), total, tangent, internal)
          end do
       end if
       if (.not. allocated(model%distributed_loads)) return
@@ -91,7 +113,7 @@ contains
          associate (dload => model%distributed_loads(i))
             if (dload%kind /= load_pressure .or. .not. dload%follower) cycle
             e = dload%element
-            call follower_pressure(element_coordinates(model, e), element_displacements(model, e, displacement), &
+            call follower_pressure(element_coordinates(model, e), element_displacements(model, e, total), &
                                    dload%pressure, f, k)
             call scatter_add(element_equations(model, map, e), f, reference)
             call band_add_element(tangent, element_equations(model, map, e), lambda*k)

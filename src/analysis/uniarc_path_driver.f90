@@ -18,7 +18,7 @@
 !> reason): |λ| >= lambda_max; |tracked value| >= its limit; the step number reaches max_steps.
 module uniarc_path_driver
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input, error_internal
+   use uniarc_error, only: error_t, make_error, error_input, error_internal, error_analysis
    use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
@@ -26,6 +26,9 @@ module uniarc_path_driver
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
    use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
+   use uniarc_model_steps, only: prescribed_at, has_prescribed
+   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_band, only: band_allocate
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -105,6 +108,7 @@ contains
       call path_initialize(model, driver%state, error)
       if (allocated(error)) return
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%stop = stop_none
       driver%started = .true.
@@ -133,12 +137,20 @@ contains
                          integer_to_string(size(driver%tracked))//' tracks of the model', error_input)
          return
       end if
+      if (any(model%fixed .neqv. driver%state%map%equation == 0)) then
+         call renumber_supports(model, driver, error)
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            return
+         end if
+      end if
       call path_restart(model, driver%state, error)
       if (allocated(error)) then
          driver%stop = stop_failure
          return
       end if
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%step_offset = driver%state%point%step
       driver%stop = stop_none
@@ -178,6 +190,7 @@ contains
          return
       end if
       call nodal_displacements(model, driver%state, driver%displacement)
+      call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
@@ -200,11 +213,72 @@ contains
          ! The switch's tracked values: those of the state at the bifurcation it left from.
          allocate (nodal_switch, mold=driver%displacement)
          call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_switch)
+         call add_prescribed(model, driver%state%point%switch_lambda, nodal_switch)
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
       outcome%stop = driver%stop
    end subroutine driver_step
+
+   !> The committed state in the equations of `model`, whose supports differ from those it was numbered
+   !> for (an analysis step that adds or removes supports, docs/theory.md §2.10): a new equation
+   !> numbering; the unknowns of the free DOFs from the displacements at the committed state
+   !> (`driver%displacement`, every DOF's, so that a released DOF starts where its support held it),
+   !> the candidates' reactions carried over; the band matrices for the new numbering (path_restart
+   !> assembles them), the warm starts of the eigenvalue iterations and a located bifurcation dropped.
+   !> Errors (error_analysis): a structure held only by its contacts (its floating motions were found
+   !> for the first supports, docs/theory.md §2.8); a band matrix that does not fit (error_input).
+   subroutine renumber_supports(model, driver, error)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(inout) :: driver
+      type(error_t), allocatable, intent(out) :: error
+      type(dof_map_t) :: map
+      real(dp), allocatable :: x(:)
+      integer :: i, k, c, n
+      associate (state => driver%state)
+         if (allocated(state%floating_equation)) then
+            call make_error(error, 'supports changed between analysis steps of a structure held only by its '// &
+                            'contacts (a rigid motion that only the contacts hold): not supported', error_analysis)
+            return
+         end if
+         call build_dof_map(model, map)
+         n = map%n_equations
+         allocate (x(n), source=0.0_dp)
+         do i = 1, model%n_nodes
+            do k = 1, size(map%equation, 1)
+               if (map%equation(k, i) > 0) x(map%equation(k, i)) = driver%displacement(k, i)
+            end do
+         end do
+         do c = 1, size(map%candidate_equation)
+            if (map%candidate_equation(c) > 0 .and. state%map%candidate_equation(c) > 0) &
+               x(map%candidate_equation(c)) = state%u(state%map%candidate_equation(c))
+         end do
+         call move_alloc(x, state%u)
+         state%map = map
+         deallocate (state%last_increment, state%fixed_load)
+         allocate (state%last_increment(n), state%fixed_load(n), source=0.0_dp)
+         if (allocated(state%eigenvector)) deallocate (state%eigenvector)
+         if (allocated(state%liftoff_mode)) deallocate (state%liftoff_mode)
+         if (allocated(state%bifurcation)) deallocate (state%bifurcation)
+         state%switch_due = .false.
+         call band_allocate(state%system%tangent, n, map%half_bandwidth, map%half_bandwidth, error)
+         if (allocated(error)) return
+         call band_allocate(state%system%assembled, n, map%half_bandwidth, map%half_bandwidth, error)
+         if (allocated(error)) return
+         state%system%holds_committed = .false.
+         state%system%holds_converged = .false.
+      end associate
+   end subroutine renumber_supports
+
+   !> nodal (dofs_per_node, n_nodes) += the prescribed displacements of the held DOFs at λ (support
+   !> settlements; uniarc_model_steps prescribed_at): the displacements of every DOF, for the tracks
+   !> and the result files. Untouched when the model prescribes none.
+   pure subroutine add_prescribed(model, lambda, nodal)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: lambda
+      real(dp), intent(inout) :: nodal(:, :)
+      if (has_prescribed(model)) nodal = nodal + prescribed_at(model, lambda)
+   end subroutine add_prescribed
 
    !> The first stop rule that holds at a converged point (step, λ, tracked values), or stop_none.
    pure integer function stop_reason(rules, step, lambda, tracked) result(reason)

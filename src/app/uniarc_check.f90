@@ -223,6 +223,9 @@ contains
          held_dofs = count(model%fixed)
       end if
       call line('supports', counted(held_nodes, 'node')//', '//counted(held_dofs, 'DOF')//' held')
+      if (allocated(model%prescribed)) call line('prescribed', 'displacements of '// &
+                                                 counted(count(model%prescribed /= 0.0_dp), 'held DOF')// &
+                                                 ' (support settlements, times lambda)')
       total = 0.0_dp
       loaded_nodes = 0
       if (allocated(model%nodal_load)) then

@@ -10,7 +10,8 @@ module uniarc_run
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, &
                                  driver_next_analysis_step
-   use uniarc_model_steps, only: n_analysis_steps, step_model
+   use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
+   use uniarc_support_reactions, only: support_reactions, prescribed_force
    use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_contact_plastic, only: has_plastic
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
@@ -142,7 +143,8 @@ contains
                   trim(merge('*STATIC', '*PATH  ', step%analysis%kind == analysis_linear))//', loads on '// &
                   integer_to_string(count(any(step%loads%nodal_load /= 0.0_dp, dim=1)))//' nodes, '// &
                   integer_to_string(size(step%loads%distributed_loads))//' element loads, '// &
-                  integer_to_string(size(step%loads%thermal_loads))//' temperature changes'
+                  integer_to_string(size(step%loads%thermal_loads))//' temperature changes'// &
+                  trim(support_changes(model, k))
             end associate
          end do
       end if
@@ -165,7 +167,7 @@ contains
       type(error_t), allocatable :: io_error
       type(contact_summary_t) :: summary
       logical, allocatable :: active(:)
-      real(dp), allocatable :: end_lambda(:)
+      real(dp), allocatable :: end_lambda(:), reactions(:, :)
       integer :: k, n_steps
       n_steps = n_analysis_steps(model)
       allocate (records(n_steps))
@@ -186,6 +188,11 @@ contains
             record%s_contact = summary%s_contact
             record%reaction_max = summary%reaction_max
             record%reaction_sum = summary%reaction_sum
+            if (has_prescribed(model)) then
+               call support_reactions(step_model(model, k, end_lambda), record%displacement, 1.0_dp, .true., &
+                                      reactions)
+               record%prescribed_force = prescribed_force(step_model(model, k, end_lambda), reactions)
+            end if
             if (.not. finite_record(record)) then
                call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large '// &
                                'for the stiffnesses, or the stiffness matrix is singular or badly scaled; no result '// &
@@ -240,7 +247,7 @@ contains
       type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       type(model_t) :: stepped
-      real(dp), allocatable :: end_lambda(:)
+      real(dp), allocatable :: end_lambda(:), reactions(:, :)
       integer(int64) :: clock_start, clock_now, clock_rate, clock_last
       integer :: k, n_critical, n_contact_events, k_step, n_steps
       logical :: done
@@ -257,7 +264,7 @@ contains
       end if
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
-      call record_state(model, driver, record)
+      call record_state(model, stepped, driver, record)
       record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
@@ -272,7 +279,7 @@ contains
             call driver_step(stepped, driver, outcome, error)
             if (allocated(error)) exit
             last_written = record
-            call record_state(model, driver, record)
+            call record_state(model, stepped, driver, record)
             record%analysis_step = k_step
             if (.not. finite_record(record)) then
                call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
@@ -337,13 +344,24 @@ contains
             if (allocated(io_error)) exit
          end if
          k_step = k_step + 1
-         stepped = step_model(model, k_step, end_lambda)
+         if (allocated(model%steps(k_step)%fixed)) then
+            ! The forces of the supports where the step begins, for those it removes (step_model).
+            if (allocated(driver%state%joint_plastic)) then
+               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions, &
+                                      driver%state%joint_plastic)
+            else
+               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions)
+            end if
+            stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
+         else
+            stepped = step_model(model, k_step, end_lambda)
+         end if
          call driver_next_analysis_step(stepped, driver, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         call record_state(model, driver, record)
+         call record_state(model, stepped, driver, record)
          record%analysis_step = k_step
          call write_path_row(files, model, record, io_error)
       end do
@@ -442,12 +460,37 @@ contains
       call move_alloc(io_error, error)
    end subroutine conclude_outputs
 
-   !> The committed state of the path as a row of the result files.
-   subroutine record_state(model, driver, record)
+   !> What analysis step k changes of the supports, for the --check summary: ', N DOFs held from
+   !> here, N released, N moved' (the counts that are not zero), or ''.
+   pure function support_changes(model, k) result(text)
       type(model_t), intent(in) :: model
+      integer, intent(in) :: k
+      character(len=:), allocatable :: text
+      integer :: added, released, moved
+      text = ''
+      added = 0
+      released = 0
+      moved = 0
+      if (allocated(model%steps(k)%fixed) .and. k > 1) then
+         if (allocated(model%steps(k - 1)%fixed)) then
+            added = count(model%steps(k)%fixed .and. .not. model%steps(k - 1)%fixed)
+            released = count(model%steps(k - 1)%fixed .and. .not. model%steps(k)%fixed)
+         end if
+      end if
+      if (allocated(model%steps(k)%loads%prescribed)) moved = count(model%steps(k)%loads%prescribed /= 0.0_dp)
+      if (added > 0) text = text//', '//counted(added, 'DOF')//' held from here'
+      if (released > 0) text = text//', '//counted(released, 'DOF')//' released'
+      if (moved > 0) text = text//', '//counted(moved, 'DOF')//' moved'
+   end function support_changes
+
+   !> The committed state of the path as a row of the result files (`stepped`: the model of the
+   !> analysis step traced, uniarc_model_steps; it has the prescribed displacements of the step).
+   subroutine record_state(model, stepped, driver, record)
+      type(model_t), intent(in) :: model, stepped
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
       type(contact_summary_t) :: summary
+      real(dp), allocatable :: reactions(:, :)
       associate (state => driver%state)
          record%displacement = driver%displacement
          record%step = state%point%step
@@ -471,6 +514,15 @@ contains
       record%s_contact = summary%s_contact
       record%reaction_max = summary%reaction_max
       record%reaction_sum = summary%reaction_sum
+      if (has_prescribed(model)) then
+         if (allocated(driver%state%joint_plastic)) then
+            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions, &
+                                   driver%state%joint_plastic)
+         else
+            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions)
+         end if
+         record%prescribed_force = prescribed_force(stepped, reactions)
+      end if
    end subroutine record_state
 
    !> Which stop rule ended the path, with the limit that was met, for the closing message.
@@ -521,7 +573,7 @@ contains
       finite_record = abs(record%lambda) <= huge(1.0_dp) .and. all(abs(record%displacement) <= huge(1.0_dp))
       if (allocated(record%reactions)) finite_record = finite_record .and. all(abs(record%reactions) <= huge(1.0_dp))
       finite_record = finite_record .and. abs(record%reaction_max) <= huge(1.0_dp) .and. &
-                      abs(record%reaction_sum) <= huge(1.0_dp)
+                      abs(record%reaction_sum) <= huge(1.0_dp) .and. abs(record%prescribed_force) <= huge(1.0_dp)
    end function finite_record
 
    !> The progress line of a step on stderr: the step, λ, Newton iterations, contacts, negative pivots,

@@ -22,7 +22,8 @@ module uniarc_deck
    use uniarc_deck_state, only: parameter_override_t, deck_t
    use uniarc_deck_mesh, only: read_section, read_node, read_element, read_generator, read_node_set, &
                                read_element_set
-   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
+   use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature, &
+                                check_prescribed_nodes
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
    use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps
@@ -72,6 +73,8 @@ contains
       if (allocated(error)) return
       call check_whole_deck(source, deck, error)
       if (allocated(error)) return
+      call check_prescribed_nodes(source, deck, error)
+      if (allocated(error)) return
       call finish_model(deck%model, model, error, origin=source%path)
       if (allocated(error)) then
          if (index(error%message, 'the model does not fit in memory') == 1) call add_context(error, path)
@@ -80,6 +83,7 @@ contains
       if (deck%n_steps > 0) then
          model%steps = deck%steps(1:deck%n_steps)
          model%analysis = model%steps(1)%analysis
+         model%fixed = model%steps(1)%fixed   ! the supports of the first step (the builder's: the last's)
       end if
    end subroutine read_deck
 

@@ -9,7 +9,7 @@ module uniarc_deck_analysis
    use uniarc_model, only: analysis_options_t, dof_ux, dof_uy, dof_rz, analysis_nonlinear, control_load, &
                            control_displacement, control_arclength, iteration_chan, iteration_cylindrical, &
                            iteration_riks
-   use uniarc_model_builder, only: add_track, has_prescribed_displacements
+   use uniarc_model_builder, only: add_track
    use uniarc_deck_state, only: deck_t, option_field, resolve_nodes
    implicit none
    private
@@ -112,12 +112,6 @@ contains
       if (allocated(error)) return
       call require_analysis_once(source, card, deck, error)
       if (allocated(error)) return
-      ! Support settlements (*BOUNDARY with a value) are in the linear analysis only so far (issue 13).
-      if (has_prescribed_displacements(deck%model)) then
-         call raise(source, card%line, 1, 'expected *STATIC with prescribed displacements (*BOUNDARY with a '// &
-                    'value: support settlements are in the linear analysis so far), found *PATH', error)
-         return
-      end if
       deck%model%analysis%kind = analysis_nonlinear
       k = option_index(card, 'CONTROL')
       if (k > 0) then
@@ -256,6 +250,14 @@ contains
       type(error_t), allocatable, intent(out) :: error
       select case (key)
       case ('INCREMENT')
+         ! As loads and stiffnesses are (uniarc_deck_loads, uniarc_deck_mesh): a first step beyond 1e100
+         ! times the reference load overflows the corotational kinematics in double precision.
+         if (.not. abs(value) <= 1.0e100_dp) then
+            call raise(source, line, value_column, 'expected an increment at most 1e100 in magnitude '// &
+                       '(larger steps overflow the equations in double precision: rescale the loads), found '// &
+                       real_to_string(value), error)
+            return
+         end if
          analysis%first_increment = value
          return
       case ('STOP_VALUE')

@@ -8,32 +8,44 @@ module uniarc_deck_loads
    use uniarc_expression, only: find_parameter, parameter_table_t, set_parameter, sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
-   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss, analysis_nonlinear
+   use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
    use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds, &
-                                   add_thermal_load, add_prescribed_displacement
+                                   add_thermal_load, add_prescribed_displacement, remove_support
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
+   use uniarc_growth, only: grow_integers
    implicit none
    private
    public :: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
+   public :: check_prescribed_nodes
 
 contains
 
-   !> *BOUNDARY: lines `target, type` with a named type, or `target, first_dof [, last_dof [, value]]`;
-   !> a value prescribes the displacement of the held DOFs (a support settlement, scaled by λ; *STATIC
-   !> only).
+   !> *BOUNDARY [, REMOVE]: lines `target, type` with a named type, or `target, first_dof [, last_dof
+   !> [, value]]`; a value prescribes the displacement of the held DOFs (a support settlement, scaled by
+   !> λ like the loads, under *STATIC and *PATH). Inside a *STEP (nonlinear steps): the supports it
+   !> adds hold their DOFs where they are when the step begins, a value moves them from there, and
+   !> REMOVE (no values) releases held DOFs, whose reactions the step ramps down (docs/theory.md §2.10).
+   !> Outside the steps, a value in a deck with steps is a load outside them (refused at *STEP).
    subroutine read_boundary(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, k, line, first_dof, last_dof
-      logical :: held(3), named
+      integer :: i, j, k, line, first_dof, last_dof, c
+      logical :: held(3), named, remove
       real(dp) :: settlement
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
 
-      call check_options(source, card, [character(len=1) ::], error)
+      call check_options(source, card, [character(len=6) :: 'REMOVE'], error)
       if (allocated(error)) return
+      remove = option_index(card, 'REMOVE') > 0
+      if (remove .and. .not. deck%in_step) then
+         call raise(source, card%line, card%options(option_index(card, 'REMOVE'))%column, 'expected REMOVE '// &
+                    'inside a *STEP (a support is removed in an analysis step; before the steps, leave it out)', &
+                    error)
+         return
+      end if
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)
@@ -88,12 +100,12 @@ contains
                end if
             end if
             held(first_dof:last_dof) = .true.
+            if (size(fields) > 3 .and. remove) then
+               call raise(source, line, fields(4)%column, 'expected no value with REMOVE (a removed support '// &
+                          'is released, not moved), found '''//clip(fields(4)%text)//'''', error)
+               return
+            end if
             if (size(fields) > 3) then
-               if (deck%model%analysis%kind == analysis_nonlinear) then
-                  call raise(source, line, fields(4)%column, 'expected no prescribed displacement under *PATH '// &
-                             '(support settlements are in the linear analysis, *STATIC, so far)', error)
-                  return
-               end if
                call field_real(source, deck%parameters, line, fields(4), 'a prescribed displacement', settlement, &
                                error)
                if (allocated(error)) return
@@ -103,11 +115,42 @@ contains
                   do k = first_dof, last_dof
                      call add_prescribed_displacement(deck%model, nodes(j), k, settlement)
                   end do
+                  deck%n_prescribed = deck%n_prescribed + 1
+                  call grow_integers(deck%prescribed_node, deck%n_prescribed)
+                  call grow_integers(deck%prescribed_line, deck%n_prescribed)
+                  call grow_integers(deck%prescribed_column, deck%n_prescribed)
+                  deck%prescribed_node(deck%n_prescribed) = nodes(j)
+                  deck%prescribed_line(deck%n_prescribed) = line
+                  deck%prescribed_column(deck%n_prescribed) = fields(4)%column
                end do
+               if (.not. deck%in_step .and. deck%loose_load_line == 0) then
+                  deck%loose_load_line = line
+                  deck%loose_load_column = fields(4)%column
+               end if
             end if
          end if
          do j = 1, size(nodes)
-            call add_support(deck%model, nodes(j), held)
+            if (deck%in_step) then
+               ! A support changed in a step: the node may not be a contact candidate (its gap is
+               ! evaluated on the solved displacements, which do not include a held node's).
+               do c = 1, deck%model%n_contacts
+                  if (deck%model%contacts(c)%node /= nodes(j)) cycle
+                  call raise(source, line, fields(1)%column, 'expected no support changed in a step at node '// &
+                             integer_to_string(deck%model%node_label(nodes(j)))//', a contact candidate (its '// &
+                             'gap would not see the support''s displacement)', error)
+                  return
+               end do
+            end if
+            if (remove) then
+               if (.not. all(deck%model%fixed(:, nodes(j)) .or. .not. held)) then
+                  call raise(source, line, fields(2)%column, 'expected held DOFs to remove, found a free one '// &
+                             'at node '//integer_to_string(deck%model%node_label(nodes(j))), error)
+                  return
+               end if
+               call remove_support(deck%model, nodes(j), held)
+            else
+               call add_support(deck%model, nodes(j), held)
+            end if
          end do
       end do
    end subroutine read_boundary
@@ -199,7 +242,7 @@ contains
          call data_fields(source, line, fields)
          if (size(fields) >= 2) then
             if (to_upper(fields(2)%text) == 'WEIGHT') then
-               call require_field_count(source, line, fields, 3, 4, 'elset, WEIGHT, weight per length, angle', error)
+               call require_field_count(source, line, fields, 2, 4, 'elset, WEIGHT, weight per length, angle', error)
             else
                call require_field_count(source, line, fields, 3, 3, 'elset, type, value', error)
             end if
@@ -242,10 +285,16 @@ contains
             call set_parameter(table, 'y', position(2, j))
             call set_parameter(table, 's', position(3, j))
             call set_parameter(table, 'theta', position(4, j))
-            call field_real(source, table, line, fields(3), 'a load value', value, error)
-            if (allocated(error)) return
-            call check_magnitude(source, line, fields(3), value, error)
-            if (allocated(error)) return
+            if (load_type == 'WEIGHT' .and. section_default(fields, 3)) then
+               ! the section's weight (*SECTION, WEIGHT=, within 1e100 there)
+               call section_value(source, deck, line, fields, 3, elements(j), .true., value, error)
+               if (allocated(error)) return
+            else
+               call field_real(source, table, line, fields(3), 'a load value', value, error)
+               if (allocated(error)) return
+               call check_magnitude(source, line, fields(3), value, error)
+               if (allocated(error)) return
+            end if
             select case (load_type)
             case ('PX')
                call add_line_load(deck%model, elements(j), dof_ux, value)
@@ -328,7 +377,11 @@ contains
             call set_parameter(table, 'y', position(2, j))
             call set_parameter(table, 's', position(3, j))
             call set_parameter(table, 'theta', position(4, j))
-            call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+            if (section_default(fields, 2)) then
+               call section_value(source, deck, line, fields, 2, elements(j), .false., alpha, error)
+            else
+               call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+            end if
             if (allocated(error)) return
             call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error)
             if (allocated(error)) return
@@ -357,6 +410,67 @@ contains
          end do
       end do
    end subroutine read_temperature
+
+   !> Field k of a data line is absent or empty: its value is the section's (*SECTION, WEIGHT= or ALPHA=).
+   pure logical function section_default(fields, k)
+      type(field_t), intent(in) :: fields(:)
+      integer, intent(in) :: k
+      section_default = size(fields) < k
+      if (.not. section_default) section_default = len(fields(k)%text) == 0
+   end function section_default
+
+   !> The weight per unit length (`weight`) or the coefficient of thermal expansion of element
+   !> `element`'s section, for a load line whose field k is absent or empty; an error at that field (or
+   !> after the line) when the section gives none.
+   subroutine section_value(source, deck, line, fields, k, element, weight, value, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: line, k, element
+      type(field_t), intent(in) :: fields(:)
+      logical, intent(in) :: weight
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer :: column, s
+      logical :: given
+      s = deck%model%element_section(element)
+      if (weight) then
+         given = deck%model%sections(s)%has_weight
+         value = deck%model%sections(s)%weight
+      else
+         given = deck%model%sections(s)%has_alpha
+         value = deck%model%sections(s)%alpha
+      end if
+      if (given) return
+      if (size(fields) >= k) then
+         column = fields(k)%column
+      else
+         column = len_trim(source%lines(line)%text) + 1
+      end if
+      call raise(source, line, column, 'expected '//trim(merge('a weight per unit length          ', &
+                 'a coefficient of thermal expansion', weight))//' here or on the section of element '// &
+                 integer_to_string(deck%model%element_label(element))//' (*SECTION, NAME='// &
+                 deck%model%sections(s)%name//', '//trim(merge('WEIGHT=', 'ALPHA= ', weight))//'), found none', error)
+   end subroutine section_value
+
+   !> At the end of the deck: a node with a prescribed displacement may not be a contact candidate (its
+   !> gap is evaluated on the displacements the analysis solves for, which do not include the
+   !> prescribed ones): refused at the value's field.
+   subroutine check_prescribed_nodes(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, c
+      do i = 1, deck%n_prescribed
+         do c = 1, deck%model%n_contacts
+            if (deck%model%contacts(c)%node /= deck%prescribed_node(i)) cycle
+            call raise(source, deck%prescribed_line(i), deck%prescribed_column(i), 'expected no prescribed '// &
+                       'displacement at node '//integer_to_string(deck%model%node_label(deck%prescribed_node(i)))// &
+                       ', a contact candidate (its gap would not see the motion): prescribe the displacement '// &
+                       'of a node next to it', error)
+            return
+         end do
+      end do
+   end subroutine check_prescribed_nodes
 
    !> A load, temperature change or prescribed displacement beyond 1e100 in magnitude is refused at its
    !> field (file:line:col, exit code 2), as stiffnesses beyond 1e100 are (uniarc_deck_mesh): the

@@ -10,10 +10,11 @@ module uniarc_deck_mesh
                                  data_fields, require_field_count, field_real, field_integer
    use uniarc_model_builder, only: model_builder_t, add_section, add_element, add_to_node_set, add_to_element_set, &
                                    node_index, element_index, section_index, node_set_index, element_set_index, &
-                                  set_element_kind
+                                  set_element_kind, set_section_weight, set_section_alpha
    use uniarc_deck_element, only: read_element_type, check_element_section
    use uniarc_memory, only: memory_shortfall, model_memory_bytes, allocation_failure
-   use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements
+   use uniarc_deck_state, only: deck_t, add_deck_node, require_one_data_line, resolve_nodes, resolve_elements, &
+                                option_real
    implicit none
    private
    public :: read_section, read_node, read_element, read_generator, read_node_set, read_element_set
@@ -44,7 +45,8 @@ contains
       real(dp) :: stiffnesses(2)
       character(len=:), allocatable :: name, what
 
-      call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS'], error)
+      call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS', 'WEIGHT=', 'ALPHA='], &
+                         error)
       if (allocated(error)) return
       call require_option(source, card, 'NAME', name_option, error)
       if (allocated(error)) return
@@ -130,7 +132,43 @@ contains
       else
          call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3))
       end if
+      call read_section_loads(source, card, deck, error)
    end subroutine read_section
+
+   !> The options WEIGHT=w (weight per unit length, ≥ 0, at most 1e100) and ALPHA=a (coefficient of
+   !> thermal expansion) of *SECTION, for the section just added: *DLOAD WEIGHT and *TEMPERATURE take
+   !> them where their own field is absent or empty.
+   subroutine read_section_loads(source, card, deck, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: k
+      real(dp) :: value
+      k = option_index(card, 'WEIGHT')
+      if (k > 0) then
+         call option_real(source, card, deck, k, 'a weight per unit length', value, error)
+         if (allocated(error)) return
+         if (.not. (value >= 0.0_dp .and. value <= 1.0e100_dp)) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a weight per unit length '// &
+                       'from 0 to 1e100 (its direction is the angle of *DLOAD WEIGHT), found '// &
+                       real_to_string(value), error)
+            return
+         end if
+         call set_section_weight(deck%model, value)
+      end if
+      k = option_index(card, 'ALPHA')
+      if (k > 0) then
+         call option_real(source, card, deck, k, 'a coefficient of thermal expansion', value, error)
+         if (allocated(error)) return
+         if (.not. abs(value) <= 1.0e100_dp) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a coefficient of thermal '// &
+                       'expansion at most 1e100 in magnitude, found '//real_to_string(value), error)
+            return
+         end if
+         call set_section_alpha(deck%model, value)
+      end if
+   end subroutine read_section_loads
 
    !> *NODE [, NSET=name]: lines `label, x, y`.
    subroutine read_node(source, card, deck, error)

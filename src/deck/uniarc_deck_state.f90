@@ -52,6 +52,13 @@ module uniarc_deck_state
       integer :: loose_analysis_line = 0, loose_analysis_column = 0
       integer :: analysis_column = 0                  !< column of the analysis card of the open step
       integer :: imperfection_line = 0                !< line of the *IMPERFECTION card, 0 if none yet
+      !> Where each prescribed displacement (*BOUNDARY with a value) was given, node by node: checked
+      !> against the contact candidates at the end of the deck (uniarc_deck_loads, check_prescribed_nodes)
+      integer :: n_prescribed = 0
+      integer, allocatable :: prescribed_node(:), prescribed_line(:), prescribed_column(:)
+      !> The supports when the open step began, and where its first *BOUNDARY card is (0: none yet)
+      logical, allocatable :: step_start_fixed(:, :)
+      integer :: step_boundary_line = 0, step_boundary_column = 0
       !> where the first `*RELEASE, MY=` value is (a moment limit needs *PATH), 0 if none
       integer :: moment_limit_line = 0, moment_limit_column = 0
       !> where the first bearing limit QU= was given (*FOUNDATION, *SPRING), 0 if none: it needs *PATH

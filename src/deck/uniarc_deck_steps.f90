@@ -6,7 +6,8 @@
 !> step (take_loads), so that the next step starts without loads of its own; uniarc_model_steps then
 !> holds the earlier ones. The placement rules are checked card by card (`check_step_placement`), so
 !> that each message points at the card that breaks them:
-!> - inside a step only loads and one analysis card; no *STEP inside a step;
+!> - inside a step only loads, *BOUNDARY (supports added, removed with REMOVE, or moved: nonlinear
+!>   steps only) and one analysis card; no *STEP inside a step;
 !> - in a deck with steps, no load or analysis card outside them, and nothing after the last
 !>   *END STEP but further steps;
 !> - every step has a load, and the steps are all *STATIC or all *PATH.
@@ -16,7 +17,7 @@ module uniarc_deck_steps
    use uniarc_strings, only: integer_to_string, same_text
    use uniarc_deck_source, only: source_t, card_t, raise, check_options, option_index
    use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
-   use uniarc_model_builder, only: take_loads
+   use uniarc_model_builder, only: take_loads, supports
    use uniarc_deck_state, only: deck_t
    implicit none
    private
@@ -38,8 +39,16 @@ contains
       if (deck%in_step) then
          if (analysis .and. deck%analysis_line == 0) deck%analysis_column = card%column
          if (load .or. analysis) return
+         if (card%keyword == 'BOUNDARY') then
+            if (deck%step_boundary_line == 0) then
+               deck%step_boundary_line = card%line
+               deck%step_boundary_column = card%column
+            end if
+            return
+         end if
          call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE), '// &
-                    '*STATIC, *PATH or *END STEP in the step opened at line '//integer_to_string(deck%step_line)// &
+                    '*BOUNDARY, *STATIC, *PATH or *END STEP in the step opened at line '// &
+                    integer_to_string(deck%step_line)// &
                     ', found *'//card%keyword//' (the model comes before the first *STEP)', error)
       else if (deck%n_steps > 0) then
          if (load .or. analysis) then
@@ -105,6 +114,9 @@ contains
       deck%in_step = .true.
       deck%step_line = card%line
       deck%step_column = card%column
+      deck%step_start_fixed = supports(deck%model)
+      deck%step_boundary_line = 0
+      deck%step_boundary_column = 0
       ! Each step has its own analysis card (none: linear static) and stop track.
       deck%analysis_line = 0
       deck%analysis_column = 0
@@ -119,6 +131,7 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, line, column
+      logical :: released
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
       if (.not. deck%in_step) then
@@ -132,10 +145,14 @@ contains
       end if
       associate (step => deck%steps(deck%n_steps + 1))
          call take_loads(deck%model, step%loads)
+         step%fixed = supports(deck%model)
+         released = any(deck%step_start_fixed .and. .not. step%fixed)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
-             size(step%loads%thermal_loads) == 0) then
-            call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE) in '// &
-                       'the step opened at line '//integer_to_string(deck%step_line)//', found none', error)
+             size(step%loads%thermal_loads) == 0 .and. .not. allocated(step%loads%prescribed) .and. &
+             .not. released) then
+            call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE, a '// &
+                       'prescribed displacement or a support removed) in the step opened at line '// &
+                       integer_to_string(deck%step_line)//', found none', error)
             return
          end if
          if (allocated(deck%stop_track)) then
@@ -150,6 +167,15 @@ contains
             deallocate (deck%stop_track)
          end if
          step%analysis = deck%model%analysis
+         ! Supports change between nonlinear steps only: a linear static step solves all the loads so far
+         ! on one structure (superposition), which a support added or removed on the way would break.
+         if (step%analysis%kind == analysis_linear .and. any(deck%step_start_fixed .neqv. step%fixed)) then
+            call raise(source, deck%step_boundary_line, deck%step_boundary_column, 'expected supports '// &
+                       'changed in *PATH steps only: a *STATIC step solves the loads of every step so far '// &
+                       'on one structure (add the support before the first *STEP, or trace the steps '// &
+                       'with *PATH)', error)
+            return
+         end if
          if (deck%n_steps > 0) then
             if ((step%analysis%kind == analysis_linear) .neqv. (deck%steps(1)%analysis%kind == analysis_linear)) then
                line = deck%analysis_line

@@ -52,6 +52,11 @@ module uniarc_model
       real(dp) :: ea = 0.0_dp
       real(dp) :: ei = 0.0_dp
       real(dp) :: gas = 0.0_dp   !< shear stiffness κGA (force) of a Timoshenko beam; 0: none given
+      !> *SECTION, WEIGHT= and ALPHA=: the weight per unit length (force/length, for *DLOAD WEIGHT) and
+      !> the coefficient of thermal expansion (1/temperature, for *TEMPERATURE) of its elements
+      logical :: has_weight = .false., has_alpha = .false.
+      real(dp) :: weight = 0.0_dp
+      real(dp) :: alpha = 0.0_dp
    end type section_t
 
    !> The joint between an element end and its node (docs/input.md `*RELEASE`): rigid (the default), a
@@ -260,6 +265,9 @@ module uniarc_model
       real(dp), allocatable :: nodal_load(:, :)                  !< (3, n_nodes)
       type(distributed_load_t), allocatable :: distributed_loads(:)
       type(thermal_load_t), allocatable :: thermal_loads(:)
+      !> (3, n_nodes) prescribed displacements of held DOFs (*BOUNDARY with a value inside the step),
+      !> scaled like the loads; unallocated: none
+      real(dp), allocatable :: prescribed(:, :)
    end type load_pattern_t
 
    !> One analysis step of a deck with *STEP cards: its name, its own load pattern (scaled by the
@@ -268,6 +276,9 @@ module uniarc_model
       character(len=:), allocatable :: name
       type(load_pattern_t) :: loads
       type(analysis_options_t) :: analysis
+      !> (3, n_nodes) the DOFs held during the step (*BOUNDARY inside *STEP adds supports, *BOUNDARY,
+      !> REMOVE takes them away; docs/theory.md §2.10); unallocated: those of the model
+      logical, allocatable :: fixed(:, :)
    end type analysis_step_t
 
    !> The whole model.

@@ -43,6 +43,8 @@ module uniarc_model_builder
    public :: penetration_tolerance
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
+   public :: set_section_weight, set_section_alpha
+   public :: remove_support, supports
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
    !> of a node placed exactly on the surface stays far below it.
@@ -128,6 +130,24 @@ contains
       builder%sections(builder%n_sections)%gas = 0.0_dp
       if (present(gas)) builder%sections(builder%n_sections)%gas = gas
    end subroutine add_section
+
+   !> The weight per unit length `weight` (force/length, ≥ 0) of the elements of the last section added,
+   !> which *DLOAD WEIGHT takes when the card gives none.
+   pure subroutine set_section_weight(builder, weight)
+      type(model_builder_t), intent(inout) :: builder
+      real(dp), intent(in) :: weight
+      builder%sections(builder%n_sections)%has_weight = .true.
+      builder%sections(builder%n_sections)%weight = weight
+   end subroutine set_section_weight
+
+   !> The coefficient of thermal expansion `alpha` (1/temperature) of the elements of the last section
+   !> added, which *TEMPERATURE takes when the card gives none.
+   pure subroutine set_section_alpha(builder, alpha)
+      type(model_builder_t), intent(inout) :: builder
+      real(dp), intent(in) :: alpha
+      builder%sections(builder%n_sections)%has_alpha = .true.
+      builder%sections(builder%n_sections)%alpha = alpha
+   end subroutine set_section_alpha
 
    !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
    !> and unloaded.
@@ -301,6 +321,21 @@ contains
       builder%fixed(:, node) = builder%fixed(:, node) .or. held
    end subroutine add_support
 
+   !> Release the DOFs `held` of `node` (an analysis step's *BOUNDARY, REMOVE): they are free from then on.
+   pure subroutine remove_support(builder, node, held)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: node
+      logical, intent(in) :: held(dofs_per_node)
+      builder%fixed(:, node) = builder%fixed(:, node) .and. .not. held
+   end subroutine remove_support
+
+   !> The DOFs held so far (dofs_per_node, n_nodes; none before the first node).
+   pure function supports(builder) result(fixed)
+      type(model_builder_t), intent(in) :: builder
+      logical :: fixed(dofs_per_node, builder%n_nodes)
+      if (builder%n_nodes > 0) fixed = builder%fixed(:, 1:builder%n_nodes)
+   end function supports
+
    !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
    pure subroutine add_nodal_load(builder, node, dof, value)
       type(model_builder_t), intent(inout) :: builder
@@ -381,11 +416,13 @@ contains
       has_prescribed_displacements = builder%n_prescribed > 0
    end function has_prescribed_displacements
 
-   !> Move the loads added so far (nodal, distributed, temperature changes) into `pattern` (an analysis
-   !> step's, *STEP) and start again without loads; the element's load records start afresh too.
+   !> Move the loads added so far (nodal, distributed, temperature changes, prescribed displacements) into
+   !> `pattern` (an analysis step's, *STEP) and start again without loads; the element's load records
+   !> start afresh too.
    pure subroutine take_loads(builder, pattern)
       type(model_builder_t), intent(inout) :: builder
       type(load_pattern_t), intent(out) :: pattern
+      integer :: i
       if (allocated(builder%nodal_load)) then
          pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
          builder%nodal_load = 0.0_dp
@@ -398,6 +435,14 @@ contains
       builder%n_loads = 0
       builder%n_thermal = 0
       if (allocated(builder%load_index)) builder%load_index = 0
+      if (builder%n_prescribed > 0) then
+         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), source=0.0_dp)
+         do i = 1, builder%n_prescribed
+            pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
+               pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
+         end do
+         builder%n_prescribed = 0
+      end if
    end subroutine take_loads
 
    !> The load record of `element` in `slot`, made if the element has none there yet.

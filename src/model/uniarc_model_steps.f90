@@ -9,12 +9,17 @@
 !> λ_j the load factor at which step j ended (as Abaqus and CalculiX keep the loads of earlier steps,
 !> Abaqus Analysis User's Guide, "Defining an analysis"; CalculiX CrunchiX User's Manual, *STEP).
 !> A deck without *STEP is one step, the model itself.
+!>
+!> Prescribed displacements (support settlements, *BOUNDARY with a value) are a pattern like the loads:
+!> those of step k scale with its λ, those of the earlier steps are held at λ_j times theirs
+!> (`prescribed_at`, docs/theory.md §2.9).
 module uniarc_model_steps
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, load_pattern_t, analysis_linear
+   use uniarc_model, only: model_t, load_pattern_t, analysis_linear, dofs_per_node
    implicit none
    private
    public :: n_analysis_steps, step_model
+   public :: prescribed_at, has_prescribed
 
 contains
 
@@ -34,16 +39,28 @@ contains
    !> and each ends at λ = 1) gets them added to its own loads instead, times end_lambda(j): its solution
    !> is that of all the loads so far, as superposition requires.
    !> A model without steps is returned as it is (k = 1).
-   function step_model(model, k, end_lambda) result(stepped)
+   !>
+   !> Supports that change at step k (`model%steps(k)%fixed`, nonlinear steps; docs/theory.md §2.10):
+   !> a DOF held from step k on is held where it was when the step began, `start_displacement`
+   !> (dofs_per_node, n_nodes; every DOF's), a pattern held at factor 1; a DOF released at step k
+   !> carries the force its support applied then, `start_reactions` (dofs_per_node, n_nodes,
+   !> uniarc_support_reactions), as a load held at factor 1 and the same load reversed in the step's own
+   !> pattern: the support's force is ramped down with λ and gone at λ = 1 (Abaqus Analysis User's
+   !> Guide, "Boundary conditions": a removed boundary condition's reaction is ramped down over the
+   !> step). The prescribed displacements of earlier steps at the released DOFs no longer act. Without
+   !> the two arrays (the first step, or a caller that does not change supports) nothing changes.
+   function step_model(model, k, end_lambda, start_displacement, start_reactions) result(stepped)
       type(model_t), intent(in) :: model
       integer, intent(in) :: k
       real(dp), intent(in) :: end_lambda(:)
+      real(dp), intent(in), optional :: start_displacement(:, :), start_reactions(:, :)
       type(model_t) :: stepped
       type(load_pattern_t), allocatable :: patterns(:)
       integer :: j
       stepped = model
       if (.not. allocated(model%steps)) return
       stepped%analysis = model%steps(k)%analysis
+      if (allocated(model%steps(k)%fixed)) stepped%fixed = model%steps(k)%fixed
       if (model%steps(k)%analysis%kind == analysis_linear) then
          allocate (patterns(k))
          do j = 1, k - 1
@@ -53,18 +70,52 @@ contains
          patterns(k) = model%steps(k)%loads
          patterns(k)%factor = 1.0_dp
          call merge_patterns(patterns, stepped)
+         call merge_prescribed(patterns, stepped)
          allocate (stepped%held(0))
       else
          stepped%nodal_load = model%steps(k)%loads%nodal_load
          stepped%distributed_loads = model%steps(k)%loads%distributed_loads
          stepped%thermal_loads = model%steps(k)%loads%thermal_loads
+         if (allocated(stepped%prescribed)) deallocate (stepped%prescribed)
+         if (allocated(model%steps(k)%loads%prescribed)) then
+            stepped%prescribed = model%steps(k)%loads%prescribed
+            where (.not. stepped%fixed) stepped%prescribed = 0.0_dp   ! released in the step
+         end if
          allocate (stepped%held(k - 1))
          do j = 1, k - 1
             stepped%held(j) = model%steps(j)%loads
             stepped%held(j)%factor = end_lambda(j)
+            if (allocated(stepped%held(j)%prescribed)) &
+               where (.not. stepped%fixed) stepped%held(j)%prescribed = 0.0_dp
          end do
+         if (k > 1 .and. present(start_displacement) .and. present(start_reactions)) &
+            call change_supports(model%steps(k - 1)%fixed, start_displacement, start_reactions, stepped)
       end if
    end function step_model
+
+   !> The supports of `stepped` against those of the step before, `before`: the held pattern of the
+   !> DOFs added (held where they are, `start_displacement`) and of the DOFs released (their supports'
+   !> forces `start_reactions`, held), and those forces reversed in the step's own loads (step_model).
+   pure subroutine change_supports(before, start_displacement, start_reactions, stepped)
+      logical, intent(in) :: before(:, :)
+      real(dp), intent(in) :: start_displacement(:, :), start_reactions(:, :)
+      type(model_t), intent(inout) :: stepped
+      type(load_pattern_t) :: change
+      logical :: added(dofs_per_node, stepped%n_nodes), released(dofs_per_node, stepped%n_nodes)
+      added = stepped%fixed .and. .not. before
+      released = before .and. .not. stepped%fixed
+      if (.not. (any(added) .or. any(released))) return
+      change%factor = 1.0_dp
+      allocate (change%nodal_load(dofs_per_node, stepped%n_nodes), source=0.0_dp)
+      allocate (change%distributed_loads(0), change%thermal_loads(0))
+      where (released) change%nodal_load = start_reactions
+      stepped%nodal_load = stepped%nodal_load - change%nodal_load
+      if (any(added)) then
+         allocate (change%prescribed(dofs_per_node, stepped%n_nodes), source=0.0_dp)
+         where (added) change%prescribed = start_displacement
+      end if
+      stepped%held = [stepped%held, change]
+   end subroutine change_supports
 
    !> The loads of `patterns`, each times its factor, as the reference loads of `stepped`: nodal loads
    !> summed, distributed loads and temperature changes listed one after another (the assembly sums
@@ -104,5 +155,52 @@ contains
          end associate
       end do
    end subroutine merge_patterns
+
+   !> The prescribed displacements of the patterns, each times its factor, added to those of `stepped`
+   !> (a linear static step: the settlements of every step so far, with those given before the steps).
+   pure subroutine merge_prescribed(patterns, stepped)
+      type(load_pattern_t), intent(in) :: patterns(:)
+      type(model_t), intent(inout) :: stepped
+      integer :: j
+      do j = 1, size(patterns)
+         if (.not. allocated(patterns(j)%prescribed)) cycle
+         if (.not. allocated(stepped%prescribed)) allocate (stepped%prescribed(dofs_per_node, stepped%n_nodes), &
+                                                            source=0.0_dp)
+         stepped%prescribed = stepped%prescribed + patterns(j)%factor*patterns(j)%prescribed
+      end do
+   end subroutine merge_prescribed
+
+   !> The model prescribes the displacement of some held DOF: its own pattern, a held one, or a step's.
+   pure logical function has_prescribed(model)
+      type(model_t), intent(in) :: model
+      integer :: j
+      has_prescribed = allocated(model%prescribed)
+      if (allocated(model%held)) then
+         do j = 1, size(model%held)
+            has_prescribed = has_prescribed .or. allocated(model%held(j)%prescribed)
+         end do
+      end if
+      if (allocated(model%steps)) then
+         do j = 1, size(model%steps)
+            has_prescribed = has_prescribed .or. allocated(model%steps(j)%loads%prescribed)
+         end do
+      end if
+   end function has_prescribed
+
+   !> The displacements (dofs_per_node, n_nodes) of the held DOFs at load factor λ: λ ū of the model's
+   !> own pattern plus λ_j ū_j of each held one (zero where nothing is prescribed). The path following
+   !> solves for the free DOFs; these are the others' (docs/theory.md §2.9).
+   pure function prescribed_at(model, lambda) result(field)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: lambda
+      real(dp) :: field(dofs_per_node, model%n_nodes)
+      integer :: j
+      field = 0.0_dp
+      if (allocated(model%prescribed)) field = lambda*model%prescribed
+      if (.not. allocated(model%held)) return
+      do j = 1, size(model%held)
+         if (allocated(model%held(j)%prescribed)) field = field + model%held(j)%factor*model%held(j)%prescribed
+      end do
+   end function prescribed_at
 
 end module uniarc_model_steps

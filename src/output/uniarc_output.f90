@@ -24,6 +24,7 @@ module uniarc_output
    use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_provenance, only: provenance_t, provenance_lines
    use uniarc_contact_summary, only: contact_summary_t
+   use uniarc_model_steps, only: has_prescribed
    use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
    implicit none
    private
@@ -51,6 +52,9 @@ module uniarc_output
       integer :: iterations = 0
       integer :: neg_pivots = 0
       integer :: analysis_step = 0        !< the analysis step (*STEP) of the row; written when the deck has steps
+      !> the force of the prescribed displacements along their motion (uniarc_support_reactions,
+      !> prescribed_force); written when the deck prescribes displacements
+      real(dp) :: prescribed_force = 0.0_dp
       !> (n_groups) the contact columns of each contact group (uniarc_contact_summary, summarize_groups);
       !> written as the group's own path columns when the model has more than one group
       type(contact_summary_t), allocatable :: groups(:)
@@ -207,6 +211,7 @@ contains
             end do
          end do
       end if
+      if (has_prescribed(model)) header = header//' prescribed_force'
       header = header//' lcp_residual lcp_pivots iterations neg_pivots'//step_column(model)
    end function path_header
 
@@ -257,6 +262,7 @@ contains
                    numbers_text([group%s_contact, group%reaction_max, group%reaction_sum])
          end do
       end if
+      if (has_prescribed(model)) line = line//numbers_text([record%prescribed_force])
       line = line//numbers_text([record%lcp_residual])// &
              ' '//integer_to_string(record%lcp_pivots)//' '//integer_to_string(record%iterations)//' '// &
              integer_to_string(record%neg_pivots)

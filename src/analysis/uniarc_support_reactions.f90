@@ -1,0 +1,103 @@
+!> The forces the supports apply to the structure, and the force of the prescribed displacements
+!> (support settlements, moving supports) along their motion: the path file's `prescribed_force`
+!> column (docs/contracts.md, docs/theory.md §2.9).
+!>
+!> A support's reaction is what equilibrium leaves at its DOF: r = F(u) − F_ext(u, λ), F the internal
+!> forces of the elements and F_ext the loads, both assembled for every DOF, held or free (the model
+!> with its supports taken away numbers them all). The nonlinear analysis assembles them as its
+!> equilibrium does (uniarc_equilibrium: corotational elements, follower loads on the current
+!> geometry, the held patterns of earlier steps); the linear one as its stiffness does (K u − R on the
+!> initial geometry, uniarc_assembly). At a free DOF r is the residual, zero at a converged state.
+module uniarc_support_reactions
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_band, only: band_matrix_t, band_allocate, band_multiply
+   use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal
+   use uniarc_equilibrium, only: assemble_equilibrium
+   implicit none
+   private
+   public :: support_reactions, prescribed_force
+
+contains
+
+   !> The reactions (dofs_per_node, n_nodes) of the supports at nodal displacements `displacement`
+   !> (dofs_per_node, n_nodes; every DOF's, the prescribed ones included) and load factor λ: force
+   !> (moment at θ) that the support applies to the structure at each held DOF, 0 at the free ones.
+   !> `linear`: the linear analysis's equations (initial geometry) instead of the nonlinear ones.
+   !> Contact reactions at a node are not in it (they are the contact columns'). Its band matrix is
+   !> that of the analysis with the held DOFs numbered and without the contact unknowns, a size the
+   !> analysis has already allocated (the memory check, uniarc_check), so it is allocated without a
+   !> returned error.
+   !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
+   !> moment limit (the path's state), passed to the equilibrium as the path following does.
+   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: lambda
+      logical, intent(in) :: linear
+      real(dp), allocatable, intent(out) :: reactions(:, :)
+      real(dp), intent(in), optional :: joint_plastic(:, :)
+      type(model_t) :: unsupported
+      type(dof_map_t) :: map
+      type(band_matrix_t) :: stiffness
+      real(dp), allocatable :: x(:), internal(:), reference(:), fixed_load(:)
+      real(dp) :: force_scale
+      integer :: i, k, j
+      ! Every DOF free; the displacements given are already the total ones, so the model's prescribed
+      ! patterns must not be added again by the equilibrium.
+      unsupported = model
+      unsupported%fixed = .false.
+      if (allocated(unsupported%prescribed)) deallocate (unsupported%prescribed)
+      if (allocated(unsupported%steps)) deallocate (unsupported%steps)
+      if (allocated(unsupported%contacts)) deallocate (unsupported%contacts)
+      allocate (unsupported%contacts(0))
+      if (allocated(unsupported%held)) then
+         do j = 1, size(unsupported%held)
+            if (allocated(unsupported%held(j)%prescribed)) deallocate (unsupported%held(j)%prescribed)
+         end do
+      end if
+      call build_dof_map(unsupported, map)
+      call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
+      allocate (x(map%n_equations), source=0.0_dp)
+      allocate (internal(map%n_equations), reference(map%n_equations), fixed_load(map%n_equations))
+      do i = 1, model%n_nodes
+         do k = 1, dofs_per_node
+            x(map%equation(k, i)) = displacement(k, i)
+         end do
+      end do
+      if (linear) then
+         call assemble_linear_stiffness(unsupported, map, stiffness)
+         internal = band_multiply(stiffness, x)
+         call assemble_reference_load(unsupported, map, .true., reference)
+      else
+         call assemble_reference_load(unsupported, map, .false., fixed_load)
+         if (present(joint_plastic)) then
+            call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
+                                      reference, force_scale, joint_plastic=joint_plastic)
+         else
+            call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
+                                      reference, force_scale)
+         end if
+      end if
+      allocate (reactions(dofs_per_node, model%n_nodes))
+      call gather_nodal(map, internal - lambda*reference, reactions)
+      where (.not. model%fixed) reactions = 0.0_dp
+   end subroutine support_reactions
+
+   !> The force of the prescribed displacements along their motion: P = Σ_d ū_d r_d / max_d |ū_d| over
+   !> the held DOFs, ū the pattern that moves with λ (the model's own prescribed displacements, those
+   !> of its analysis step) and r the reactions (support_reactions). For one moving DOF it is the
+   !> support's reaction along the motion; for a rigid plate (equal ū at its nodes) the resultant of its
+   !> reactions along the motion: the force that pushes the support. 0 when the model has no pattern
+   !> of its own.
+   pure real(dp) function prescribed_force(model, reactions) result(force)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: reactions(:, :)
+      force = 0.0_dp
+      if (.not. allocated(model%prescribed)) return
+      if (.not. any(model%prescribed /= 0.0_dp)) return
+      force = sum(model%prescribed*reactions)/maxval(abs(model%prescribed))
+   end function prescribed_force
+
+end module uniarc_support_reactions
