@@ -4,20 +4,26 @@ an independent solution of the same piecewise-linear problem.
 
 Usage (one CTest per call):
   plastic_check.py --uniarc BIN --out DIR --mode block   --deck DECK [--define NAME=VALUE]...
-  plastic_check.py --uniarc BIN --out DIR --mode limit   --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode limit   --deck DECK [--limit tu]
   plastic_check.py --uniarc BIN --out DIR --mode bed     --deck DECK [--define NAME=VALUE]... --rtol R
   plastic_check.py --uniarc BIN --out DIR --mode elastic --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode bilateral --deck DECK
 
 block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic soil spring k, limit qu,
          pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
-         row against the closed form of its load history, and the slip of STEM.contact.
+         row against the closed form of its load history, and the slip of STEM.contact; with a
+         parameter tu and no ku (decks/plastic_spring_shared_slip.inp) one spring with both limits
+         (TU=) and one slip shared by them.
 limit:   a stiff beam on a plastic bed under a central load: the limit load is qu x (contact length);
-         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1).
+         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1);
+         with --limit tu the uplift limit tu L of a bed with TU= under an upward load.
 bed:     a beam on a tensionless plastic bed (decks/beam_plastic_bed.inp): the deflections, the
          slips and the yielding candidates of the last step against an independent small-displacement
          solution: Hermite beam elements on a mesh 16 times finer (--refine), the bed lumped to its nodes, the
          piecewise-linear law solved increment by increment by an active-set loop (numpy).
 elastic: the bed deck with QU huge (1e300) against the same deck without QU=: the path files are equal.
+bilateral: the bed deck with QU= and TU= both huge (1e300) against the same deck with BILATERAL in their
+         place: the path files are equal.
 """
 import argparse
 import math
@@ -79,20 +85,25 @@ def clamp(value, high):
     return min(max(value, 0.0), high)
 
 
-def block_response(kb, bearing, uplift, loads):
+def block_response(kb, bearing, uplift, loads, shared=None):
     """Deflection w (down positive) and slips after each of the loads P (down positive) applied in
     order, each from the state the previous one left: a spring kb (elastic) in parallel with a bearing
     spring (k, q) pushing up and, if given, an uplift spring (k_u, t_u) pushing down, both compression
     only and elastic-perfectly plastic, with slips s_b (down) and s_u (up). The resisting force
     kb w + clamp(k (w - s_b), 0, q) - clamp(k_u (-w - s_u), 0, t_u) is continuous and increasing in w,
     so the equilibrium is its unique root, found by bisection to round-off; then each spring beyond its
-    limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u)."""
+    limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u).
+    shared = t_u instead: ONE spring (k, q) with the uplift limit t_u too (TU=), bonded while elastic,
+    force clamp(k (w - s), -t_u, q) with one slip s (down) that either limit moves on (s = w - q/k
+    beyond the bearing limit, s = w + t_u/k beyond the uplift one); returned as (w, s, s)."""
     k, q = bearing
     ku, tu = uplift if uplift else (0.0, 0.0)
     s_b = s_u = 0.0
     out = []
     for p in loads:
         def resisting(w):
+            if shared is not None:
+                return kb*w + min(max(k*(w - s_b), -shared), q) - p
             force = kb*w + clamp(k*(w - s_b), q)
             if ku > 0.0:
                 force -= clamp(ku*(-w - s_u), tu)
@@ -109,6 +120,10 @@ def block_response(kb, bearing, uplift, loads):
             else:
                 low = middle
         w = 0.5*(low + high)
+        if shared is not None:
+            s_b = min(max(s_b, w - q/k), w + shared/k)
+            out.append((w, s_b, s_b))
+            continue
         s_b = max(s_b, w - q/k)
         if ku > 0.0:
             s_u = max(s_u, -w - tu/ku)
@@ -134,6 +149,7 @@ def check_block(args):
     values = deck_parameters(args.deck, args.define)
     kb = 12*values['EI']/values['L']**3
     uplift = (values['ku'], values['tu']) if 'ku' in values else None
+    shared = values['tu'] if 'tu' in values and 'ku' not in values else None
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     path = table(os.path.join(args.out, stem + '.path'))
     # Each analysis step a of the deck: its load F_a times lambda on the loads of the steps before it,
@@ -141,7 +157,7 @@ def check_block(args):
     forces = step_loads(args.deck)
     loads = [sum(forces[:int(a) - 1]) + lam*forces[int(a) - 1]
              for lam, a in zip(path['lambda'], path['analysis_step'])]
-    expected = block_response(kb, (values['k'], values['qu']), uplift, loads)
+    expected = block_response(kb, (values['k'], values['qu']), uplift, loads, shared)
     # Tolerance: the path is converged to the displacement tolerance 1e-8 of the deck's default
     # (*PATH), relative to the displacements; the closed form is exact (small displacements: w/L ~ 1e-5,
     # so the corotational terms are 1e-10 of w).
@@ -176,6 +192,7 @@ def check_limit(args):
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     if above.returncode != 1:
         fail(f'1.001 of qu L: exit code {above.returncode}, expected 1 (no equilibrium beyond the limit load)')
+    limit = args.limit
     # The load-controlled path stops where it cannot go on: at the limit load, from below, to the
     # step-length floor (min_increment) times the first increment.
     reached = table(os.path.join(args.out, 'above', stem + '.path'))['lambda'][-1]
@@ -185,16 +202,20 @@ def check_limit(args):
     path = table(os.path.join(args.out, 'below', stem + '.path'))
     # Elastic rows: a rigid beam on the bed, w = P/(K L); the beam's own bending adds
     # P L^3/(EI) ~ 1e-9 of it (EI = 1e6 against K L^4 = 16).
-    load = path['lambda']*values['qu']*values['L']
-    elastic = load < 0.99*values['qu']*values['L']
+    load = path['lambda']*values[limit]*values['L']
+    elastic = load < 0.99*values[limit]*values['L']
     expected = load[elastic]/(values['K']*values['L'])
     got = path['w'][elastic]
     if np.max(np.abs(got - expected)) > 1e-6*np.max(np.abs(expected)):
         fail(f'elastic rows: w {got} against P/(K L) {expected}')
     contact = table(os.path.join(args.out, 'below', stem + '.contact'))
     last = contact[contact['step'] == contact['step'].max()]
-    print(f'limit: lambda {path["lambda"][-1]} reached, {int(np.sum(last["yielding"]))} of {len(last)} '
-          f'candidates yielding; toward 1.001 the path stops at lambda = {reached!r}')
+    # at 0.999 of the limit load the rigid beam's uniform tension (or pressure) is 0.999 of the limit
+    # at every node, below it: nothing yields yet (the yielding column 1 bearing, -1 uplift, 0 elastic)
+    if np.any(last['yielding'] != 0):
+        fail('candidates yielding below the limit load of a rigid beam')
+    print(f'limit ({limit} L): lambda {path["lambda"][-1]} reached, {int(np.sum(last["yielding"] != 0))} of '
+          f'{len(last)} candidates yielding; toward 1.001 the path stops at lambda = {reached!r}')
 
 
 # ------------------------------------------------------------------------------------------------
@@ -312,17 +333,49 @@ def check_elastic(args):
     print(f'elastic: {len(a)} lines of the path files equal')
 
 
+def check_bilateral(args):
+    """The deck with QU= and TU= both huge against the same deck with BILATERAL in their place: a
+    spring bonded while elastic whose limits are never reached is the bonded (bilateral) bed, row for
+    row and digit for digit."""
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    decks = {}
+    for kind, replacement in (('uplift', ', QU=1e300, TU=1e300'), ('bonded', ', BILATERAL')):
+        decks[kind] = os.path.join(args.out, kind + '.inp')
+        with open(args.deck) as source, open(decks[kind], 'w') as target:
+            for line in source:
+                if line.upper().startswith('*FOUNDATION'):
+                    line = re.sub(r',\s*QU\s*=\s*[^,\s]+', replacement, line)
+                target.write(line)
+    runs = {kind: run(args.uniarc, deck, os.path.join(args.out, kind), []) for kind, deck in decks.items()}
+    if any(finished.returncode != 0 for finished in runs.values()):
+        fail('a run failed')
+
+    def rows(path):
+        with open(path) as handle:
+            return [line for line in handle if not line.startswith('#')]
+
+    a = rows(os.path.join(args.out, 'uplift', 'uplift.path'))
+    b = rows(os.path.join(args.out, 'bonded', 'bonded.path'))
+    if a != b:
+        fail('the path files differ')
+    print(f'bilateral: {len(a)} lines of the path files equal')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--uniarc', required=True)
     parser.add_argument('--deck', required=True)
     parser.add_argument('--out', required=True)
-    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic'])
+    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic', 'bilateral'])
+    parser.add_argument('--limit', default='qu', choices=['qu', 'tu'],
+                        help='limit mode: the parameter of the limit load per length (qu bearing, tu uplift)')
     parser.add_argument('--define', action='append', default=[])
     parser.add_argument('--rtol', type=float, default=1e-3)
     parser.add_argument('--refine', type=int, default=16)
     args = parser.parse_args()
-    {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic}[args.mode](args)
+    {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic,
+     'bilateral': check_bilateral}[args.mode](args)
     print('ok')
 
 
