@@ -230,12 +230,16 @@ def hermite_stiffness(ei, h):
                              [6*h, 2*h*h, -6*h, 4*h*h]])
 
 
-def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
+def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=None, history=None):
     """Deflections w (down positive, n + 1 nodes), slips and yielding flags of a free-free beam on a
     tensionless elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i), central
     load `load` applied in `increments` equal increments, each solved by an active-set loop over the
     three states of every spring (open, elastic, yielding) from the state the last one left. The
-    stiffness is banded (half-bandwidth 3: DOFs w_i, θ_i node by node), solved by scipy's band solver."""
+    stiffness is banded (half-bandwidth 3: DOFs w_i, θ_i node by node), solved by scipy's band solver.
+    uplift = t_u (per length): the springs are bonded with the uplift limit t_i = t_u L_i too and one
+    slip (TU=): states elastic, yielding in bearing (r = q), yielding in uplift (r = -t), never open.
+    history: the central loads the increments go through in order (from 0; `load` then unused),
+    `increments` equal increments between each two."""
     h = length/n
     dofs = 2*(n + 1)
     upper = 3
@@ -249,13 +253,19 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
     tributary[[0, -1]] = h/2
     k = modulus*tributary
     q = qu*tributary
+    t = (uplift if uplift else 0.0)*tributary
     slip = np.zeros(n + 1)
-    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding; all touching at the start
+    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding (3 in uplift); all touching
     w = np.zeros(n + 1)
     nodes = np.arange(n + 1)
-    for step in range(1, increments + 1):
+    targets = history if history else [load]
+    loads = []
+    for a, target in enumerate(targets):
+        start = targets[a - 1] if a > 0 else 0.0
+        loads += [start + (target - start)*step/increments for step in range(1, increments + 1)]
+    for level in loads:
         force = np.zeros(dofs)
-        force[2*(n//2)] = load*step/increments
+        force[2*(n//2)] = level
         committed = slip.copy()
         for _ in range(200):
             matrix = band.copy()
@@ -264,10 +274,15 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
             matrix[upper, 2*nodes[elastic]] += k[elastic]
             rhs[2*nodes[elastic]] += k[elastic]*committed[elastic]
             rhs[2*nodes[state == 2]] -= q[state == 2]
+            rhs[2*nodes[state == 3]] += t[state == 3]
             w = scipy.linalg.solve_banded((upper, upper), matrix, rhs)[0::2]
             new = state.copy()
             reaction = k*(w - committed)
-            new[(state == 1) & (reaction < 0)] = 0
+            if uplift:
+                new[(state == 1) & (reaction < -t)] = 3
+                new[(state == 3) & (w + t/k > committed)] = 1
+            else:
+                new[(state == 1) & (reaction < 0)] = 0
             new[(state == 1) & (reaction > q)] = 2
             new[(state == 0) & (w > committed)] = 1
             new[(state == 2) & (w - q/k < committed)] = 1
@@ -276,8 +291,8 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
             state = new
         else:
             fail('reference: the active-set loop did not settle')
-        slip = np.where(state == 2, w - q/k, committed)
-    return w, slip, state == 2
+        slip = np.where(state == 2, w - q/k, np.where(state == 3, w + t/k, committed))
+    return w, slip, np.where(state == 2, 1, np.where(state == 3, -1, 0))
 
 
 def check_bed(args):
@@ -286,8 +301,13 @@ def check_bed(args):
         fail(f'exit code {finished.returncode}')
     values = deck_parameters(args.deck, args.define)
     refine = args.refine
+    uplift = values.get('tu')
+    # with an uplift limit the deck is a load history: P down, then its *STEP pull to -P/2 (up; the
+    # uplift resistance of the whole bed is tu L = 0.8 P)
+    history = [values['P'], -0.5*values['P']] if uplift else None
     w_ref, slip_ref, yielding_ref = plastic_bed_reference(values['L'], refine*int(values['n']), 1.0,
-                                                          values['k'], values['qu'], values['P'], 20)
+                                                          values['k'], values['qu'], values['P'], 20,
+                                                          uplift, history)
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     shape = table(os.path.join(args.out, stem + '.shape'))
     last = shape[shape['step'] == shape['step'].max()]
@@ -300,11 +320,12 @@ def check_bed(args):
     deflection = np.max(np.abs(w - w_ref[::refine]))/w0
     slip = np.max(np.abs(rows['slip'] - slip_ref[::refine]))/w0
     print(f'bed: w0 {w[len(w)//2]:.10e} against {w_ref[len(w_ref)//2]:.10e}; largest deflection error '
-          f'{deflection:.2e} of w0, slip error {slip:.2e} of w0; yielding {int(np.sum(rows["yielding"]))} '
-          f'candidates, reference {int(np.sum(yielding_ref[::refine]))}')
+          f'{deflection:.2e} of w0, slip error {slip:.2e} of w0; yielding {int(np.sum(rows["yielding"] == 1))} '
+          f'in bearing and {int(np.sum(rows["yielding"] == -1))} in uplift, reference '
+          f'{int(np.sum(yielding_ref[::refine] == 1))} and {int(np.sum(yielding_ref[::refine] == -1))}')
     if deflection > args.rtol or slip > args.rtol:
         fail(f'deflections or slips beyond {args.rtol} of w0')
-    if not np.array_equal(rows['yielding'] == 1, yielding_ref[::refine]):
+    if not np.array_equal(rows['yielding'], yielding_ref[::refine]):
         fail('the yielding candidates differ from the reference')
 
 
