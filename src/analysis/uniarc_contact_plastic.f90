@@ -4,8 +4,8 @@
 !> bearing springs).
 !>
 !> A plastic candidate c (contact_candidate_t%plastic) has the bearing limit q_c = yield_force and a
-!> plastic slip s_c (≥ 0 without an uplift limit; length, along the penetration −a_c): the medium's surface has sunk by s_c, so
-!> that its gap is g_c + s_c. Over a step from the committed slip s_n, with Δs_c = s_c − s_n:
+!> plastic slip s_c (length, along the penetration −a_c; ≥ 0 without an uplift limit): the medium's
+!> surface has sunk by s_c, so that its gap is g_c + s_c. Over a step from the committed slip s_n, with Δs_c = s_c − s_n:
 !>
 !>     w_c = g_c + s_n + Δs_c + t_c r_c ≥ 0,   r_c ≥ 0,   w_c r_c = 0      (contact, the gap with slip)
 !>     y_c = q_c − r_c ≥ 0,   Δs_c ≥ 0,   y_c Δs_c = 0                     (bearing limit, the slip)
@@ -18,17 +18,18 @@
 !> constraints) while the contact pairs of the frame are the contact LCP's (Lemke, block pivoting).
 !> The slip is history: `commit_slip` moves it on with a converged step only.
 !>
-!> With an uplift limit (TU=, contact_candidate_t%uplift_force = t_c > 0) the spring is bonded while
-!> elastic and yields in tension too, r ≥ −t_c, with the same slip s (ASCE/ALA 2001, bilinear bearing
-!> and uplift springs): two yield pairs per candidate, the contact pair gone,
+!> With an uplift limit (TU=, contact_candidate_t%uplift_force = T_c > 0) the spring is bonded while
+!> elastic and yields in tension too, r ≥ −T_c, with the same slip s (ASCE/ALA 2001, bilinear bearing
+!> and uplift springs): two yield pairs per candidate, the contact pair gone (t_c the flexibility),
 !>
 !>     w_c = g_c + s_n + Δs⁺ − Δs⁻ + t_c r_c = 0                      (bonded, the gap with slip)
 !>     q_c − r_c ≥ 0,  Δs⁺ ≥ 0,  (q_c − r_c) Δs⁺ = 0                  (bearing limit)
-!>     t_c + r_c ≥ 0,  Δs⁻ ≥ 0,  (t_c + r_c) Δs⁻ = 0                  (uplift limit)
+!>     T_c + r_c ≥ 0,  Δs⁻ ≥ 0,  (T_c + r_c) Δs⁻ = 0                  (uplift limit)
 !>
-!> At most one of the two pairs is pivoted (r = q and r = −t exclude each other); which one is read
-!> off the sign of the reaction (`limit_force`), which the yield rule finds beyond q or below −t when it
-!> pivots the pair and the row r = q or r = −t then keeps. A yielding candidate's row is r = limit_force.
+!> At most one of the two pairs is pivoted (r = q and r = −T exclude each other); which one is read
+!> off the sign of the reaction (`limit_force`), which the yield rule finds beyond q or below −T when it
+!> pivots the pair and the row r = q or r = −T then keeps (docs/theory.md §3.9). A yielding
+!> candidate's row is r = limit_force.
 module uniarc_contact_plastic
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t

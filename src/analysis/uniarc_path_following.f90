@@ -191,8 +191,8 @@ contains
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
-   !> candidates and the springs with an uplift limit open (`system` is work space). Models without unilateral candidates have none (a
-   !> mechanism was refused before).
+   !> candidates and the springs with an uplift limit open (`system` is work space). Models without
+   !> such candidates have none (a mechanism was refused before).
    subroutine find_floating(model, state, system, nodal)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state

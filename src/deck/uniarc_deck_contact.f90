@@ -34,8 +34,9 @@ contains
    !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u] [, TYPE=WINKLER|PASTERNAK
    !> [, GP=G_p]] [, GAP=g0] [, TU=t_u [, KU=k_u]]: a Winkler foundation along an element set, lumped to
    !> its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit
-   !> q_u if asked (`bearing_limit`) and an uplift limit t_u with it (`uplift_limit`; KU = K only); or a Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`;
-   !> uniarc_contact_law, pasternak_bed); an initial gap g0.
+   !> q_u if asked (`bearing_limit`) and an uplift limit t_u with it (`uplift_limit`; KU = K only); or a
+   !> Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`; uniarc_contact_law,
+   !> pasternak_bed); an initial gap g0.
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
    !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
