@@ -138,7 +138,8 @@ module uniarc_model
       logical :: tangential = .false.
       integer :: partner = 0
       !> elastic–perfectly plastic in compression (*FOUNDATION or *SPRING, QU=): the reaction is at most
-      !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9)
+      !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9); in
+      !> tension too with `uplift_force` below
       logical :: plastic = .false.
       real(dp) :: yield_force = 0.0_dp
       !> with an uplift (tension) resistance too (TU=): the limit t_c > 0 (force) of the tension the
