@@ -28,7 +28,7 @@ module uniarc_contact
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t
    use uniarc_contact_law, only: candidate_gap
-   use uniarc_contact_plastic, only: slip_shift
+   use uniarc_contact_plastic, only: slip_shift, limit_force
    use uniarc_dof_map, only: dof_map_t, bed_deflection
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
@@ -97,8 +97,8 @@ contains
                end do
             end do
             if (in_set(model, active, c) .and. yields) then
-               ! at the bearing limit: r = q
-               internal(row) = reactions(c) - candidate%yield_force
+               ! at the bearing limit: r = q (or at the uplift limit, r = −t: limit_force)
+               internal(row) = reactions(c) - limit_force(candidate, reactions(c))
                call band_add(tangent, row, row, 1.0_dp)
             else if (in_set(model, active, c)) then
                internal(row) = -(gap + candidate%flexibility*reactions(c))
@@ -253,7 +253,7 @@ contains
    !> A condensed spring in contact at its node's displacement u (2): reaction r = −g/t on the node
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).
    !> A plastic one: its gap shifted by its slip `shift`; when `yields`, r = q (its bearing limit) and
-   !> the tangent −q ∂a/∂u only (no spring stiffness at the limit).
+   !> the tangent −q ∂a/∂u only (no spring stiffness at the limit); at an uplift limit r = −t likewise.
    pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal, shift, yields)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
@@ -269,7 +269,7 @@ contains
       reaction = -gap/candidate%flexibility
       elastic = 1.0_dp
       if (yields) then
-         reaction = candidate%yield_force
+         reaction = limit_force(candidate, reaction)   ! the side: the elastic force −g/t
          elastic = 0.0_dp
       end if
       do i = 1, 2

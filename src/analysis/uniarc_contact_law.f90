@@ -229,6 +229,11 @@ contains
          if (foundation%bearing_limit > 0.0_dp) then
             candidates(i)%plastic = .true.
             candidates(i)%yield_force = foundation%bearing_limit*lengths(i)
+            ! an uplift limit t_u per unit length likewise; the spring is then bonded while elastic
+            if (foundation%uplift_limit > 0.0_dp) then
+               candidates(i)%uplift_force = foundation%uplift_limit*lengths(i)
+               candidates(i)%bilateral = .true.
+            end if
          end if
       end do
       if (foundation%law == foundation_pasternak .and. foundation%shear_modulus > 0.0_dp) then

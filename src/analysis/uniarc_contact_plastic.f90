@@ -4,8 +4,8 @@
 !> bearing springs).
 !>
 !> A plastic candidate c (contact_candidate_t%plastic) has the bearing limit q_c = yield_force and a
-!> plastic slip s_c ≥ 0 (length, along the penetration −a_c): the medium's surface has sunk by s_c, so
-!> that its gap is g_c + s_c. Over a step from the committed slip s_n, with Δs_c = s_c − s_n:
+!> plastic slip s_c (length, along the penetration −a_c; ≥ 0 without an uplift limit): the medium's
+!> surface has sunk by s_c, so that its gap is g_c + s_c. Over a step from the committed slip s_n, with Δs_c = s_c − s_n:
 !>
 !>     w_c = g_c + s_n + Δs_c + t_c r_c ≥ 0,   r_c ≥ 0,   w_c r_c = 0      (contact, the gap with slip)
 !>     y_c = q_c − r_c ≥ 0,   Δs_c ≥ 0,   y_c Δs_c = 0                     (bearing limit, the slip)
@@ -17,6 +17,19 @@
 !> by the block rule of `yield_rule` (Júdice & Pires 1994; Hintermüller, Ito & Kunisch 2002 for bound
 !> constraints) while the contact pairs of the frame are the contact LCP's (Lemke, block pivoting).
 !> The slip is history: `commit_slip` moves it on with a converged step only.
+!>
+!> With an uplift limit (TU=, contact_candidate_t%uplift_force = T_c > 0) the spring is bonded while
+!> elastic and yields in tension too, r ≥ −T_c, with the same slip s (ASCE/ALA 2001, bilinear bearing
+!> and uplift springs): two yield pairs per candidate, the contact pair gone (t_c the flexibility),
+!>
+!>     w_c = g_c + s_n + Δs⁺ − Δs⁻ + t_c r_c = 0                      (bonded, the gap with slip)
+!>     q_c − r_c ≥ 0,  Δs⁺ ≥ 0,  (q_c − r_c) Δs⁺ = 0                  (bearing limit)
+!>     T_c + r_c ≥ 0,  Δs⁻ ≥ 0,  (T_c + r_c) Δs⁻ = 0                  (uplift limit)
+!>
+!> At most one of the two pairs is pivoted (r = q and r = −T exclude each other); which one is read
+!> off the sign of the reaction (`limit_force`), which the yield rule finds beyond q or below −T when it
+!> pivots the pair and the row r = q or r = −T then keeps (docs/theory.md §3.9). A yielding
+!> candidate's row is r = limit_force.
 module uniarc_contact_plastic
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t
@@ -24,7 +37,7 @@ module uniarc_contact_plastic
    use uniarc_contact_law, only: candidate_gap
    implicit none
    private
-   public :: has_plastic, slip_shift, yield_rule, plastic_violation, commit_slip, slip_increment
+   public :: has_plastic, slip_shift, yield_rule, plastic_violation, commit_slip, slip_increment, limit_force
 
 contains
 
@@ -46,17 +59,47 @@ contains
       if (model%contacts(c)%plastic .and. c <= size(slip)) shift = slip(c)
    end function slip_shift
 
-   !> Δs = −(g + t q) of a yielding candidate whose gap with the committed slip is `gap` (g + s_n):
-   !> the slip increment that keeps w = 0 at r = q (non-negative when the candidate still yields).
-   pure real(dp) function slip_increment(candidate, gap) result(increment)
+   !> The limit force a yielding candidate holds: its bearing limit q (force, ≥ 0, pushing); with an
+   !> uplift limit t (TU=) and a negative `force`, −t (pulling). `force` tells the side: the reaction
+   !> unknown of a candidate with a reaction row (at its limit it keeps that limit's sign from one
+   !> Newton iterate to the next), the elastic force −(g + s_n)/t of a condensed spring.
+   pure real(dp) function limit_force(candidate, force) result(limit)
       type(contact_candidate_t), intent(in) :: candidate
-      real(dp), intent(in) :: gap
-      increment = -(gap + candidate%flexibility*candidate%yield_force)
+      real(dp), intent(in) :: force
+      limit = candidate%yield_force
+      if (candidate%uplift_force > 0.0_dp .and. force < 0.0_dp) limit = -candidate%uplift_force
+   end function limit_force
+
+   !> Δs = −(g + t r_y) of a yielding candidate whose gap with the committed slip is `gap` (g + s_n),
+   !> r_y = limit_force(candidate, force): the signed slip increment that keeps w = 0 at r = r_y,
+   !> non-negative in bearing and non-positive in uplift while the candidate still yields.
+   pure real(dp) function slip_increment(candidate, gap, force) result(increment)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: gap, force
+      increment = -(gap + candidate%flexibility*limit_force(candidate, force))
    end function slip_increment
 
+   !> The multiplier of the pivoted yield pair: Δs⁺ = Δs in bearing, Δs⁻ = −Δs in uplift (≥ 0 while
+   !> the candidate yields).
+   pure real(dp) function slip_multiplier(candidate, gap, force) result(multiplier)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: gap, force
+      multiplier = slip_increment(candidate, gap, force)
+      if (limit_force(candidate, force) < 0.0_dp) multiplier = -multiplier
+   end function slip_multiplier
+
+   !> The larger violation of the elastic range −t ≤ r ≤ q (force; only r − q without an uplift limit).
+   pure real(dp) function elastic_excess(candidate, reaction) result(excess)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: reaction
+      excess = reaction - candidate%yield_force
+      if (candidate%uplift_force > 0.0_dp) excess = max(excess, -candidate%uplift_force - reaction)
+   end function elastic_excess
+
    !> The block exchange of the yield pairs at a state in equilibrium: an elastic candidate of the
-   !> working set whose reaction exceeds its limit starts to yield (r > q: y < 0), a yielding one whose
-   !> slip increment would be negative unloads elastically (Δs < 0), each beyond `tolerance` × the
+   !> working set whose reaction exceeds its limit starts to yield (r > q, or r < −t with an uplift
+   !> limit: y < 0), a yielding one whose slip multiplier would be negative unloads elastically
+   !> (Δs⁺ < 0 in bearing, Δs⁻ < 0 in uplift), each beyond `tolerance` × the
    !> force and gap units. Only candidates of the set `active` yield.
    !> reaction, gap (per candidate): reactions (r = q when yielding) and gaps with the committed slip.
    pure subroutine yield_rule(model, map, reaction, gap, active, yielding, force_unit, gap_unit, tolerance, &
@@ -72,15 +115,16 @@ contains
       do c = 1, size(yielding)
          if (.not. (model%contacts(c)%plastic .and. candidate_live(map, c) .and. active(c))) cycle
          if (yielding(c)) then
-            if (-slip_increment(model%contacts(c), gap(c))/gap_unit > tolerance) new_yielding(c) = .false.
+            if (-slip_multiplier(model%contacts(c), gap(c), reaction(c))/gap_unit > tolerance) new_yielding(c) = .false.
          else
-            if ((reaction(c) - model%contacts(c)%yield_force)/force_unit > tolerance) new_yielding(c) = .true.
+            if (elastic_excess(model%contacts(c), reaction(c))/force_unit > tolerance) new_yielding(c) = .true.
          end if
       end do
    end subroutine yield_rule
 
-   !> Largest relative violation of the yield pairs: (r − q)/r_scale for an elastic candidate of the set,
-   !> −Δs/g_scale for a yielding one (0 when there is no plastic candidate).
+   !> Largest relative violation of the yield pairs: (r − q)/r_scale (and (−t − r)/r_scale with an uplift
+   !> limit) for an elastic candidate of the set, −Δs⁺/g_scale or −Δs⁻/g_scale for a yielding one (0
+   !> when there is no plastic candidate).
    pure real(dp) function plastic_violation(model, map, reaction, gap, active, yielding, r_scale, g_scale) &
       result(worst)
       type(model_t), intent(in) :: model
@@ -93,29 +137,39 @@ contains
       do c = 1, size(yielding)
          if (.not. (model%contacts(c)%plastic .and. candidate_live(map, c) .and. active(c))) cycle
          if (yielding(c)) then
-            worst = max(worst, -slip_increment(model%contacts(c), gap(c))/g_scale)
+            worst = max(worst, -slip_multiplier(model%contacts(c), gap(c), reaction(c))/g_scale)
          else
-            worst = max(worst, (reaction(c) - model%contacts(c)%yield_force)/r_scale)
+            worst = max(worst, elastic_excess(model%contacts(c), reaction(c))/r_scale)
          end if
       end do
    end function plastic_violation
 
    !> Commit a converged step: the slip of every yielding candidate moves on by its increment
-   !> Δs = −(g + s_n + t q) ≥ 0 at the converged nodal displacements `nodal` (3, n_nodes); the others
-   !> keep theirs (the slip stays after unloading).
-   pure subroutine commit_slip(model, map, nodal, yielding, slip)
+   !> Δs = −(g + s_n + t r_y) at the converged unknowns x (their nodal displacements `nodal` (3,
+   !> n_nodes)), r_y = q (Δs ≥ 0) or −t in uplift (Δs ≤ 0), the side that of the reaction (its unknown,
+   !> or −(g + s_n)/t of a condensed spring); the others keep theirs (the slip stays after unloading).
+   pure subroutine commit_slip(model, map, x, nodal, yielding, slip)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: nodal(:, :)
+      real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: yielding(:)
       real(dp), intent(inout) :: slip(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2)
+      real(dp) :: gap, gradient(2), hessian(2, 2), force
       integer :: c, node
       do c = 1, size(yielding)
          if (.not. (yielding(c) .and. model%contacts(c)%plastic .and. candidate_live(map, c))) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
-         slip(c) = slip(c) + max(0.0_dp, slip_increment(model%contacts(c), gap + slip(c)))
+         if (map%candidate_equation(c) > 0) then
+            force = x(map%candidate_equation(c))
+         else
+            force = -(gap + slip(c))/model%contacts(c)%flexibility
+         end if
+         if (limit_force(model%contacts(c), force) < 0.0_dp) then
+            slip(c) = slip(c) + min(0.0_dp, slip_increment(model%contacts(c), gap + slip(c), force))
+         else
+            slip(c) = slip(c) + max(0.0_dp, slip_increment(model%contacts(c), gap + slip(c), force))
+         end if
       end do
    end subroutine commit_slip
 

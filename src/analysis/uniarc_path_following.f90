@@ -197,8 +197,8 @@ contains
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
-   !> candidates open (`system` is work space). Models without unilateral candidates have none (a
-   !> mechanism was refused before).
+   !> candidates and the springs with an uplift limit open (`system` is work space). Models without
+   !> such candidates have none (a mechanism was refused before).
    subroutine find_floating(model, state, system, nodal)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -208,10 +208,12 @@ contains
       logical, allocatable :: bonded(:)
       real(dp) :: element_scale
       integer :: c
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
+      ! a spring with an uplift limit (TU=) is bonded while elastic but holds nothing once it yields,
+      ! at either limit: it is released here as a unilateral candidate is (docs/theory.md §3.9)
+      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
       if (size(bonded) == 0) return
-      if (.not. any([(candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral, &
-                      c=1, size(state%active))])) return
+      if (.not. any([(candidate_live(state%map, c) .and. .not. bonded(c), c=1, size(state%active))])) return
       allocate (internal(state%map%n_equations), reference(state%map%n_equations))
       call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
       call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)

@@ -32,10 +32,11 @@ contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
    !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u] [, TYPE=WINKLER|PASTERNAK
-   !> [, GP=G_p]] [, GAP=g0]: a Winkler foundation along an element set, lumped to its nodes, with
-   !> tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit q_u if asked
-   !> (`bearing_limit`); or a Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`;
-   !> uniarc_contact_law, pasternak_bed); an initial gap g0.
+   !> [, GP=G_p]] [, GAP=g0] [, TU=t_u [, KU=k_u]]: a Winkler foundation along an element set, lumped to
+   !> its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit
+   !> q_u if asked (`bearing_limit`) and an uplift limit t_u with it (`uplift_limit`; KU = K only); or a
+   !> Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`; uniarc_contact_law,
+   !> pasternak_bed); an initial gap g0.
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
    !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
@@ -49,14 +50,14 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: set_option, modulus_option, side_option, direction_option, status, bad_node
-      real(dp) :: angle
+      real(dp) :: angle, uplift_stiffness
       type(field_t) :: field
       type(foundation_t) :: foundation
       character(len=:), allocatable :: side
 
       call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
                                         'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU=', 'TYPE=', &
-                                        'GP=', 'GAP='], error)
+                                        'GP=', 'GAP=', 'TU=', 'KU='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -83,6 +84,15 @@ contains
       end if
       call tangential_springs(source, card, deck, foundation, error)
       if (allocated(error)) return
+      call uplift_limit(source, card, deck, foundation%uplift_limit, uplift_stiffness, error)
+      if (allocated(error)) return
+      if (uplift_stiffness > 0.0_dp .and. uplift_stiffness /= foundation%modulus) then
+         call raise(source, card%line, card%options(option_index(card, 'KU'))%value_column, 'expected KU= ' // &
+                    'equal to MODULUS= (a different uplift stiffness, a bilinear elastic law, is not ' // &
+                    'implemented), found KU='//real_to_string(uplift_stiffness)//' with MODULUS='// &
+                    real_to_string(foundation%modulus), error)
+         return
+      end if
       call bearing_limit(source, card, deck, foundation%bearing_limit, error)
       if (allocated(error)) return
       call contact_scale(source, card, deck, foundation%scale, error)
@@ -106,6 +116,13 @@ contains
 
       call foundation_law(source, card, deck, foundation, error)
       if (allocated(error)) return
+      if (foundation%uplift_limit > 0.0_dp .and. foundation%gap /= 0.0_dp) then
+         ! bonded while elastic: an initial gap would be a tension at the start
+         call raise(source, card%line, card%options(option_index(card, 'GAP'))%column, 'expected no GAP= ' // &
+                    'with TU= (a spring with an uplift limit is bonded to the node at the start), found GAP='// &
+                    real_to_string(foundation%gap), error)
+         return
+      end if
       foundation%bilateral = option_index(card, 'BILATERAL') > 0
       if (direction_option > 0) then
          call option_real(source, card, deck, direction_option, 'an angle in degrees', angle, error)
@@ -148,8 +165,10 @@ contains
       end if
    end subroutine read_foundation
 
-   !> *SPRING [, BILATERAL] [, NAME=name] [, QU=q_u]: lines `target, angle_deg, k`, a discrete spring of stiffness k
-   !> at each node of the target pushing the node along the direction `angle` (gap g = n·u, offset 0).
+   !> *SPRING [, BILATERAL] [, NAME=name] [, QU=q_u [, TU=t_u [, KU=k_u]]]: lines `target, angle_deg, k`, a
+   !> discrete spring of stiffness k at each node of the target pushing the node along the direction
+   !> `angle` (gap g = n·u, offset 0); with TU= also an uplift limit (`uplift_limit`), KU= then equal to
+   !> every k.
    subroutine read_spring(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -161,9 +180,11 @@ contains
       integer, allocatable :: nodes(:), spring_nodes(:)
       real(dp), allocatable :: directions(:, :), stiffnesses(:, :)
       character(len=:), allocatable :: name
-      real(dp) :: limit
+      real(dp) :: limit, uplift, uplift_stiffness
 
-      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME=', 'QU='], error)
+      call check_options(source, card, [character(len=9) :: 'BILATERAL', 'NAME=', 'QU=', 'TU=', 'KU='], error)
+      if (allocated(error)) return
+      call uplift_limit(source, card, deck, uplift, uplift_stiffness, error)
       if (allocated(error)) return
       call bearing_limit(source, card, deck, limit, error)
       if (allocated(error)) return
@@ -193,6 +214,12 @@ contains
                        real_to_string(stiffness), error)
             return
          end if
+         if (uplift_stiffness > 0.0_dp .and. stiffness /= uplift_stiffness) then
+            call raise(source, line, fields(3)%column, 'expected k equal to the card''s KU='// &
+                       real_to_string(uplift_stiffness)//' (a different uplift stiffness, a bilinear elastic ' // &
+                       'law, is not implemented), found '//real_to_string(stiffness), error)
+            return
+         end if
          if (count + size(nodes) > size(spring_nodes)) then
             call grow_reals_2(directions, max(2*size(spring_nodes), count + size(nodes)))
             call grow_reals_2(stiffnesses, max(2*size(spring_nodes), count + size(nodes)))
@@ -201,7 +228,10 @@ contains
          directions(:, count - size(nodes) + 1:count) = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
          stiffnesses(1, count - size(nodes) + 1:count) = stiffness
       end do
-      if (limit > 0.0_dp) then
+      if (uplift > 0.0_dp) then
+         call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
+                          .false., limit, uplift)
+      else if (limit > 0.0_dp) then
          call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
                           option_index(card, 'BILATERAL') > 0, limit)
       else
@@ -605,6 +635,64 @@ contains
          deck%plastic_column = card%options(k)%column
       end if
    end subroutine bearing_limit
+
+   !> TU=t_u [, KU=k_u] of *FOUNDATION (force per unit length; stiffness per unit length) and *SPRING
+   !> (force; stiffness): the uplift (tension) limit of a bearing-limited medium, the spring then bonded
+   !> while elastic and elastic–perfectly plastic on both sides with one slip (docs/theory.md §3.9).
+   !> `uplift` is 0 when TU= is absent; `uplift_stiffness` is KU (0 when absent: the bearing modulus),
+   !> which the caller checks against the modulus (only k_u = k is implemented).
+   !> Errors: KU= without TU=; TU= on TYPE=PASTERNAK, with BILATERAL or without QU=; t_u or k_u not
+   !> positive and finite.
+   subroutine uplift_limit(source, card, deck, uplift, uplift_stiffness, error)
+      type(source_t), intent(in) :: source
+      type(card_t), intent(in) :: card
+      type(deck_t), intent(inout) :: deck
+      real(dp), intent(out) :: uplift, uplift_stiffness
+      type(error_t), allocatable, intent(out) :: error
+      integer :: tu, ku, t
+      uplift = 0.0_dp
+      uplift_stiffness = 0.0_dp
+      tu = option_index(card, 'TU')
+      ku = option_index(card, 'KU')
+      if (ku > 0 .and. tu == 0) then
+         call raise(source, card%line, card%options(ku)%column, 'expected KU= with an uplift limit TU= ' // &
+                    '(KU is its stiffness), found KU= without TU=', error)
+         return
+      end if
+      if (tu == 0) return
+      t = option_index(card, 'TYPE')
+      if (t > 0) then
+         if (to_upper(card%options(t)%value) == 'PASTERNAK') then
+            call raise(source, card%line, card%options(tu)%column, 'expected TU= on a Winkler foundation ' // &
+                       '(TYPE=WINKLER), found it with TYPE=PASTERNAK', error)
+            return
+         end if
+      end if
+      if (option_index(card, 'BILATERAL') > 0) then
+         call raise(source, card%line, card%options(tu)%column, 'expected TU= without BILATERAL (a medium ' // &
+                    'with an uplift limit is bonded while elastic already), found both', error)
+         return
+      end if
+      if (option_index(card, 'QU') == 0) then
+         call raise(source, card%line, card%options(tu)%column, 'expected TU= with a bearing limit QU= ' // &
+                    '(both limits share one plastic slip), found TU= without QU=', error)
+         return
+      end if
+      call option_real(source, card, deck, tu, 'an uplift limit', uplift, error)
+      if (allocated(error)) return
+      if (.not. (uplift > 0.0_dp .and. uplift < huge(1.0_dp))) then
+         call raise(source, card%line, card%options(tu)%value_column, 'expected a positive finite uplift ' // &
+                    'limit TU, found '//real_to_string(uplift), error)
+         return
+      end if
+      if (ku == 0) return
+      call option_real(source, card, deck, ku, 'an uplift stiffness', uplift_stiffness, error)
+      if (allocated(error)) return
+      if (.not. (uplift_stiffness > 0.0_dp .and. uplift_stiffness < huge(1.0_dp))) then
+         call raise(source, card%line, card%options(ku)%value_column, 'expected a positive finite uplift ' // &
+                    'stiffness KU, found '//real_to_string(uplift_stiffness), error)
+      end if
+   end subroutine uplift_limit
    !> TYPE=WINKLER|PASTERNAK, GP=G_p and GAP=g0 of *FOUNDATION: the law of the bed and its initial gap.
    !> TYPE=PASTERNAK needs GP (≥ 0, force: the shear layer's stiffness per unit width; 0 is Winkler's
    !> bed, the same candidates); GP is refused with Winkler's law. GAP (≥ 0, length; default 0) is the

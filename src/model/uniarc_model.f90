@@ -143,9 +143,14 @@ module uniarc_model
       logical :: tangential = .false.
       integer :: partner = 0
       !> elastic–perfectly plastic in compression (*FOUNDATION or *SPRING, QU=): the reaction is at most
-      !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9)
+      !> `yield_force` (force), beyond which the medium deforms plastically (docs/theory.md §3.9); in
+      !> tension too with `uplift_force` below
       logical :: plastic = .false.
       real(dp) :: yield_force = 0.0_dp
+      !> with an uplift (tension) resistance too (TU=): the limit t_c > 0 (force) of the tension the
+      !> medium bears, r ≥ −uplift_force; such a candidate is `bilateral` (bonded while elastic) and
+      !> shares one slip between both limits (docs/theory.md §3.9); 0: compression-only
+      real(dp) :: uplift_force = 0.0_dp
       !> a point of a Pasternak bed (foundation_pasternak): the contact is rigid (flexibility 0) with the
       !> bed's surface, whose deflection d (into the bed, along −direction) is an unknown of its own, and
       !> the gap is g0 + n·u + d. `bed_stiffness` is the candidate's row of the bed stiffness K_b
@@ -201,6 +206,8 @@ module uniarc_model
       integer :: tangential_law = tangential_contact
       !> q_u: bearing limit of the bed, force per unit length (> 0); 0: no limit (elastic), the default
       real(dp) :: bearing_limit = 0.0_dp
+      !> t_u: uplift (tension) limit of the bed, force per unit length (> 0, with a bearing limit); 0: none
+      real(dp) :: uplift_limit = 0.0_dp
       !> G_p: the shear-layer stiffness of a Pasternak bed (force, i.e. force per unit width; ≥ 0)
       real(dp) :: shear_modulus = 0.0_dp
    end type foundation_t

@@ -490,7 +490,7 @@ contains
    !> Add a group `name` of discrete springs: at `nodes(i)` a spring of stiffness `stiffness(i)` > 0
    !> (force per length) pushing along the unit `directions(:, i)`, gap g = n·u; coordinates the
    !> cumulative distance between the nodes in order.
-   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, yield_force)
+   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, yield_force, uplift_force)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: nodes(:)
@@ -499,6 +499,9 @@ contains
       logical, intent(in) :: bilateral
       !> q_u > 0 (force): elastic–perfectly plastic in compression (docs/theory.md §3.9); absent: elastic
       real(dp), intent(in), optional :: yield_force
+      !> t_u > 0 (force), with yield_force: an uplift limit too, the spring bonded while elastic
+      !> (docs/theory.md §3.9); absent: compression-only
+      real(dp), intent(in), optional :: uplift_force
       type(contact_candidate_t), allocatable :: candidates(:)
       integer :: i
       allocate (candidates(size(nodes)))
@@ -512,6 +515,10 @@ contains
          if (present(yield_force)) then
             candidates(i)%plastic = .true.
             candidates(i)%yield_force = yield_force
+            if (present(uplift_force)) then
+               candidates(i)%uplift_force = uplift_force
+               candidates(i)%bilateral = .true.
+            end if
          end if
       end do
       candidates%coordinate = path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)

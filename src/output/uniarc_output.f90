@@ -352,8 +352,8 @@ contains
    !> gap, reaction, tributary length (candidate_lengths) and reaction/length; then, where its foundation
    !> has tangential springs (tangential_springs), the spring's gap t·u, its reaction on the node along t
    !> and reaction/length (0 0 0 without one); with plastic media also `slip yielding` (the plastic slip
-   !> of the candidate and 1 where it is at its bearing limit, docs/theory.md §3.9), the gap then
-   !> measured to the medium's surface sunk by the slip.
+   !> of the candidate and 1 where it is at its bearing limit, −1 at its uplift limit (TU=), else 0,
+   !> docs/theory.md §3.9), the gap then measured to the medium's surface sunk by the slip.
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
@@ -409,7 +409,7 @@ contains
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                          numbers_text([model%contacts(c)%coordinate, gaps(c) + slip(c), reactions(c), lengths(c), &
-                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//merge('1', '0', yielding(c)))
+                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//yield_flag(c))
          else
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
@@ -420,6 +420,19 @@ contains
       call put_row(files%contact, '')
       call put_row(files%contact, '')
       call flush_table(files%contact, error)
+
+   contains
+
+      !> The `yielding` column of candidate c: 1 at its bearing limit, −1 at its uplift limit (its
+      !> reaction the tension −t), 0 elastic or open.
+      pure function yield_flag(c) result(flag)
+         integer, intent(in) :: c
+         character(len=:), allocatable :: flag
+         flag = '0'
+         if (.not. yielding(c)) return
+         flag = '1'
+         if (model%contacts(c)%uplift_force > 0.0_dp .and. reactions(c) < 0.0_dp) flag = '-1'
+      end function yield_flag
    end subroutine write_forces
 
    !> Sum of the contact reactions at each node (a node may carry candidates of several groups); the

@@ -4,20 +4,26 @@ an independent solution of the same piecewise-linear problem.
 
 Usage (one CTest per call):
   plastic_check.py --uniarc BIN --out DIR --mode block   --deck DECK [--define NAME=VALUE]...
-  plastic_check.py --uniarc BIN --out DIR --mode limit   --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode limit   --deck DECK [--limit tu]
   plastic_check.py --uniarc BIN --out DIR --mode bed     --deck DECK [--define NAME=VALUE]... --rtol R
   plastic_check.py --uniarc BIN --out DIR --mode elastic --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode bilateral --deck DECK
 
 block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic soil spring k, limit qu,
          pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
-         row against the closed form of its load history, and the slip of STEM.contact.
+         row against the closed form of its load history, and the slip of STEM.contact; with a
+         parameter tu and no ku (decks/plastic_spring_shared_slip.inp) one spring with both limits
+         (TU=) and one slip shared by them.
 limit:   a stiff beam on a plastic bed under a central load: the limit load is qu x (contact length);
-         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1).
+         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1);
+         with --limit tu the uplift limit tu L of a bed with TU= under an upward load.
 bed:     a beam on a tensionless plastic bed (decks/beam_plastic_bed.inp): the deflections, the
          slips and the yielding candidates of the last step against an independent small-displacement
          solution: Hermite beam elements on a mesh 16 times finer (--refine), the bed lumped to its nodes, the
          piecewise-linear law solved increment by increment by an active-set loop (numpy).
 elastic: the bed deck with QU huge (1e300) against the same deck without QU=: the path files are equal.
+bilateral: the bed deck with QU= and TU= both huge (1e300) against the same deck with BILATERAL in their
+         place: the path files are equal.
 """
 import argparse
 import math
@@ -79,20 +85,25 @@ def clamp(value, high):
     return min(max(value, 0.0), high)
 
 
-def block_response(kb, bearing, uplift, loads):
+def block_response(kb, bearing, uplift, loads, shared=None):
     """Deflection w (down positive) and slips after each of the loads P (down positive) applied in
     order, each from the state the previous one left: a spring kb (elastic) in parallel with a bearing
     spring (k, q) pushing up and, if given, an uplift spring (k_u, t_u) pushing down, both compression
     only and elastic-perfectly plastic, with slips s_b (down) and s_u (up). The resisting force
     kb w + clamp(k (w - s_b), 0, q) - clamp(k_u (-w - s_u), 0, t_u) is continuous and increasing in w,
     so the equilibrium is its unique root, found by bisection to round-off; then each spring beyond its
-    limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u)."""
+    limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u).
+    shared = t_u instead: ONE spring (k, q) with the uplift limit t_u too (TU=), bonded while elastic,
+    force clamp(k (w - s), -t_u, q) with one slip s (down) that either limit moves on (s = w - q/k
+    beyond the bearing limit, s = w + t_u/k beyond the uplift one); returned as (w, s, s)."""
     k, q = bearing
     ku, tu = uplift if uplift else (0.0, 0.0)
     s_b = s_u = 0.0
     out = []
     for p in loads:
         def resisting(w):
+            if shared is not None:
+                return kb*w + min(max(k*(w - s_b), -shared), q) - p
             force = kb*w + clamp(k*(w - s_b), q)
             if ku > 0.0:
                 force -= clamp(ku*(-w - s_u), tu)
@@ -109,6 +120,10 @@ def block_response(kb, bearing, uplift, loads):
             else:
                 low = middle
         w = 0.5*(low + high)
+        if shared is not None:
+            s_b = min(max(s_b, w - q/k), w + shared/k)
+            out.append((w, s_b, s_b))
+            continue
         s_b = max(s_b, w - q/k)
         if ku > 0.0:
             s_u = max(s_u, -w - tu/ku)
@@ -134,6 +149,7 @@ def check_block(args):
     values = deck_parameters(args.deck, args.define)
     kb = 12*values['EI']/values['L']**3
     uplift = (values['ku'], values['tu']) if 'ku' in values else None
+    shared = values['tu'] if 'tu' in values and 'ku' not in values else None
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     path = table(os.path.join(args.out, stem + '.path'))
     # Each analysis step a of the deck: its load F_a times lambda on the loads of the steps before it,
@@ -141,7 +157,7 @@ def check_block(args):
     forces = step_loads(args.deck)
     loads = [sum(forces[:int(a) - 1]) + lam*forces[int(a) - 1]
              for lam, a in zip(path['lambda'], path['analysis_step'])]
-    expected = block_response(kb, (values['k'], values['qu']), uplift, loads)
+    expected = block_response(kb, (values['k'], values['qu']), uplift, loads, shared)
     # Tolerance: the path is converged to the displacement tolerance 1e-8 of the deck's default
     # (*PATH), relative to the displacements; the closed form is exact (small displacements: w/L ~ 1e-5,
     # so the corotational terms are 1e-10 of w).
@@ -176,6 +192,7 @@ def check_limit(args):
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     if above.returncode != 1:
         fail(f'1.001 of qu L: exit code {above.returncode}, expected 1 (no equilibrium beyond the limit load)')
+    limit = args.limit
     # The load-controlled path stops where it cannot go on: at the limit load, from below, to the
     # step-length floor (min_increment) times the first increment.
     reached = table(os.path.join(args.out, 'above', stem + '.path'))['lambda'][-1]
@@ -185,16 +202,20 @@ def check_limit(args):
     path = table(os.path.join(args.out, 'below', stem + '.path'))
     # Elastic rows: a rigid beam on the bed, w = P/(K L); the beam's own bending adds
     # P L^3/(EI) ~ 1e-9 of it (EI = 1e6 against K L^4 = 16).
-    load = path['lambda']*values['qu']*values['L']
-    elastic = load < 0.99*values['qu']*values['L']
+    load = path['lambda']*values[limit]*values['L']
+    elastic = load < 0.99*values[limit]*values['L']
     expected = load[elastic]/(values['K']*values['L'])
     got = path['w'][elastic]
     if np.max(np.abs(got - expected)) > 1e-6*np.max(np.abs(expected)):
         fail(f'elastic rows: w {got} against P/(K L) {expected}')
     contact = table(os.path.join(args.out, 'below', stem + '.contact'))
     last = contact[contact['step'] == contact['step'].max()]
-    print(f'limit: lambda {path["lambda"][-1]} reached, {int(np.sum(last["yielding"]))} of {len(last)} '
-          f'candidates yielding; toward 1.001 the path stops at lambda = {reached!r}')
+    # at 0.999 of the limit load the rigid beam's uniform tension (or pressure) is 0.999 of the limit
+    # at every node, below it: nothing yields yet (the yielding column 1 bearing, -1 uplift, 0 elastic)
+    if np.any(last['yielding'] != 0):
+        fail('candidates yielding below the limit load of a rigid beam')
+    print(f'limit ({limit} L): lambda {path["lambda"][-1]} reached, {int(np.sum(last["yielding"] != 0))} of '
+          f'{len(last)} candidates yielding; toward 1.001 the path stops at lambda = {reached!r}')
 
 
 # ------------------------------------------------------------------------------------------------
@@ -209,12 +230,16 @@ def hermite_stiffness(ei, h):
                              [6*h, 2*h*h, -6*h, 4*h*h]])
 
 
-def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
+def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=None, history=None):
     """Deflections w (down positive, n + 1 nodes), slips and yielding flags of a free-free beam on a
     tensionless elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i), central
     load `load` applied in `increments` equal increments, each solved by an active-set loop over the
     three states of every spring (open, elastic, yielding) from the state the last one left. The
-    stiffness is banded (half-bandwidth 3: DOFs w_i, θ_i node by node), solved by scipy's band solver."""
+    stiffness is banded (half-bandwidth 3: DOFs w_i, θ_i node by node), solved by scipy's band solver.
+    uplift = t_u (per length): the springs are bonded with the uplift limit t_i = t_u L_i too and one
+    slip (TU=): states elastic, yielding in bearing (r = q), yielding in uplift (r = -t), never open.
+    history: the central loads the increments go through in order (from 0; `load` then unused),
+    `increments` equal increments between each two."""
     h = length/n
     dofs = 2*(n + 1)
     upper = 3
@@ -228,13 +253,19 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
     tributary[[0, -1]] = h/2
     k = modulus*tributary
     q = qu*tributary
+    t = (uplift if uplift else 0.0)*tributary
     slip = np.zeros(n + 1)
-    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding; all touching at the start
+    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding (3 in uplift); all touching
     w = np.zeros(n + 1)
     nodes = np.arange(n + 1)
-    for step in range(1, increments + 1):
+    targets = history if history else [load]
+    loads = []
+    for a, target in enumerate(targets):
+        start = targets[a - 1] if a > 0 else 0.0
+        loads += [start + (target - start)*step/increments for step in range(1, increments + 1)]
+    for level in loads:
         force = np.zeros(dofs)
-        force[2*(n//2)] = load*step/increments
+        force[2*(n//2)] = level
         committed = slip.copy()
         for _ in range(200):
             matrix = band.copy()
@@ -243,10 +274,15 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
             matrix[upper, 2*nodes[elastic]] += k[elastic]
             rhs[2*nodes[elastic]] += k[elastic]*committed[elastic]
             rhs[2*nodes[state == 2]] -= q[state == 2]
+            rhs[2*nodes[state == 3]] += t[state == 3]
             w = scipy.linalg.solve_banded((upper, upper), matrix, rhs)[0::2]
             new = state.copy()
             reaction = k*(w - committed)
-            new[(state == 1) & (reaction < 0)] = 0
+            if uplift:
+                new[(state == 1) & (reaction < -t)] = 3
+                new[(state == 3) & (w + t/k > committed)] = 1
+            else:
+                new[(state == 1) & (reaction < 0)] = 0
             new[(state == 1) & (reaction > q)] = 2
             new[(state == 0) & (w > committed)] = 1
             new[(state == 2) & (w - q/k < committed)] = 1
@@ -255,8 +291,8 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments):
             state = new
         else:
             fail('reference: the active-set loop did not settle')
-        slip = np.where(state == 2, w - q/k, committed)
-    return w, slip, state == 2
+        slip = np.where(state == 2, w - q/k, np.where(state == 3, w + t/k, committed))
+    return w, slip, np.where(state == 2, 1, np.where(state == 3, -1, 0))
 
 
 def check_bed(args):
@@ -265,8 +301,13 @@ def check_bed(args):
         fail(f'exit code {finished.returncode}')
     values = deck_parameters(args.deck, args.define)
     refine = args.refine
+    uplift = values.get('tu')
+    # with an uplift limit the deck is a load history: P down, then its *STEP pull to -P/2 (up; the
+    # uplift resistance of the whole bed is tu L = 0.8 P)
+    history = [values['P'], -0.5*values['P']] if uplift else None
     w_ref, slip_ref, yielding_ref = plastic_bed_reference(values['L'], refine*int(values['n']), 1.0,
-                                                          values['k'], values['qu'], values['P'], 20)
+                                                          values['k'], values['qu'], values['P'], 20,
+                                                          uplift, history)
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     shape = table(os.path.join(args.out, stem + '.shape'))
     last = shape[shape['step'] == shape['step'].max()]
@@ -279,11 +320,12 @@ def check_bed(args):
     deflection = np.max(np.abs(w - w_ref[::refine]))/w0
     slip = np.max(np.abs(rows['slip'] - slip_ref[::refine]))/w0
     print(f'bed: w0 {w[len(w)//2]:.10e} against {w_ref[len(w_ref)//2]:.10e}; largest deflection error '
-          f'{deflection:.2e} of w0, slip error {slip:.2e} of w0; yielding {int(np.sum(rows["yielding"]))} '
-          f'candidates, reference {int(np.sum(yielding_ref[::refine]))}')
+          f'{deflection:.2e} of w0, slip error {slip:.2e} of w0; yielding {int(np.sum(rows["yielding"] == 1))} '
+          f'in bearing and {int(np.sum(rows["yielding"] == -1))} in uplift, reference '
+          f'{int(np.sum(yielding_ref[::refine] == 1))} and {int(np.sum(yielding_ref[::refine] == -1))}')
     if deflection > args.rtol or slip > args.rtol:
         fail(f'deflections or slips beyond {args.rtol} of w0')
-    if not np.array_equal(rows['yielding'] == 1, yielding_ref[::refine]):
+    if not np.array_equal(rows['yielding'], yielding_ref[::refine]):
         fail('the yielding candidates differ from the reference')
 
 
@@ -312,17 +354,49 @@ def check_elastic(args):
     print(f'elastic: {len(a)} lines of the path files equal')
 
 
+def check_bilateral(args):
+    """The deck with QU= and TU= both huge against the same deck with BILATERAL in their place: a
+    spring bonded while elastic whose limits are never reached is the bonded (bilateral) bed, row for
+    row and digit for digit."""
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    decks = {}
+    for kind, replacement in (('uplift', ', QU=1e300, TU=1e300'), ('bonded', ', BILATERAL')):
+        decks[kind] = os.path.join(args.out, kind + '.inp')
+        with open(args.deck) as source, open(decks[kind], 'w') as target:
+            for line in source:
+                if line.upper().startswith('*FOUNDATION'):
+                    line = re.sub(r',\s*QU\s*=\s*[^,\s]+', replacement, line)
+                target.write(line)
+    runs = {kind: run(args.uniarc, deck, os.path.join(args.out, kind), []) for kind, deck in decks.items()}
+    if any(finished.returncode != 0 for finished in runs.values()):
+        fail('a run failed')
+
+    def rows(path):
+        with open(path) as handle:
+            return [line for line in handle if not line.startswith('#')]
+
+    a = rows(os.path.join(args.out, 'uplift', 'uplift.path'))
+    b = rows(os.path.join(args.out, 'bonded', 'bonded.path'))
+    if a != b:
+        fail('the path files differ')
+    print(f'bilateral: {len(a)} lines of the path files equal')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--uniarc', required=True)
     parser.add_argument('--deck', required=True)
     parser.add_argument('--out', required=True)
-    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic'])
+    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic', 'bilateral'])
+    parser.add_argument('--limit', default='qu', choices=['qu', 'tu'],
+                        help='limit mode: the parameter of the limit load per length (qu bearing, tu uplift)')
     parser.add_argument('--define', action='append', default=[])
     parser.add_argument('--rtol', type=float, default=1e-3)
     parser.add_argument('--refine', type=int, default=16)
     args = parser.parse_args()
-    {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic}[args.mode](args)
+    {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic,
+     'bilateral': check_bilateral}[args.mode](args)
     print('ok')
 
 

@@ -11,7 +11,7 @@ module uniarc_path_contact_set
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
-   use uniarc_contact_plastic, only: slip_shift, plastic_violation
+   use uniarc_contact_plastic, only: slip_shift, plastic_violation, limit_force
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -203,7 +203,7 @@ contains
    !> −g/t in the working set `active` and 0 out of it; the gap of a Pasternak bed point is the one with
    !> the bed's surface, g + d.
    !> Plastic media: the gaps include the committed `slip` (optional, one per candidate), and a condensed
-   !> candidate at its limit (`yielding`, optional) has r = q.
+   !> candidate at its limit (`yielding`, optional) has r = q (r = −t at an uplift limit).
    pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -227,7 +227,7 @@ contains
          else if (map%condensed(c) .and. in_set(model, active, c)) then
             reaction(c) = -gap(c)/model%contacts(c)%flexibility
             if (present(yielding)) then
-               if (yielding(c)) reaction(c) = model%contacts(c)%yield_force
+               if (yielding(c)) reaction(c) = limit_force(model%contacts(c), reaction(c))
             end if
          end if
       end do

@@ -448,7 +448,7 @@ contains
       real(dp), allocatable :: nodal(:, :)
       if (.not. has_plastic(model)) return
       call nodal_displacements(model, state, nodal)
-      call commit_slip(model, state%map, nodal, yielding, state%slip)
+      call commit_slip(model, state%map, state%u, nodal, yielding, state%slip)
       state%yielding = yielding
    end subroutine commit_plastic
 
