@@ -62,12 +62,14 @@ contains
    !> the shape already (no allocation per copy: a copy of a large band is a memory copy only).
    !> With `error` present, an allocation the system refuses is returned (error_input, exit code 2:
    !> the model does not fit in memory) with the copy's size, as band_allocate does; target is then
-   !> left without storage.
-   subroutine band_copy(source, target, error)
+   !> left without storage. `category` (default error_input) is error_analysis for a copy made within
+   !> an analysis step (exit code 1: the analysis ran out of memory).
+   subroutine band_copy(source, target, error, category)
       type(band_matrix_t), intent(in) :: source
       type(band_matrix_t), intent(inout) :: target
       type(error_t), allocatable, intent(out), optional :: error
-      integer :: status
+      integer, intent(in), optional :: category
+      integer :: status, refusal_category
       if (allocated(target%ab)) then
          if (any(shape(target%ab) /= shape(source%ab))) deallocate (target%ab, target%pivots)
       end if
@@ -76,12 +78,13 @@ contains
             allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), target%pivots(size(source%pivots)), &
                       stat=status)
             if (status /= 0) then
+               refusal_category = error_input
+               if (present(category)) refusal_category = category
                if (allocated(target%ab)) deallocate (target%ab)
                if (allocated(target%pivots)) deallocate (target%pivots)
                call allocation_failure(status, 'a copy of the band matrix of '//integer_to_string(source%n)// &
                                        ' equations and half bandwidth '//integer_to_string(max(source%kl, source%ku)), &
-                                       8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp), error_input, &
-                                       error)
+                                       8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp), refusal_category, error)
                return
             end if
          else

@@ -308,6 +308,14 @@ contains
             do attempt = halvings, options%max_cuts
                trial%length = length
                call attempt_step(model, state, system, trial)
+               if (allocated(trial%fatal)) then
+                  ! Out of memory: a shorter step would not fit either (fail_attempt); the run ends.
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  if (present(cuts)) cuts = halvings
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
