@@ -53,9 +53,10 @@ contains
    !> steps traced; the caller reads interrupt_signal() for the exit code (docs/contracts.md).
    !> Errors: those of check_model (error_input: memory, stiffness), of the result directory, of the
    !> analysis; a non-finite displacement, λ or reaction ends the run (error_analysis) before it is
-   !> written.
+   !> written. `model` is unchanged on return (intent(inout) for uniarc_model_steps: step_model, which
+   !> moves its steps out for a copy of it and back).
    subroutine run_model(model, options, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(result_directory_t) :: results
@@ -140,7 +141,7 @@ contains
    !> The linear static analysis (with contact: one LCP, uniarc_linear_static); one row per analysis
    !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps).
    subroutine run_linear(model, options, results, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
@@ -212,7 +213,7 @@ contains
    !> (SIGINT, SIGTERM) is polled after every written step: the path ends there, and its files are
    !> completed and committed.
    subroutine run_path(model, options, results, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
