@@ -68,7 +68,8 @@ contains
       real(dp) :: length_scale, worst
       integer :: n, round, pivots, c, status
 
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error, error_analysis)
+      if (allocated(error)) return
       n = map%n_equations
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
       allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &

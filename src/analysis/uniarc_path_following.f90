@@ -61,7 +61,8 @@ contains
       real(dp), allocatable :: nodal(:, :)
       integer :: status
       associate (options => model%analysis)
-         call build_dof_map(model, state%map)
+         call build_dof_map(model, state%map, error, error_analysis)
+         if (allocated(error)) return
          allocate (system)
          call band_allocate(system%tangent, state%map%n_equations, state%map%half_bandwidth, &
                             state%map%half_bandwidth, error)

@@ -71,7 +71,8 @@ contains
       ! Memory and stiffness checks (uniarc_check) before any large array or result file.
       call check_element_scales(model, error)
       if (allocated(error)) return
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error)
+      if (allocated(error)) return
       call check_model(model, map, error)
       if (allocated(error)) return
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
@@ -119,7 +120,8 @@ contains
       integer :: k
       call check_element_scales(model, error)
       if (allocated(error)) return
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error)
+      if (allocated(error)) return
       call print_model_summary(model, map)
       ! A deck with *STEP: the loads and analysis above are empty; each step's own, in order.
       if (allocated(model%steps)) then
