@@ -285,18 +285,27 @@ contains
    !> row-pivoted LU of band_factorize gives only the sign of det A, not this count, hence the separate
    !> elimination (on a copy of the band, O(n·b²), done once per converged step). A pivot that vanishes
    !> exactly is counted as negative (the matrix is singular there) and `singular` is set.
-   pure subroutine band_inertia(matrix, negative_pivots, singular)
+   !> status: that of the allocation of the copy (nonzero: the system refused it, nothing counted);
+   !> without it a refusal stops the program.
+   pure subroutine band_inertia(matrix, negative_pivots, singular, status)
       type(band_matrix_t), intent(in) :: matrix
       integer, intent(out) :: negative_pivots
       logical, intent(out) :: singular
+      integer, intent(out), optional :: status
       real(dp), allocatable :: work(:, :), row_scale(:)
       real(dp) :: pivot, factor, scale
       integer :: k, i, j, offset, last_row, last_col
       negative_pivots = 0
       singular = .false.
+      if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      allocate (work, source=matrix%ab)
+      if (present(status)) then
+         allocate (work, source=matrix%ab, stat=status)
+         if (status /= 0) return
+      else
+         allocate (work, source=matrix%ab)
+      end if
       ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
@@ -335,20 +344,29 @@ contains
    !> `below`: the number of rows whose ratio is at most `tolerance`.
    !> Source: Golub & Van Loan (2013), Matrix Computations, §3.4 (LU pivots) and §4.2 (LDLᵀ of a
    !> semidefinite matrix: a zero pivot and the null vector).
-   pure subroutine band_weakest_pivot(matrix, tolerance, weakest, ratio, below)
+   !> status: that of the allocation of the copy (nonzero: the system refused it, weakest 0);
+   !> without it a refusal stops the program.
+   pure subroutine band_weakest_pivot(matrix, tolerance, weakest, ratio, below, status)
       type(band_matrix_t), intent(in) :: matrix
       real(dp), intent(in) :: tolerance
       integer, intent(out) :: weakest, below
       real(dp), intent(out) :: ratio
+      integer, intent(out), optional :: status
       real(dp), allocatable :: work(:, :), row_scale(:)
       real(dp) :: pivot, factor, scale, r
       integer :: k, i, j, offset, last_row, last_col
       weakest = 0
       below = 0
       ratio = huge(1.0_dp)
+      if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      allocate (work, source=matrix%ab)
+      if (present(status)) then
+         allocate (work, source=matrix%ab, stat=status)
+         if (status /= 0) return
+      else
+         allocate (work, source=matrix%ab)
+      end if
       row_scale = row_maxima(matrix)
       do k = 1, matrix%n
          scale = abs(matrix%ab(offset, k))

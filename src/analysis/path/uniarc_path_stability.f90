@@ -5,7 +5,8 @@
 !> computes them all, with the tangent solution K⁻¹R, at a committed state.
 module uniarc_path_stability
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
                           band_factorize
@@ -24,14 +25,17 @@ contains
    !> (unfactorised) with band LU `factors`, and `n_active` the contact rows of the working set among
    !> them (active(c) and candidate_equation(c) > 0, per candidate). The inertia comes from the LU
    !> factors when they needed no row interchange, else by elimination without interchanges.
-   subroutine structural_inertia(factors, assembled, active, candidate_equation, negative, n_active)
+   !> status: band_inertia's (nonzero: the system refused the copy of the band it eliminates).
+   subroutine structural_inertia(factors, assembled, active, candidate_equation, negative, n_active, status)
       type(band_matrix_t), intent(in) :: factors, assembled
       logical, intent(in) :: active(:)
       integer, intent(in) :: candidate_equation(:)
       integer, intent(out) :: negative, n_active
+      integer, intent(out), optional :: status
       logical :: singular, found
+      if (present(status)) status = 0
       call band_inertia_from_factors(factors, assembled, negative, singular, found)
-      if (.not. found) call band_inertia(assembled, negative, singular)
+      if (.not. found) call band_inertia(assembled, negative, singular, status)
       ! Each contact row of the working set adds one negative pivot to the saddle-point system
       ! (Haynsworth inertia additivity): what remains counts the unstable modes of the structure.
       n_active = count(active .and. candidate_equation > 0)
@@ -100,18 +104,20 @@ contains
    !> at the unloaded state (`unloaded`), where every resting contact touches without force and a
    !> structure lying on its medium is neutral, not unstable. Costs one more band LU and inertia count
    !> at the states that have weak contacts, nothing at the others.
-   subroutine liftoff_stability(model, state, assembled, tolerance, unloaded)
+   !> memory_error: an allocation of the copy the system refused (error_analysis, allocation_failure).
+   subroutine liftoff_stability(model, state, assembled, tolerance, unloaded, memory_error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(band_matrix_t), intent(in) :: assembled
       real(dp), intent(in) :: tolerance
       logical, intent(in) :: unloaded
+      type(error_t), allocatable, intent(out) :: memory_error
       type(band_matrix_t) :: open_tangent
       type(contact_scales_t) :: units
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), released(:)
       logical, allocatable :: weak(:)
       real(dp) :: force_unit, g, gradient(2), hessian(2, 2), mu
-      integer :: c, node, row, negative, n_rows
+      integer :: c, node, row, negative, n_rows, status
       logical :: singular
       type(error_t), allocatable :: error
       state%point%liftoff = .false.
@@ -126,7 +132,8 @@ contains
                    .and. reaction(c) <= tolerance*force_unit
       end do
       if (.not. any(weak)) return
-      call band_copy(assembled, open_tangent)
+      call band_copy(assembled, open_tangent, memory_error, error_analysis)
+      if (allocated(memory_error)) return
       allocate (released(size(assembled%ab, 2)))
       n_rows = count(state%active .and. state%map%candidate_equation > 0)
       do c = 1, size(weak)
@@ -139,7 +146,10 @@ contains
                              model%contacts(c)%flexibility, reaction(c), .false., open_tangent, released)
          if (row > 0) n_rows = n_rows - 1
       end do
-      call band_inertia(open_tangent, negative, singular)
+      call band_inertia(open_tangent, negative, singular, status)
+      call allocation_failure(status, 'a copy of the tangent with the weak contacts released, for its inertia', &
+                              8.0_dp*real(size(open_tangent%ab), dp), error_analysis, memory_error)
+      if (allocated(memory_error)) return
       negative = max(0, negative - n_rows)
       call band_factorize(open_tangent, error)
       if (allocated(error)) return
@@ -155,7 +165,8 @@ contains
    !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
    !> residual, K⁻¹R, inertia and least eigenvalue into the state (path_advance's commit, and the
    !> probes of the critical-point locator, uniarc_path_locate).
-   !> Errors: a singular tangent (band_factorize, band_solve).
+   !> Errors: a singular tangent (band_factorize, band_solve); a copy of the tangent the system refuses
+   !> (error_analysis, out of memory: it ends the run, docs/contracts.md "Memory").
    subroutine commit_tangent(model, state, system, unloaded, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -164,7 +175,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale
-      integer :: n
+      integer :: n, status
       system%holds_committed = .false.
       n = state%map%n_equations
       allocate (internal(n), reference(n), rhs(n, 1))
@@ -187,14 +198,17 @@ contains
       call band_factorize(system%tangent, error)
       if (allocated(error)) return
       call structural_inertia(system%tangent, system%assembled, state%active, state%map%candidate_equation, &
-                              state%point%neg_pivots, state%point%n_active)
+                              state%point%neg_pivots, state%point%n_active, status)
+      call allocation_failure(status, 'a copy of the tangent for its inertia', &
+                              8.0_dp*real(size(system%assembled%ab), dp), error_analysis, error)
+      if (allocated(error)) return
       rhs(:, 1) = state%reference
       call band_solve(system%tangent, rhs, error)
       if (allocated(error)) return
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
       state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
-      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
+      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded, error)
    end subroutine commit_tangent
 
 end module uniarc_path_stability
