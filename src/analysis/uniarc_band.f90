@@ -278,6 +278,20 @@ contains
       end do
    end subroutine band_inertia_from_factors
 
+   !> The copy of a band's storage that band_inertia and band_weakest_pivot eliminate in. With `status`
+   !> present it is allocated with stat= (nonzero: the system refused it, `work` unallocated); without
+   !> it a refusal stops the program.
+   pure subroutine elimination_copy(matrix, work, status)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), allocatable, intent(out) :: work(:, :)
+      integer, intent(out), optional :: status
+      if (present(status)) then
+         allocate (work, source=matrix%ab, stat=status)
+      else
+         allocate (work, source=matrix%ab)
+      end if
+   end subroutine elimination_copy
+
    !> Number of negative pivots of Gaussian elimination WITHOUT interchanges of an unfactorised matrix.
    !>
    !> For a symmetric matrix this is LDLᵀ, and by Sylvester's law of inertia the count equals the number
@@ -300,12 +314,8 @@ contains
       if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      if (present(status)) then
-         allocate (work, source=matrix%ab, stat=status)
-         if (status /= 0) return
-      else
-         allocate (work, source=matrix%ab)
-      end if
+      call elimination_copy(matrix, work, status)
+      if (.not. allocated(work)) return
       ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
@@ -361,12 +371,8 @@ contains
       if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      if (present(status)) then
-         allocate (work, source=matrix%ab, stat=status)
-         if (status /= 0) return
-      else
-         allocate (work, source=matrix%ab)
-      end if
+      call elimination_copy(matrix, work, status)
+      if (.not. allocated(work)) return
       row_scale = row_maxima(matrix)
       do k = 1, matrix%n
          scale = abs(matrix%ab(offset, k))
