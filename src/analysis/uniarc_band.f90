@@ -62,12 +62,14 @@ contains
    !> the shape already (no allocation per copy: a copy of a large band is a memory copy only).
    !> With `error` present, an allocation the system refuses is returned (error_input, exit code 2:
    !> the model does not fit in memory) with the copy's size, as band_allocate does; target is then
-   !> left without storage.
-   subroutine band_copy(source, target, error)
+   !> left without storage. `category` (default error_input) is error_analysis for a copy made within
+   !> an analysis step (exit code 1: the analysis ran out of memory).
+   subroutine band_copy(source, target, error, category)
       type(band_matrix_t), intent(in) :: source
       type(band_matrix_t), intent(inout) :: target
       type(error_t), allocatable, intent(out), optional :: error
-      integer :: status
+      integer, intent(in), optional :: category
+      integer :: status, refusal_category
       if (allocated(target%ab)) then
          if (any(shape(target%ab) /= shape(source%ab))) deallocate (target%ab, target%pivots)
       end if
@@ -76,12 +78,13 @@ contains
             allocate (target%ab(size(source%ab, 1), size(source%ab, 2)), target%pivots(size(source%pivots)), &
                       stat=status)
             if (status /= 0) then
+               refusal_category = error_input
+               if (present(category)) refusal_category = category
                if (allocated(target%ab)) deallocate (target%ab)
                if (allocated(target%pivots)) deallocate (target%pivots)
                call allocation_failure(status, 'a copy of the band matrix of '//integer_to_string(source%n)// &
                                        ' equations and half bandwidth '//integer_to_string(max(source%kl, source%ku)), &
-                                       8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp), error_input, &
-                                       error)
+                                       8.0_dp*real(size(source%ab, 1), dp)*real(size(source%ab, 2), dp), refusal_category, error)
                return
             end if
          else
@@ -275,6 +278,20 @@ contains
       end do
    end subroutine band_inertia_from_factors
 
+   !> The copy of a band's storage that band_inertia and band_weakest_pivot eliminate in. With `status`
+   !> present it is allocated with stat= (nonzero: the system refused it, `work` unallocated); without
+   !> it a refusal stops the program.
+   pure subroutine elimination_copy(matrix, work, status)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), allocatable, intent(out) :: work(:, :)
+      integer, intent(out), optional :: status
+      if (present(status)) then
+         allocate (work, source=matrix%ab, stat=status)
+      else
+         allocate (work, source=matrix%ab)
+      end if
+   end subroutine elimination_copy
+
    !> Number of negative pivots of Gaussian elimination WITHOUT interchanges of an unfactorised matrix.
    !>
    !> For a symmetric matrix this is LDLᵀ, and by Sylvester's law of inertia the count equals the number
@@ -282,18 +299,23 @@ contains
    !> row-pivoted LU of band_factorize gives only the sign of det A, not this count, hence the separate
    !> elimination (on a copy of the band, O(n·b²), done once per converged step). A pivot that vanishes
    !> exactly is counted as negative (the matrix is singular there) and `singular` is set.
-   pure subroutine band_inertia(matrix, negative_pivots, singular)
+   !> status: that of the allocation of the copy (nonzero: the system refused it, nothing counted);
+   !> without it a refusal stops the program.
+   pure subroutine band_inertia(matrix, negative_pivots, singular, status)
       type(band_matrix_t), intent(in) :: matrix
       integer, intent(out) :: negative_pivots
       logical, intent(out) :: singular
+      integer, intent(out), optional :: status
       real(dp), allocatable :: work(:, :), row_scale(:)
       real(dp) :: pivot, factor, scale
       integer :: k, i, j, offset, last_row, last_col
       negative_pivots = 0
       singular = .false.
+      if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      allocate (work, source=matrix%ab)
+      call elimination_copy(matrix, work, status)
+      if (.not. allocated(work)) return
       ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
@@ -332,20 +354,25 @@ contains
    !> `below`: the number of rows whose ratio is at most `tolerance`.
    !> Source: Golub & Van Loan (2013), Matrix Computations, §3.4 (LU pivots) and §4.2 (LDLᵀ of a
    !> semidefinite matrix: a zero pivot and the null vector).
-   pure subroutine band_weakest_pivot(matrix, tolerance, weakest, ratio, below)
+   !> status: that of the allocation of the copy (nonzero: the system refused it, weakest 0);
+   !> without it a refusal stops the program.
+   pure subroutine band_weakest_pivot(matrix, tolerance, weakest, ratio, below, status)
       type(band_matrix_t), intent(in) :: matrix
       real(dp), intent(in) :: tolerance
       integer, intent(out) :: weakest, below
       real(dp), intent(out) :: ratio
+      integer, intent(out), optional :: status
       real(dp), allocatable :: work(:, :), row_scale(:)
       real(dp) :: pivot, factor, scale, r
       integer :: k, i, j, offset, last_row, last_col
       weakest = 0
       below = 0
       ratio = huge(1.0_dp)
+      if (present(status)) status = 0
       if (matrix%n == 0) return
       offset = matrix%kl + matrix%ku + 1
-      allocate (work, source=matrix%ab)
+      call elimination_copy(matrix, work, status)
+      if (.not. allocated(work)) return
       row_scale = row_maxima(matrix)
       do k = 1, matrix%n
          scale = abs(matrix%ab(offset, k))

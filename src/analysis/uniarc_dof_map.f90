@@ -7,6 +7,9 @@
 module uniarc_dof_map
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
+   use uniarc_strings, only: integer_to_string
    implicit none
    private
    public :: dof_map_t, build_dof_map, element_equations, node_adjacency, reverse_cuthill_mckee
@@ -48,36 +51,64 @@ contains
    !> move and gets no equation (inert).
    !> A point of a Pasternak bed (`bed_point`) has a rigid contact with the bed's surface: its reaction
    !> and, right after it, the surface's deflection (`bed_equation`), even under a held node.
-   subroutine build_dof_map(model, map)
+   !> Errors: an allocation the system refuses (uniarc_memory: allocation_failure), of category
+   !> `category` — error_input (exit code 2, the model does not fit in memory) by default,
+   !> error_analysis once the analysis has started; `map` is then incomplete.
+   subroutine build_dof_map(model, map, error, category)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(out) :: map
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(in), optional :: category
       integer, allocatable :: start(:), neighbours(:), natural(:), rcm(:), first_candidate(:), next_candidate(:)
       real(dp), allocatable :: stiffness(:)
-      integer :: i, k, node, next, c, n_candidates
-      call node_adjacency(model, start, neighbours)
-      natural = [(i, i=1, model%n_nodes)]
-      call reverse_cuthill_mckee(model%n_nodes, start, neighbours, rcm)
-      map%reordered = ordering_bandwidth(rcm, start, neighbours) < ordering_bandwidth(natural, start, neighbours)
-      if (map%reordered) then
-         map%node_order = rcm
-      else
-         map%node_order = natural
-      end if
-      ! Candidates of each node as linked lists, so that numbering stays O(nodes + candidates).
+      integer :: i, k, node, next, c, n_candidates, status, rcm_bandwidth, natural_bandwidth, refusal_category
       n_candidates = 0
       if (allocated(model%contacts)) n_candidates = size(model%contacts)
-      allocate (first_candidate(model%n_nodes), source=0)
-      allocate (next_candidate(n_candidates), source=0)
+      call node_adjacency(model, start, neighbours, status)
+      if (status == 0) allocate (natural(model%n_nodes), stat=status)
+      if (status == 0) call reverse_cuthill_mckee(model%n_nodes, start, neighbours, rcm, status)
+      if (status == 0) then
+         natural = [(i, i=1, model%n_nodes)]
+         call ordering_bandwidth(rcm, start, neighbours, rcm_bandwidth, status)
+      end if
+      if (status == 0) call ordering_bandwidth(natural, start, neighbours, natural_bandwidth, status)
+      if (status == 0) then
+         deallocate (start, neighbours)
+         allocate (first_candidate(model%n_nodes), next_candidate(n_candidates), &
+                   map%equation(dofs_per_node, model%n_nodes), map%candidate_equation(n_candidates), &
+                   map%condensed(n_candidates), map%bed_equation(n_candidates), stat=status)
+      end if
+      if (status == 0 .and. n_candidates > 0) allocate (stiffness(model%n_nodes), stat=status)
+      if (status /= 0) then
+         ! The numbering's arrays: adjacency (2 per element end), orderings and lists of the nodes,
+         ! the equation numbers and the candidates' lists (4 bytes each), the nodes' stiffness scales.
+         refusal_category = error_input
+         if (present(category)) refusal_category = category
+         call allocation_failure(status, 'the DOF numbering of '//integer_to_string(model%n_nodes)//' nodes and '// &
+                                 integer_to_string(n_candidates)//' contact candidates', &
+                                 4.0_dp*(4.0_dp*model%n_elements + 10.0_dp*model%n_nodes + 3.0_dp*n_candidates) + &
+                                 8.0_dp*model%n_nodes, refusal_category, error)
+         return
+      end if
+      map%reordered = rcm_bandwidth < natural_bandwidth
+      if (map%reordered) then
+         call move_alloc(rcm, map%node_order)
+      else
+         call move_alloc(natural, map%node_order)
+      end if
+      ! Candidates of each node as linked lists, so that numbering stays O(nodes + candidates).
+      first_candidate = 0
+      next_candidate = 0
       do c = n_candidates, 1, -1
          next_candidate(c) = first_candidate(model%contacts(c)%node)
          first_candidate(model%contacts(c)%node) = c
       end do
-      allocate (map%equation(dofs_per_node, model%n_nodes), source=0)
-      allocate (map%candidate_equation(n_candidates), source=0)
-      allocate (map%condensed(n_candidates), source=.false.)
-      allocate (map%bed_equation(n_candidates), source=0)
+      map%equation = 0
+      map%candidate_equation = 0
+      map%condensed = .false.
+      map%bed_equation = 0
       if (n_candidates > 0) then
-         stiffness = node_stiffness(model)
+         call node_stiffness(model, stiffness)
          do c = 1, n_candidates
             associate (candidate => model%contacts(c))
                if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
@@ -110,7 +141,15 @@ contains
          end do
       end do
       map%n_equations = next
-      allocate (map%metric(next), source=0.0_dp)
+      allocate (map%metric(next), stat=status)
+      if (status /= 0) then
+         refusal_category = error_input
+         if (present(category)) refusal_category = category
+         call allocation_failure(status, 'the metric of the DOF numbering ('//integer_to_string(next)//' equations)', &
+                                 8.0_dp*next, refusal_category, error)
+         return
+      end if
+      map%metric = 0.0_dp
       do i = 1, model%n_nodes
          do k = 1, dofs_per_node
             if (map%equation(k, i) > 0) map%metric(map%equation(k, i)) = 1.0_dp
@@ -165,9 +204,9 @@ contains
    !> Stiffness scale of each node (n_nodes): Σ over its elements of EA/L + 12 EI/L³, the size of the
    !> translational diagonal of the elastic stiffness there (Przemieniecki 1968, §5.2). A spring up to
    !> this stiffness changes the conditioning of K by a factor of two at most.
-   pure function node_stiffness(model) result(stiffness)
+   pure subroutine node_stiffness(model, stiffness)
       type(model_t), intent(in) :: model
-      real(dp) :: stiffness(model%n_nodes)
+      real(dp), intent(out) :: stiffness(model%n_nodes)
       real(dp) :: d(2), length
       integer :: e, s
       stiffness = 0.0_dp
@@ -180,7 +219,7 @@ contains
          stiffness(model%connectivity(:, e)) = stiffness(model%connectivity(:, e)) + &
                                                model%sections(s)%ea/length + 12.0_dp*model%sections(s)%ei/length**3
       end do
-   end function node_stiffness
+   end subroutine node_stiffness
 
    !> Steering vector of element `e`: the 6 equation numbers of its two nodes (0 where held).
    pure function element_equations(model, map, e) result(equations)
@@ -193,25 +232,29 @@ contains
    end function element_equations
 
    !> Node adjacency through elements in compressed form: neighbours(start(i):start(i+1)-1) of node i.
-   pure subroutine node_adjacency(model, start, neighbours)
+   !> status: that of the allocations (nonzero: refused, the arrays incomplete).
+   pure subroutine node_adjacency(model, start, neighbours, status)
       type(model_t), intent(in) :: model
       integer, allocatable, intent(out) :: start(:), neighbours(:)
+      integer, intent(out) :: status
       integer, allocatable :: degree(:), fill(:)
       integer :: e, a, b
-      allocate (degree(model%n_nodes), source=0)
+      allocate (degree(model%n_nodes), fill(model%n_nodes), start(model%n_nodes + 1), stat=status)
+      if (status /= 0) return
+      degree = 0
       do e = 1, model%n_elements
          a = model%connectivity(1, e)
          b = model%connectivity(2, e)
          degree(a) = degree(a) + 1
          degree(b) = degree(b) + 1
       end do
-      allocate (start(model%n_nodes + 1))
       start(1) = 1
       do a = 1, model%n_nodes
          start(a + 1) = start(a) + degree(a)
       end do
-      allocate (neighbours(start(model%n_nodes + 1) - 1))
-      allocate (fill, source=start(1:model%n_nodes))
+      allocate (neighbours(start(model%n_nodes + 1) - 1), stat=status)
+      if (status /= 0) return
+      fill = start(1:model%n_nodes)
       do e = 1, model%n_elements
          a = model%connectivity(1, e)
          b = model%connectivity(2, e)
@@ -223,38 +266,46 @@ contains
    end subroutine node_adjacency
 
    !> Largest distance in `order` between two adjacent nodes (the node half-bandwidth of the ordering).
-   pure function ordering_bandwidth(order, start, neighbours) result(bandwidth)
+   !> status: that of the allocation of the nodes' positions (nonzero: refused, bandwidth 0).
+   pure subroutine ordering_bandwidth(order, start, neighbours, bandwidth, status)
       integer, intent(in) :: order(:), start(:), neighbours(:)
-      integer :: bandwidth
+      integer, intent(out) :: bandwidth, status
       integer, allocatable :: position(:)
       integer :: i, k
-      allocate (position(size(order)))
-      position(order) = [(i, i=1, size(order))]
       bandwidth = 0
+      allocate (position(size(order)), stat=status)
+      if (status /= 0) return
+      do i = 1, size(order)
+         position(order(i)) = i
+      end do
       do i = 1, size(order)
          do k = start(i), start(i + 1) - 1
             bandwidth = max(bandwidth, abs(position(i) - position(neighbours(k))))
          end do
       end do
-   end function ordering_bandwidth
+   end subroutine ordering_bandwidth
 
    !> Reverse Cuthill–McKee ordering of each connected component, started from a pseudo-peripheral
    !> node found by repeated breadth-first level structures (George & Liu 1981, §4.3–4.4).
-   pure subroutine reverse_cuthill_mckee(n, start, neighbours, order)
+   !> status: that of the allocations (nonzero: refused, `order` incomplete).
+   pure subroutine reverse_cuthill_mckee(n, start, neighbours, order, status)
       integer, intent(in) :: n, start(:), neighbours(:)
       integer, allocatable, intent(out) :: order(:)
+      integer, intent(out) :: status
       logical, allocatable :: placed(:)
+      integer, allocatable :: queue(:), level(:)   ! the work arrays of level_depth
       integer :: seed, filled, head, node, k, candidate, depth, new_depth, i
-      allocate (order(n))
-      allocate (placed(n), source=.false.)
+      allocate (order(n), placed(n), queue(n), level(n), stat=status)
+      if (status /= 0) return
+      placed = .false.
       filled = 0
       do seed = 1, n
          if (placed(seed)) cycle
          ! Pseudo-peripheral start: move to a node of least degree in the last level while depth grows.
          node = seed
-         call level_depth(node, depth, candidate)
+         call level_depth(node, depth, candidate, queue, level)
          do
-            call level_depth(candidate, new_depth, k)
+            call level_depth(candidate, new_depth, k, queue, level)
             if (new_depth <= depth) exit
             node = candidate
             depth = new_depth
@@ -286,7 +337,11 @@ contains
             end do
          end do
       end do
-      order = order(n:1:-1)
+      do i = 1, n/2
+         k = order(i)
+         order(i) = order(n + 1 - i)
+         order(n + 1 - i) = k
+      end do
 
    contains
 
@@ -297,13 +352,13 @@ contains
 
       !> Depth of the level structure rooted at `root` within its component (unplaced nodes only),
       !> and a node of least degree in its last level.
-      pure subroutine level_depth(root, depth_out, last_node)
+      !> queue, level (n): work arrays.
+      pure subroutine level_depth(root, depth_out, last_node, queue, level)
          integer, intent(in) :: root
          integer, intent(out) :: depth_out, last_node
-         integer, allocatable :: queue(:), level(:)
+         integer, intent(inout) :: queue(:), level(:)
          integer :: qhead, qtail, v, kk, w
-         allocate (queue(n))
-         allocate (level(n), source=-1)
+         level = -1
          level(root) = 0
          queue(1) = root
          qhead = 1

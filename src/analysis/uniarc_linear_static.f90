@@ -70,7 +70,8 @@ contains
       real(dp) :: length_scale, worst
       integer :: n, round, pivots, c, status
 
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error, error_analysis)
+      if (allocated(error)) return
       n = map%n_equations
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
       allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &
@@ -143,7 +144,10 @@ contains
 
       ! Inertia of the final K_S: each contact row of the set adds one negative pivot to the
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
-      call band_inertia(assembled, negative_pivots, singular)
+      call band_inertia(assembled, negative_pivots, singular, status)
+      call allocation_failure(status, 'a copy of the stiffness matrix for its inertia', &
+                              8.0_dp*real(size(assembled%ab), dp), error_analysis, error)
+      if (allocated(error)) return
       negative_pivots = max(0, negative_pivots - count(set .and. map%candidate_equation > 0))
       allocate (displacement(dofs_per_node, model%n_nodes), stat=status)
       call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, error_analysis, &

@@ -241,7 +241,8 @@ contains
                             'contacts (a rigid motion that only the contacts hold): not supported', error_analysis)
             return
          end if
-         call build_dof_map(model, map)
+         call build_dof_map(model, map, error, error_analysis)
+         if (allocated(error)) return
          n = map%n_equations
          allocate (x(n), source=0.0_dp)
          do i = 1, model%n_nodes

@@ -67,7 +67,8 @@ contains
       real(dp), allocatable :: nodal(:, :)
       integer :: status
       associate (options => model%analysis)
-         call build_dof_map(model, state%map)
+         call build_dof_map(model, state%map, error, error_analysis)
+         if (allocated(error)) return
          allocate (system)
          call band_allocate(system%tangent, state%map%n_equations, state%map%half_bandwidth, &
                             state%map%half_bandwidth, error)
@@ -327,6 +328,14 @@ contains
             do attempt = halvings, options%max_cuts
                trial%length = length
                call attempt_step(model, state, system, trial)
+               if (allocated(trial%fatal)) then
+                  ! Out of memory: a shorter step would not fit either (fail_attempt); the run ends.
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  if (present(cuts)) cuts = halvings
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not

@@ -10,6 +10,7 @@
 !> initial geometry, uniarc_assembly). At a free DOF r is the residual, zero at a converged state.
 module uniarc_support_reactions
    use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, error_analysis
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_matrix_t, band_allocate, band_multiply
@@ -31,13 +32,17 @@ contains
    !> returned error.
    !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
    !> moment limit (the path's state), passed to the equilibrium as the path following does.
-   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic)
+   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic, error)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
       logical, intent(in) :: linear
       real(dp), allocatable, intent(out) :: reactions(:, :)
       real(dp), intent(in), optional :: joint_plastic(:, :)
+      !> an allocation of the numbering the system refused (error_analysis); without `error` such a
+      !> refusal ends the program as an unchecked allocation would (docs/contracts.md, "Memory")
+      type(error_t), allocatable, intent(out), optional :: error
+      type(error_t), allocatable :: map_error
       type(model_t) :: unsupported
       type(dof_map_t) :: map
       type(band_matrix_t) :: stiffness
@@ -57,7 +62,12 @@ contains
             if (allocated(unsupported%held(j)%prescribed)) deallocate (unsupported%held(j)%prescribed)
          end do
       end if
-      call build_dof_map(unsupported, map)
+      call build_dof_map(unsupported, map, map_error, error_analysis)
+      if (allocated(map_error)) then
+         if (.not. present(error)) error stop 'uniarc: analysis failed: out of memory (support reactions)'
+         call move_alloc(map_error, error)
+         return
+      end if
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
       allocate (x(map%n_equations), source=0.0_dp)
       allocate (internal(map%n_equations), reference(map%n_equations), fixed_load(map%n_equations))

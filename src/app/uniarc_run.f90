@@ -57,9 +57,10 @@ contains
    !> steps traced; the caller reads interrupt_signal() for the exit code (docs/contracts.md).
    !> Errors: those of check_model (error_input: memory, stiffness), of the result directory, of the
    !> analysis; a non-finite displacement, λ or reaction ends the run (error_analysis) before it is
-   !> written.
+   !> written. `model` is unchanged on return (intent(inout) for uniarc_model_steps: step_model, which
+   !> moves its steps out for a copy of it and back).
    subroutine run_model(model, options, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
       type(result_directory_t) :: results
@@ -74,7 +75,8 @@ contains
       ! Memory and stiffness checks (uniarc_check) before any large array or result file.
       call check_element_scales(model, error)
       if (allocated(error)) return
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error)
+      if (allocated(error)) return
       call check_model(model, map, error)
       if (allocated(error)) return
       call warn_nearly_mechanism(model, map)
@@ -133,7 +135,8 @@ contains
       integer :: k
       call check_element_scales(model, error)
       if (allocated(error)) return
-      call build_dof_map(model, map)
+      call build_dof_map(model, map, error)
+      if (allocated(error)) return
       call print_model_summary(model, map)
       ! A deck with *STEP: the loads and analysis above are empty; each step's own, in order.
       if (allocated(model%steps)) then
@@ -157,7 +160,7 @@ contains
    !> The linear static analysis (with contact: one LCP, uniarc_linear_static); one row per analysis
    !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps).
    subroutine run_linear(model, options, results, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
@@ -190,7 +193,8 @@ contains
             record%reaction_sum = summary%reaction_sum
             if (has_prescribed(model)) then
                call support_reactions(step_model(model, k, end_lambda), record%displacement, 1.0_dp, .true., &
-                                      reactions)
+                                      reactions, error=error)
+               if (allocated(error)) return
                record%prescribed_force = prescribed_force(step_model(model, k, end_lambda), reactions)
             end if
             if (.not. finite_record(record)) then
@@ -235,7 +239,7 @@ contains
    !> (SIGINT, SIGTERM) is polled after every written step: the path ends there, and its files are
    !> completed and committed.
    subroutine run_path(model, options, results, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
@@ -348,9 +352,14 @@ contains
             ! The forces of the supports where the step begins, for those it removes (step_model).
             if (allocated(driver%state%joint_plastic)) then
                call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions, &
-                                      driver%state%joint_plastic)
+                                      driver%state%joint_plastic, error)
             else
-               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions)
+               call support_reactions(stepped, driver%displacement, driver%state%lambda, .false., reactions, &
+                                      error=error)
+            end if
+            if (allocated(error)) then
+               call name_analysis_step(model, k_step, error)
+               exit
             end if
             stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
          else

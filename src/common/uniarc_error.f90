@@ -17,6 +17,9 @@ module uniarc_error
    type :: error_t
       integer :: category = error_internal
       character(len=:), allocatable :: message
+      !> The system refused memory (uniarc_memory: allocation_failure). Within an analysis step such an
+      !> error ends the run: it is not a failed step to cut back and retry (docs/contracts.md, "Memory").
+      logical :: out_of_memory = .false.
    end type error_t
 
 contains

@@ -101,6 +101,8 @@ contains
    !> (exit code 1) once the analysis has started — "analysis failed: out of memory: cannot allocate ...".
    !> The runtime's errmsg= is not quoted: gfortran 12 gives "Attempt to allocate an allocated object"
    !> for memory it could not get (stat 5014, measured under `ulimit -v`).
+   !> The error is flagged `out_of_memory` (uniarc_error): within an analysis step it ends the run
+   !> instead of cutting the step back.
    subroutine allocation_failure(status, what, bytes, category, error)
       integer, intent(in) :: status
       character(len=*), intent(in) :: what
@@ -117,6 +119,7 @@ contains
       else
          call make_error(error, 'analysis failed: out of memory: '//text, category)
       end if
+      error%out_of_memory = .true.
    end subroutine allocation_failure
 
    !> Bytes as text with three significant digits and a decimal unit: "512 B", "3.42 MB", "1.20 TB".

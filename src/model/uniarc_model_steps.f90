@@ -15,7 +15,7 @@
 !> (`prescribed_at`, docs/theory.md §2.9).
 module uniarc_model_steps
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, load_pattern_t, analysis_linear, dofs_per_node
+   use uniarc_model, only: model_t, load_pattern_t, analysis_step_t, analysis_linear, dofs_per_node
    implicit none
    private
    public :: n_analysis_steps, step_model
@@ -49,15 +49,21 @@ contains
    !> Guide, "Boundary conditions": a removed boundary condition's reaction is ramped down over the
    !> step). The prescribed displacements of earlier steps at the released DOFs no longer act. Without
    !> the two arrays (the first step, or a caller that does not change supports) nothing changes.
+   !> The stepped model has no steps of its own (`stepped%steps` unallocated): `model%steps` is moved
+   !> out for the copy and back, so that a deck of many steps does not copy every step's patterns for
+   !> every step (`model` is unchanged on return).
    function step_model(model, k, end_lambda, start_displacement, start_reactions) result(stepped)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       integer, intent(in) :: k
       real(dp), intent(in) :: end_lambda(:)
       real(dp), intent(in), optional :: start_displacement(:, :), start_reactions(:, :)
       type(model_t) :: stepped
       type(load_pattern_t), allocatable :: patterns(:)
+      type(analysis_step_t), allocatable :: steps(:)
       integer :: j
+      call move_alloc(model%steps, steps)
       stepped = model
+      call move_alloc(steps, model%steps)
       if (.not. allocated(model%steps)) return
       stepped%analysis = model%steps(k)%analysis
       if (allocated(model%steps(k)%fixed)) stepped%fixed = model%steps(k)%fixed

@@ -111,6 +111,12 @@ contains
       do
          trial%length = xi
          call attempt_step(riks_model, critical, system, trial, start=xi*phi)
+         if (allocated(trial%fatal)) then
+            ! Out of memory (fail_attempt): no shorter step is tried; the run ends.
+            call move_alloc(system, state%system)
+            call move_alloc(trial%fatal, error)
+            return
+         end if
          if (trial%converged) exit
          xi = 0.5_dp*xi
          cuts = cuts + 1

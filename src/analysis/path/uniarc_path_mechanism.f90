@@ -195,12 +195,13 @@ contains
       character(len=:), allocatable, intent(out) :: what
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
       real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual
-      integer :: below, node, dof
+      integer :: below, node, dof, status
       what = ''
       ratio = huge(1.0_dp)
       row = 0
       if (map%n_equations == 0) return
-      call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below)
+      ! A copy the system refuses leaves row 0: no mechanism named (the caller's message stands).
+      call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below, status)
       if (row == 0 .or. ratio > pivot_tolerance) return
       ! The rigid motions about the centroid: translation x, translation y, rotation (Przemieniecki
       ! 1968, §2: u = a − θ(y − y_c), v = b + θ(x − x_c), rz = θ), on the free equations.

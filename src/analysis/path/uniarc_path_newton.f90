@@ -12,13 +12,13 @@
 !> An attempt reads the committed state only; it writes its `step_trial_t` and the system of equations.
 module uniarc_path_newton
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
    use uniarc_model, only: model_t, analysis_options_t
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_solve, band_copy, band_factorize
    use uniarc_assembly, only: gather_nodal
    use uniarc_contact_lcp, only: path_constraint_t
-   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, linearization_t, masked_dot, &
+   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, fail_attempt, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
                                 has_contacts, new_linearization, candidate_values
    use uniarc_contact, only: toggle_contacts, bed_values
@@ -280,10 +280,11 @@ contains
                ! LCP belong to the same set and are simply not used).
                reuse_factors = .false.
                lin%residual = lin%rhs(:, 1)
-               call band_copy(system%tangent, system%assembled)
-               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               call band_copy(system%tangent, system%assembled, error, error_analysis)
+               if (.not. allocated(error)) &
+                  call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
                if (allocated(error)) then
-                  trial%reason = 'singular tangent'
+                  call fail_attempt(trial, 'singular tangent', error)
                   exit
                end if
                call correction_constraint(options, state, trial%increment, constraint, trial%load_step)
@@ -300,7 +301,7 @@ contains
                   cycle
                end if
                if (allocated(error)) then
-                  trial%reason = error%message
+                  call fail_attempt(trial, (error%message), error)
                   exit
                end if
                if (update%changed) then
@@ -311,7 +312,11 @@ contains
                   ! the next correction (the loop assembles into system%tangent, so they wait in
                   ! `assembled`).
                   reuse_factors = update%kept
-                  if (reuse_factors) call band_copy(system%tangent, system%assembled)
+                  if (reuse_factors) call band_copy(system%tangent, system%assembled, error, error_analysis)
+                  if (allocated(error)) then
+                     call fail_attempt(trial, 'no memory for the factors of the new contact set', error)
+                     exit
+                  end if
                   cycle
                end if
                if (in_equilibrium) then
@@ -332,7 +337,7 @@ contains
                   call factorize_and_solve(system%tangent, lin%rhs(:, 1), lin%reference, lin%rhs, error)
                end if
                if (allocated(error)) then
-                  trial%reason = 'singular tangent'
+                  call fail_attempt(trial, 'singular tangent', error)
                   exit
                end if
             end if
@@ -454,11 +459,12 @@ contains
                call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
                                    lin%internal, lin%reference, lin%element_scale)
                lin%residual = state%lambda*lin%reference - lin%internal
-               call band_copy(system%tangent, system%assembled)
-               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               call band_copy(system%tangent, system%assembled, error, error_analysis)
+               if (.not. allocated(error)) &
+                  call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
             end if
             if (allocated(error)) then
-               trial%reason = 'singular tangent at the start of the step'
+               call fail_attempt(trial, 'singular tangent at the start of the step', error)
                return
             end if
             call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
@@ -474,10 +480,11 @@ contains
                call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
                                    lin%internal, lin%reference, lin%element_scale)
                lin%residual = state%lambda*lin%reference - lin%internal
-               call band_copy(system%tangent, system%assembled)
-               call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               call band_copy(system%tangent, system%assembled, error, error_analysis)
+               if (.not. allocated(error)) &
+                  call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
                if (allocated(error)) then
-                  trial%reason = 'singular tangent at the start of the step'
+                  call fail_attempt(trial, 'singular tangent at the start of the step', error)
                   return
                end if
                call step_constraint(options, state, ut, trial%dlambda, constraint, trial%load_step)
@@ -486,7 +493,7 @@ contains
                trial%lcp_pivots = trial%lcp_pivots + update%pivots
             end if
             if (allocated(error)) then
-               trial%reason = error%message
+               call fail_attempt(trial, (error%message), error)
                return
             end if
             if (update%changed) then
@@ -500,7 +507,7 @@ contains
                   call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
                                            lin%reference, lin%rhs, error)
                   if (allocated(error)) then
-                     trial%reason = 'singular tangent with the predicted contact set'
+                     call fail_attempt(trial, 'singular tangent with the predicted contact set', error)
                      return
                   end if
                   ut = lin%rhs(:, 2)

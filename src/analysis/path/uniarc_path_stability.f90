@@ -5,7 +5,8 @@
 !> computes them all, with the tangent solution K⁻¹R, at a committed state.
 module uniarc_path_stability
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
                           band_factorize, band_get, band_add
@@ -24,14 +25,17 @@ contains
    !> (unfactorised) with band LU `factors`, and `n_active` the contact rows of the working set among
    !> them (active(c) and candidate_equation(c) > 0, per candidate). The inertia comes from the LU
    !> factors when they needed no row interchange, else by elimination without interchanges.
-   subroutine structural_inertia(factors, assembled, active, candidate_equation, negative, n_active)
+   !> status: band_inertia's (nonzero: the system refused the copy of the band it eliminates).
+   subroutine structural_inertia(factors, assembled, active, candidate_equation, negative, n_active, status)
       type(band_matrix_t), intent(in) :: factors, assembled
       logical, intent(in) :: active(:)
       integer, intent(in) :: candidate_equation(:)
       integer, intent(out) :: negative, n_active
+      integer, intent(out), optional :: status
       logical :: singular, found
+      if (present(status)) status = 0
       call band_inertia_from_factors(factors, assembled, negative, singular, found)
-      if (.not. found) call band_inertia(assembled, negative, singular)
+      if (.not. found) call band_inertia(assembled, negative, singular, status)
       ! Each contact row of the working set adds one negative pivot to the saddle-point system
       ! (Haynsworth inertia additivity): what remains counts the unstable modes of the structure.
       n_active = count(active .and. candidate_equation > 0)
@@ -112,12 +116,15 @@ contains
    !> medium is neutral, not unstable. Costs one band LU per piece tested at the states that have weak
    !> contacts, nothing at the others. Sets state%point%liftoff when the count and least eigenvalue
    !> are a piece's other than K_S, with its least eigenvector in state%liftoff_mode.
-   subroutine liftoff_stability(model, state, assembled, tolerance, unloaded)
+   !> memory_error: reserved for an allocation of a copy the system refuses (error_analysis); the
+   !> pieces' copies do not check it yet (docs/contracts.md, "Memory").
+   subroutine liftoff_stability(model, state, assembled, tolerance, unloaded, memory_error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(band_matrix_t), intent(in) :: assembled
       real(dp), intent(in) :: tolerance
       logical, intent(in) :: unloaded
+      type(error_t), allocatable, intent(out) :: memory_error
       type(contact_scales_t) :: units
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), along(:), norms(:)
       logical, allocatable :: released(:), pressed_plus(:), pressed_minus(:)
@@ -344,7 +351,8 @@ contains
    !> Assemble and factorise K_T at the committed state (into `system`, which then holds it); its
    !> residual, K⁻¹R, inertia and least eigenvalue into the state (path_advance's commit, and the
    !> probes of the critical-point locator, uniarc_path_locate).
-   !> Errors: a singular tangent (band_factorize, band_solve).
+   !> Errors: a singular tangent (band_factorize, band_solve); a copy of the tangent the system refuses
+   !> (error_analysis, out of memory: it ends the run, docs/contracts.md "Memory").
    subroutine commit_tangent(model, state, system, unloaded, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -353,7 +361,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale
-      integer :: n
+      integer :: n, status
       system%holds_committed = .false.
       n = state%map%n_equations
       allocate (internal(n), reference(n), rhs(n, 1))
@@ -376,14 +384,17 @@ contains
       call band_factorize(system%tangent, error)
       if (allocated(error)) return
       call structural_inertia(system%tangent, system%assembled, state%active, state%map%candidate_equation, &
-                              state%point%neg_pivots, state%point%n_active)
+                              state%point%neg_pivots, state%point%n_active, status)
+      call allocation_failure(status, 'a copy of the tangent for its inertia', &
+                              8.0_dp*real(size(system%assembled%ab), dp), error_analysis, error)
+      if (allocated(error)) return
       rhs(:, 1) = state%reference
       call band_solve(system%tangent, rhs, error)
       if (allocated(error)) return
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
       state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
-      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded)
+      call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded, error)
    end subroutine commit_tangent
 
 end module uniarc_path_stability

@@ -30,6 +30,7 @@ module uniarc_path_state
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
    public :: hold_floating
    public :: commit_plastic
+   public :: fail_attempt
 
    !> What a converged point of the path tells the critical-point detector.
    type :: path_point_t
@@ -162,6 +163,9 @@ module uniarc_path_state
       integer :: set_changes = 0                !< changes of the working set within Newton
       logical :: converged = .false.            !< equilibrium and complementarity hold
       character(len=:), allocatable :: reason   !< why it did not converge (message text)
+      !> An error that no shorter step cures (memory the system refused, uniarc_error: out_of_memory):
+      !> path_advance ends the run with it instead of cutting the step back (fail_attempt).
+      type(error_t), allocatable :: fatal
    end type step_trial_t
 
    !> The equations linearised at a state x: the work arrays of the predictor and of each Newton
@@ -414,6 +418,20 @@ contains
       rhs(:, 2) = reference
       call band_solve(tangent, rhs, error)
    end subroutine factorize_and_solve
+
+   !> An attempt at a step failed: `reason` says why (a singular tangent, an LCP without solution ...)
+   !> and the step is cut back and tried again (path_advance) — unless `error` is out of memory
+   !> (uniarc_error: out_of_memory), which a shorter step does not cure: it moves to trial%fatal and
+   !> ends the run (docs/contracts.md, "Memory"). `error` may be unallocated (a failure without one).
+   subroutine fail_attempt(trial, reason, error)
+      type(step_trial_t), intent(inout) :: trial
+      character(len=*), intent(in) :: reason
+      type(error_t), allocatable, intent(inout) :: error
+      trial%converged = .false.
+      trial%reason = reason
+      if (.not. allocated(error)) return
+      if (error%out_of_memory) call move_alloc(error, trial%fatal)
+   end subroutine fail_attempt
 
    !> Dot product over the displacement unknowns only (the metric masks the reactions out).
    pure real(dp) function masked_dot(map, a, b)
