@@ -291,11 +291,11 @@ contains
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
       type(path_state_t) :: before
-      real(dp) :: length, factor, remaining
+      real(dp) :: length, factor, remaining, target
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden
+      logical :: to_limit, hidden, landed
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -336,6 +336,11 @@ contains
                   call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                   return
                end if
+               ! Under arc-length or displacement control a step that takes |λ| through lambda_max is
+               ! re-solved under load control to land on it (docs/theory.md §2.11).
+               landed = .false.
+               if (trial%converged .and. options%control /= control_load) &
+                  call land_on_load_limit(model, state, system, trial, length, target, landed)
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -382,6 +387,7 @@ contains
             state%lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
             if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
+            if (landed) state%lambda = target
             state%active = trial%active
             call commit_plastic(model, state, trial%yielding)
             state%last_increment = trial%increment
@@ -469,6 +475,51 @@ contains
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
+
+   !> The landing on lambda_max of a step under arc-length or displacement control (docs/theory.md
+   !> §2.11): a converged `trial` from the committed `state` whose λ takes |λ| from below lambda_max to
+   !> lambda_max or beyond (the path reaching the deck's load while |λ| rises; a step cannot end past
+   !> it otherwise, since the path stops at the first point with |λ| >= lambda_max) is solved again from
+   !> the same committed state under load control with Δλ = ±lambda_max − λ_n, the sign of the
+   !> trial's λ. If that attempt converges it replaces `trial`, `target` is ±lambda_max (the λ the
+   !> commit sets, free of the round-off of λ_n + Δλ), `landed` is true, and `length` becomes the
+   !> deck's step length scaled by the fraction of the trial's Δλ the landing takes (the length the
+   !> critical-point locator and a cut of the landed step start from). If it does not converge (a
+   !> limit point between λ_n and lambda_max passed inside the step), the trial is kept: the path then
+   !> ends past lambda_max as it reached it (docs/contracts.md). `system` is work space.
+   subroutine land_on_load_limit(model, state, system, trial, length, target, landed)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(step_trial_t), intent(inout) :: trial
+      real(dp), intent(inout) :: length
+      real(dp), intent(out) :: target
+      logical, intent(out) :: landed
+      type(model_t), allocatable :: load_controlled
+      type(path_state_t), allocatable :: start
+      type(step_trial_t) :: landing
+      real(dp) :: lambda_max, reached
+      landed = .false.
+      target = 0.0_dp
+      lambda_max = model%analysis%lambda_max
+      if (.not. (lambda_max < huge(1.0_dp))) return
+      reached = state%lambda + trial%dlambda
+      if (.not. (abs(state%lambda) < lambda_max .and. abs(reached) >= lambda_max)) return
+      target = sign(lambda_max, reached)
+      ! The same model under load control, from the same committed state going towards the target.
+      allocate (load_controlled, source=model)
+      load_controlled%analysis%control = control_load
+      allocate (start, source=state)
+      start%direction = 1
+      if (target < state%lambda) start%direction = -1
+      landing%length = abs(target - state%lambda)
+      ! (attempt_step leaves the system holding the landing's converged assembly, or none.)
+      call attempt_step(load_controlled, start, system, landing)
+      if (.not. landing%converged) return
+      length = length*abs(target - state%lambda)/abs(trial%dlambda)
+      trial = landing
+      landed = .true.
+   end subroutine land_on_load_limit
 
    !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
    !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has
