@@ -24,6 +24,16 @@ relative to the largest of each kind, and exits 1 if the sets differ or a differ
 TOLERANCE (round-off and the 13 digits of uniarc's shape file).
 
     python3 bench/bedded_lining_peer.py --uniarc build/uniarc
+
+`--dload` gives the ground pressure as uniarc's own `*DLOAD, P` with the depth expression (consistent
+loads on every element, also on the hinged and jointed ones: their fixed-end forces are those of the
+member released through its joints, docs/theory.md §1.10) and OpenSees the same pressure as
+`beamUniform` element loads at each element's midpoint value, and compares the element end forces
+N, V, M (`*OUTPUT, FORCES` against OpenSees' `localForce`). uniarc evaluates the expression at each
+element's midpoint and takes it uniform there (docs/input.md, `*DLOAD`), so both programs carry the
+same loads and must agree to round-off.
+
+    python3 bench/bedded_lining_peer.py --uniarc build/uniarc --dload
 """
 import argparse
 import math
@@ -40,6 +50,9 @@ GAMMA = 20.0
 H = 10.0             # depth of the ring's centre below the surface (y = H at the surface)
 K0 = 0.5
 TOLERANCE = 1e-9
+# --dload: the same loads in both programs (midpoint values), so round-off: measured 1.4e-12 of the
+# largest M (before the released fixed-end forces, 0.24): 1e-9 as for the displacements.
+FORCE_TOLERANCE = 1e-9
 
 CHORD = 2.0 * R * math.sin(math.pi / N_ELEMENTS)
 
@@ -59,8 +72,17 @@ def nodal_loads():
     return loads
 
 
-def deck():
+def pressure(t, y):
+    """The ground pressure at angle t and height y (force per length, toward the centre)."""
+    return GAMMA * (H - y) * (K0 + (1.0 - K0) * math.sin(t) ** 2)
+
+
+def deck(element_loads=False):
     loads = nodal_loads()
+    if element_loads:
+        return deck().split('*CLOAD')[0] + (
+            f'*DLOAD, XC=0, YC=0\nring, P, {GAMMA!r}*({H!r} - y)*({K0!r} + (1 - {K0!r})*sind(theta)**2)\n'
+            '*OUTPUT, FORCES\n*STATIC\n')
     return f"""** Bedded segmental lining (bench/bedded_lining_peer.py)
 *SECTION, NAME=lining, STIFFNESS
 {EA!r}, {EI!r}, {GAS!r}
@@ -94,8 +116,26 @@ def uniarc_solution(uniarc):
         return displacement, reaction
 
 
-def opensees_solve(in_contact):
-    """The linear ring with radial and tangential springs at the nodes of `in_contact`."""
+def uniarc_forces(uniarc):
+    """Element end forces (N, V, M at start, N, V, M at end) by element label, the *DLOAD deck."""
+    with tempfile.TemporaryDirectory() as work:
+        path = os.path.join(work, 'lining.inp')
+        with open(path, 'w') as f:
+            f.write(deck(element_loads=True))
+        subprocess.run([uniarc, path, '-o', os.path.join(work, 'out'), '-q'], check=True)
+        forces = {}
+        with open(os.path.join(work, 'out', 'lining.forces')) as f:
+            for line in f:
+                if line.startswith('#') or not line.strip() or line.startswith('step'):
+                    continue
+                words = line.split()
+                forces[int(words[2])] = [float(x) for x in words[5:11]]
+        return forces
+
+
+def opensees_solve(in_contact, element_loads=False):
+    """The linear ring with radial and tangential springs at the nodes of `in_contact`; with
+    `element_loads` the pressure as beamUniform loads (midpoint value), else the nodal loads."""
     import openseespy.opensees as ops
     ops.wipe()
     ops.model('basic', '-ndm', 2, '-ndf', 3)
@@ -124,8 +164,15 @@ def opensees_solve(in_contact):
                     '-orient', math.cos(t), math.sin(t), 0.0, -math.sin(t), math.cos(t), 0.0)
     ops.timeSeries('Linear', 1)
     ops.pattern('Plain', 1, 1)
-    for i, (fx, fy) in nodal_loads().items():
-        ops.load(i, fx, fy, 0.0)
+    if element_loads:
+        for i in range(1, N_ELEMENTS + 1):
+            # midpoint of element i: angle between its nodes, on the chord (radius R cos(pi/n));
+            # beamUniform's transverse load acts along the local y (left normal: toward the centre)
+            t = angle(i) + math.pi / N_ELEMENTS
+            ops.eleLoad('-ele', i, '-type', '-beamUniform', pressure(t, R * math.cos(math.pi / N_ELEMENTS) * math.sin(t)), 0.0)
+    else:
+        for i, (fx, fy) in nodal_loads().items():
+            ops.load(i, fx, fy, 0.0)
     ops.system('FullGeneral')
     ops.numberer('Plain')
     ops.constraints('Transformation')
@@ -134,15 +181,23 @@ def opensees_solve(in_contact):
     ops.analysis('Static')
     if ops.analyze(1) != 0:
         raise RuntimeError('OpenSees analysis failed')
+    if element_loads:
+        # localForce: the forces on the element (axial, shear, moment at each end) in its frame;
+        # uniarc's section forces: N tension positive, V = dM/ds, M = EI kappa (docs/contracts.md)
+        forces = {}
+        for i in range(1, N_ELEMENTS + 1):
+            f = ops.eleResponse(i, 'localForce')
+            forces[i] = [-f[0], f[1], -f[2], f[3], -f[4], f[5]]
+        opensees_solve.forces = forces
     return {i: tuple(ops.nodeDisp(i)) for i in range(1, N_ELEMENTS + 1)}
 
 
-def opensees_solution():
+def opensees_solution(element_loads=False):
     """The engineers' loop: start with every node in contact, drop the nodes whose radial spring
     pulls (the ring moved inward there), put back the free nodes that move into the ground."""
     in_contact = set(range(1, N_ELEMENTS + 1))
     for _ in range(100):
-        displacement = opensees_solve(sorted(in_contact))
+        displacement = opensees_solve(sorted(in_contact), element_loads)
         outward = {i: displacement[i][0] * math.cos(angle(i)) + displacement[i][1] * math.sin(angle(i))
                    for i in displacement}
         new = {i for i in outward if outward[i] > 0.0}
@@ -155,7 +210,10 @@ def opensees_solution():
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--uniarc', required=True)
+    parser.add_argument('--dload', action='store_true', help='the pressure as element loads; compare N, V, M')
     args = parser.parse_args()
+    if args.dload:
+        return compare_forces(args.uniarc)
     ours, reaction = uniarc_solution(args.uniarc)
     peer, peer_contact = opensees_solution()
     our_contact = {i for i in reaction if reaction[i] > 0.0}
@@ -170,6 +228,21 @@ def main():
         print(f'{name}: largest |uniarc - OpenSees| = {difference:.3e}, relative to the largest '
               f'{scale:.6e}: {difference / scale:.2e}')
     return 0 if our_contact == peer_contact and max(worst) <= TOLERANCE else 1
+
+
+def compare_forces(uniarc):
+    """The --dload case: element end forces of uniarc's *DLOAD against OpenSees' beamUniform."""
+    ours = uniarc_forces(uniarc)
+    opensees_solution(element_loads=True)
+    peer = opensees_solve.forces
+    status = 0
+    for k, name in [(0, 'N'), (1, 'V'), (2, 'M')]:
+        scale = max(abs(peer[i][c]) for i in peer for c in (k, k + 3))
+        difference = max(abs(ours[i][c] - peer[i][c]) for i in peer for c in (k, k + 3))
+        print(f'{name}: largest |uniarc - OpenSees| = {difference:.3e}, relative to the largest {scale:.6e}: '
+              f'{difference / scale:.2e}')
+        status = status if difference / scale <= FORCE_TOLERANCE else 1
+    return status
 
 
 if __name__ == '__main__':

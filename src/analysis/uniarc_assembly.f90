@@ -7,6 +7,7 @@ module uniarc_assembly
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element, only: element_response_t, element_response, element_coordinates, transformation_linear
    use uniarc_element_loads, only: thermal_load_vector
+   use uniarc_released_loads, only: released_span_correction
    implicit none
    private
    public :: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
@@ -40,7 +41,7 @@ contains
       logical, intent(in) :: include_follower
       real(dp), intent(out) :: load(:)
       integer :: i, k, e
-      real(dp) :: f(2*dofs_per_node), k_unused(2*dofs_per_node, 2*dofs_per_node)
+      real(dp) :: f(2*dofs_per_node), k_unused(2*dofs_per_node, 2*dofs_per_node), df(2*dofs_per_node)
       real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
       load = 0.0_dp
       do i = 1, model%n_nodes
@@ -68,7 +69,9 @@ contains
             case default
                cycle
             end select
-            call scatter_add(element_equations(model, map, e), f, load)
+            ! End joints in series: the fixed-end forces of the released member (uniarc_released_loads).
+            call released_span_correction(model, e, [f(3), f(6)], at_rest, transformation_linear, df, k_unused)
+            call scatter_add(element_equations(model, map, e), f + df, load)
          end associate
       end do
    end subroutine assemble_reference_load

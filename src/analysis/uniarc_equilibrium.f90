@@ -19,10 +19,12 @@ module uniarc_equilibrium
    use uniarc_band, only: band_matrix_t, band_add_element, band_zero
    use uniarc_assembly, only: scatter_add
    use uniarc_element, only: element_response_t, element_response, element_stiffness_scale, &
-                             element_coordinates, element_displacements, transformation_corotational
+                             element_coordinates, element_displacements, transformation_corotational, &
+                             transformation_linear
    use uniarc_corotational, only: follower_pressure
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element_loads, only: thermal_load_vector
+   use uniarc_released_loads, only: released_span_correction
    use uniarc_model_steps, only: prescribed_at, has_prescribed
    implicit none
    private
@@ -56,6 +58,7 @@ contains
       real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp) :: position_noise, x(2, 2), u(2*dofs_per_node)
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node), rate(2*dofs_per_node)
+      real(dp) :: f0(2*dofs_per_node), df(2*dofs_per_node), dk(2*dofs_per_node, 2*dofs_per_node)
       type(element_response_t) :: response
       integer :: e, i
       real(dp), allocatable :: total(:, :)
@@ -115,8 +118,12 @@ contains
             e = dload%element
             call follower_pressure(element_coordinates(model, e), element_displacements(model, e, total), &
                                    dload%pressure, f, k)
-            call scatter_add(element_equations(model, map, e), f, reference)
-            call band_add_element(tangent, element_equations(model, map, e), lambda*k)
+            ! End joints in series (uniarc_released_loads): the clamped moments on the initial geometry.
+            f0 = pressure_load_vector(element_coordinates(model, e), dload%pressure)
+            call released_span_correction(model, e, [f0(3), f0(6)], element_displacements(model, e, total), &
+                                          transformation_corotational, df, dk)
+            call scatter_add(element_equations(model, map, e), f + df, reference)
+            call band_add_element(tangent, element_equations(model, map, e), lambda*(k + dk))
          end associate
       end do
    end subroutine assemble_equilibrium
@@ -133,6 +140,8 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: internal(:)
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
+      real(dp) :: f0(2*dofs_per_node), df(2*dofs_per_node), dk(2*dofs_per_node, 2*dofs_per_node)
+      real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
       integer :: i, j, e
       do i = 1, model%n_nodes
          do j = 1, dofs_per_node
@@ -158,9 +167,19 @@ contains
             else if (dload%kind == load_pressure) then
                call follower_pressure(element_coordinates(model, e), element_displacements(model, e, displacement), &
                                       dload%pressure, f, k)
-               call band_add_element(tangent, element_equations(model, map, e), pattern%factor*k)
+               f0 = pressure_load_vector(element_coordinates(model, e), dload%pressure)
+               call released_span_correction(model, e, [f0(3), f0(6)], &
+                                             element_displacements(model, e, displacement), &
+                                             transformation_corotational, df, dk)
+               f = f + df
+               call band_add_element(tangent, element_equations(model, map, e), pattern%factor*(k + dk))
             else
                cycle
+            end if
+            if (.not. (dload%kind == load_pressure .and. dload%follower)) then
+               ! End joints in series (uniarc_released_loads): loads on the initial geometry.
+               call released_span_correction(model, e, [f(3), f(6)], at_rest, transformation_linear, df, dk)
+               f = f + df
             end if
             call scatter_add(element_equations(model, map, e), -pattern%factor*f, internal)
          end associate

@@ -576,13 +576,31 @@ contains
       type(path_state_t), intent(in) :: state
       type(error_t), intent(inout) :: error
       character(len=:), allocatable :: labels
-      integer :: count
+      integer :: count, c
       call yielded_joints(model, state, count, labels)
+      if (count > 0) error%message = error%message//'; '//integer_to_string(count)// &
+                                     ' joint(s) at the moment limit MY ('//labels//'): with them as hinges the '// &
+                                     'structure may be a mechanism (plastic collapse at lambda = '// &
+                                     real_to_string(state%lambda, message_edit)//')'
+      ! Beds and springs at their bearing limit (QU=, docs/theory.md §3.9): each carries its limit and
+      ! no more, so with every support at its limit no higher load has an equilibrium.
+      if (.not. (allocated(state%yielding) .and. allocated(state%active))) return
+      count = 0
+      labels = ''
+      do c = 1, size(state%yielding)
+         if (.not. (state%yielding(c) .and. state%active(c))) cycle
+         count = count + 1
+         if (len(labels) > 60) cycle
+         if (len(labels) > 0) labels = labels//', '
+         labels = labels//integer_to_string(model%node_label(model%contacts(c)%node))
+         if (len(labels) > 60) labels = labels//', ...'
+      end do
       if (count == 0) return
-      error%message = error%message//'; '//integer_to_string(count)//' joint(s) at the moment limit MY ('// &
-                      labels//'): with them as hinges the structure may be a mechanism (plastic collapse at '// &
-                      'lambda = '//real_to_string(state%lambda, message_edit)//')'
+      error%message = error%message//'; '//integer_to_string(count)//' contact point(s) of beds or springs at '// &
+                      'their bearing limit QU (nodes '//labels//'): no higher load may be carried (bearing '// &
+                      'collapse at lambda = '//real_to_string(state%lambda, message_edit)//')'
    end subroutine add_mechanism_hint
+
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)

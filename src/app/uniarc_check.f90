@@ -100,13 +100,21 @@ contains
    end subroutine check_element_scales
 
    !> The memory check of a model before its analysis (after its DOF numbering). Errors (error_input,
-   !> exit code 2): the estimated memory exceeds what is available (the message gives both and what
-   !> they count).
+   !> exit code 2): the model has no free degree of freedom (every displacement and rotation held:
+   !> there is no equation to solve, and the band solvers need at least one); the estimated memory
+   !> exceeds what is available (the message gives both and what they count).
    subroutine check_model(model, map, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: shortfall
+      if (map%n_equations == 0) then
+         call make_error(error, model%deck_path//': the model has no free degree of freedom: every '// &
+                         'displacement and rotation of its '//integer_to_string(model%n_nodes)// &
+                         ' nodes is held (*BOUNDARY), so there is nothing to analyse; free at least one', &
+                         error_input)
+         return
+      end if
       call memory_shortfall(model_memory_estimate(model, map), shortfall)
       if (allocated(shortfall)) then
          call make_error(error, model%deck_path//': the model does not fit in memory: its analysis ('// &

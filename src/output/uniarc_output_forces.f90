@@ -28,8 +28,9 @@ module uniarc_output_forces
    use uniarc_model, only: model_t, dofs_per_node, load_fixed_direction, load_pressure, analysis_linear, &
                            element_kind_of, load_pattern_t
    use uniarc_element, only: element_response_t, element_response, element_coordinates, element_displacements, &
-                             analysis_transformation
+                             analysis_transformation, transformation_linear, transformation_corotational
    use uniarc_element_loads, only: thermal_basic_force
+   use uniarc_released_loads, only: released_basic_force, released_span_correction
    use uniarc_transformation, only: chord_t, transform_deformations, transform_end_forces
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_corotational, only: follower_pressure
@@ -68,9 +69,10 @@ contains
       if (allocated(model%thermal_loads)) then
          do i = 1, size(model%thermal_loads)
             e = model%thermal_loads(i)%element
-            thermal(:, e) = thermal(:, e) + thermal_basic_force(model%thermal_loads(i), &
-                                                                model%sections(model%element_section(e)), &
-                                                                element_kind_of(model, e))
+            thermal(:, e) = thermal(:, e) + released_basic_force(model, e, &
+                                                                 thermal_basic_force(model%thermal_loads(i), &
+                                                                 model%sections(model%element_section(e)), &
+                                                                 element_kind_of(model, e)))
          end do
       end if
       if (allocated(model%distributed_loads)) then
@@ -90,6 +92,8 @@ contains
                case default
                   cycle
                end select
+               f = f + span_release(model, e, dload%kind == load_pressure .and. dload%follower .and. &
+                                    model%analysis%kind /= analysis_linear, dload%pressure, f, displacement)
                span(:, e) = span(:, e) + f
                loaded(e) = .true.
             end associate
@@ -147,9 +151,10 @@ contains
       integer :: i, e
       do i = 1, size(pattern%thermal_loads)
          e = pattern%thermal_loads(i)%element
-         thermal(:, e) = thermal(:, e) + pattern%factor*thermal_basic_force(pattern%thermal_loads(i), &
-                                                                           model%sections(model%element_section(e)), &
-                                                                           element_kind_of(model, e))
+         thermal(:, e) = thermal(:, e) + pattern%factor*released_basic_force(model, e, &
+                                                           thermal_basic_force(pattern%thermal_loads(i), &
+                                                           model%sections(model%element_section(e)), &
+                                                           element_kind_of(model, e)))
       end do
       do i = 1, size(pattern%distributed_loads)
          associate (dload => pattern%distributed_loads(i))
@@ -165,6 +170,9 @@ contains
             else
                cycle
             end if
+            f = f + span_release(model, e, dload%kind == load_pressure .and. dload%follower .and. &
+                                 transformation /= analysis_transformation(analysis_linear), dload%pressure, f, &
+                                 displacement)
             span(:, e) = span(:, e) + pattern%factor*f
             loaded(e) = .true.
          end associate
@@ -260,5 +268,27 @@ contains
          end do
       end do
    end function candidate_lengths
+
+   !> The change (6, global) of the consistent nodal loads `f` (6) of a load on the span of element `e`
+   !> from its end joints (uniarc_released_loads, released_span_correction): on the initial geometry,
+   !> or for a follower pressure (`follower`, `pressure`) on the current chord at `displacement`
+   !> (3, n_nodes), with the clamped moments on the initial geometry, as the equilibrium equations
+   !> (uniarc_assembly, uniarc_equilibrium) hold it.
+   pure function span_release(model, e, follower, pressure, f, displacement) result(df)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: e
+      logical, intent(in) :: follower
+      real(dp), intent(in) :: pressure, f(2*dofs_per_node), displacement(:, :)
+      real(dp) :: df(2*dofs_per_node)
+      real(dp) :: f0(2*dofs_per_node), dk(2*dofs_per_node, 2*dofs_per_node)
+      real(dp), parameter :: at_rest(2*dofs_per_node) = 0.0_dp
+      if (follower) then
+         f0 = pressure_load_vector(element_coordinates(model, e), pressure)
+         call released_span_correction(model, e, [f0(3), f0(6)], element_displacements(model, e, displacement), &
+                                       transformation_corotational, df, dk)
+      else
+         call released_span_correction(model, e, [f(3), f(6)], at_rest, transformation_linear, df, dk)
+      end if
+   end function span_release
 
 end module uniarc_output_forces

@@ -14,6 +14,7 @@ module uniarc_element_loads
    use uniarc_model, only: model_t, thermal_load_t, section_t, element_truss, element_kind_of
    use uniarc_transformation, only: chord_t, transform_deformations, transform_to_global
    use uniarc_element, only: element_coordinates
+   use uniarc_released_loads, only: released_basic_force
    implicit none
    private
    public :: thermal_basic_force, thermal_load_vector
@@ -37,7 +38,7 @@ contains
    end function thermal_basic_force
 
    !> The equivalent nodal load f = B(u)ᵀ q0 (6, global, per unit λ) of thermal load `load` of `model` at
-   !> the element's total displacements u (6) under `transformation` (linear: B0 on the initial chord;
+   !> the element's total displacements u (6), its end joints in series (q0 = Kj v0, uniarc_released_loads), under `transformation` (linear: B0 on the initial chord;
    !> corotational: B on the current chord), and k_load = −∂f/∂u (6×6, symmetric; zero for the linear
    !> transformation), so that the assembled tangent is K_int + λ k_load.
    pure subroutine thermal_load_vector(model, load, u, transformation, f, k_load)
@@ -52,6 +53,7 @@ contains
       integer :: e
       e = load%element
       q0 = thermal_basic_force(load, model%sections(model%element_section(e)), element_kind_of(model, e))
+      q0 = released_basic_force(model, e, q0)   ! end joints in series (uniarc_released_loads)
       call transform_deformations(transformation, element_coordinates(model, e), u, chord, deformation)
       call transform_to_global(transformation, chord, q0, no_stiffness, f, k_load)
       k_load = -k_load

@@ -194,7 +194,7 @@ contains
       integer, intent(out) :: row
       character(len=:), allocatable, intent(out) :: what
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
-      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent
       integer :: below, node, dof, status
       what = ''
       ratio = huge(1.0_dp)
@@ -239,6 +239,14 @@ contains
                       forces(:, 3)))/det
       end if
       residual = held(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))
+      ! A rotation about the one point where every free DOF is (a single free node whose rotation is
+      ! held, as a truss node's) moves none of them: no motion of the model, whatever it holds. Its
+      ! free components are the distances to that point (lengths) and unit rotations; below √ε of the
+      ! model's extent they are the round-off of the least-squares centre.
+      extent = maxval(abs(model%coordinates - spread(centre, 2, model%n_nodes)))
+      if (.not. (extent > 0.0_dp)) extent = 1.0_dp
+      if (maxval(abs(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))) <= &
+          sqrt(epsilon(1.0_dp))*extent) residual = huge(1.0_dp)
       if (residual < best) then
          best = residual
          candidate = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
