@@ -32,7 +32,7 @@ contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
    !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u] [, TYPE=WINKLER|PASTERNAK
-   !> [, GP=G_p]] [, GAP=g0]: a Winkler foundation along an element set, lumped to its nodes, with
+   !> [, GP=G_p [, CONTINUES=BOTH|NONE|START|END]]] [, GAP=g0]: a Winkler foundation along an element set, lumped to its nodes, with
    !> tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit q_u if asked
    !> (`bearing_limit`); or a Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`;
    !> uniarc_contact_law, pasternak_bed); an initial gap g0.
@@ -56,7 +56,7 @@ contains
 
       call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
                                         'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU=', 'TYPE=', &
-                                        'GP=', 'GAP='], error)
+                                        'GP=', 'GAP=', 'CONTINUES='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -608,20 +608,23 @@ contains
    !> TYPE=WINKLER|PASTERNAK, GP=G_p and GAP=g0 of *FOUNDATION: the law of the bed and its initial gap.
    !> TYPE=PASTERNAK needs GP (≥ 0, force: the shear layer's stiffness per unit width; 0 is Winkler's
    !> bed, the same candidates); GP is refused with Winkler's law. GAP (≥ 0, length; default 0) is the
-   !> gap g0 between the structure and the bed's surface at the start, at every node.
+   !> gap g0 between the structure and the bed's surface at the start, at every node. CONTINUES= (with
+   !> TYPE=PASTERNAK only) names the ends of the set, in its chain order, beyond which the bed goes on
+   !> (an end spring √(K G_p) there, docs/theory.md §3.10): BOTH (the default), NONE, START or END.
    subroutine foundation_law(source, card, deck, foundation, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(in) :: deck
       type(foundation_t), intent(inout) :: foundation
       type(error_t), allocatable, intent(out) :: error
-      integer :: type_option, gp_option, gap_option
+      integer :: type_option, gp_option, gap_option, continues_option
       foundation%law = foundation_winkler
       foundation%shear_modulus = 0.0_dp
       foundation%gap = 0.0_dp
       type_option = option_index(card, 'TYPE')
       gp_option = option_index(card, 'GP')
       gap_option = option_index(card, 'GAP')
+      continues_option = option_index(card, 'CONTINUES')
       if (type_option > 0) then
          select case (to_upper(card%options(type_option)%value))
          case ('WINKLER')
@@ -651,6 +654,28 @@ contains
          call raise(source, card%line, card%options(gp_option)%column, 'expected GP= only with ' // &
                     'TYPE=PASTERNAK on *FOUNDATION, found it on a Winkler foundation', error)
          return
+      end if
+      if (continues_option > 0) then
+         if (foundation%law /= foundation_pasternak) then
+            call raise(source, card%line, card%options(continues_option)%column, 'expected CONTINUES= only ' // &
+                       'with TYPE=PASTERNAK on *FOUNDATION, found it on a Winkler foundation', error)
+            return
+         end if
+         select case (to_upper(card%options(continues_option)%value))
+         case ('BOTH')
+            foundation%continues = [.true., .true.]
+         case ('NONE')
+            foundation%continues = [.false., .false.]
+         case ('START')
+            foundation%continues = [.true., .false.]
+         case ('END')
+            foundation%continues = [.false., .true.]
+         case default
+            call raise(source, card%line, card%options(continues_option)%value_column, 'expected ' // &
+                       'CONTINUES=BOTH|NONE|START|END (the ends the bed goes on beyond), found '''// &
+                       clip(card%options(continues_option)%value)//'''', error)
+            return
+         end select
       end if
       if (gap_option == 0) return
       call option_real(source, card, deck, gap_option, 'an initial gap', foundation%gap, error)
