@@ -645,9 +645,12 @@ contains
          end if
          call option_real(source, card, deck, gp_option, 'a shear-layer stiffness', foundation%shear_modulus, error)
          if (allocated(error)) return
-         if (foundation%shear_modulus < 0.0_dp .or. .not. foundation%shear_modulus < huge(1.0_dp)) then
+         ! At most 1e100, as EA and EI (uniarc_deck_mesh): K_b's entries G_p/h and their products in the
+         ! solves must stay finite in double precision (GP=1e200 ended Lemke on a ray instead).
+         if (foundation%shear_modulus < 0.0_dp .or. .not. foundation%shear_modulus <= 1.0e100_dp) then
             call raise(source, card%line, card%options(gp_option)%value_column, &
-                       'expected GP >= 0 (0: Winkler''s bed), found '//real_to_string(foundation%shear_modulus), error)
+                       'expected 0 <= GP <= 1e100 (0: Winkler''s bed; larger overflow the equations in double '// &
+                       'precision: rescale the units), found '//real_to_string(foundation%shear_modulus), error)
             return
          end if
       else if (gp_option > 0) then
@@ -680,9 +683,10 @@ contains
       if (gap_option == 0) return
       call option_real(source, card, deck, gap_option, 'an initial gap', foundation%gap, error)
       if (allocated(error)) return
-      if (foundation%gap < 0.0_dp .or. .not. foundation%gap < huge(1.0_dp)) then
+      ! at most 1e100 in magnitude, as coordinates (uniarc_check: coordinate_bound)
+      if (foundation%gap < 0.0_dp .or. .not. foundation%gap <= 1.0e100_dp) then
          call raise(source, card%line, card%options(gap_option)%value_column, &
-                    'expected GAP >= 0 (the gap between the structure and the bed at the start), found '// &
+                    'expected 0 <= GAP <= 1e100 (the gap between the structure and the bed at the start), found '// &
                     real_to_string(foundation%gap), error)
       end if
    end subroutine foundation_law
