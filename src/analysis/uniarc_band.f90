@@ -298,7 +298,9 @@ contains
    !> of negative eigenvalues: 0 on stable equilibrium, +1 past each limit or bifurcation point. The
    !> row-pivoted LU of band_factorize gives only the sign of det A, not this count, hence the separate
    !> elimination (on a copy of the band, O(n·b²), done once per converged step). A pivot that vanishes
-   !> exactly is counted as negative (the matrix is singular there) and `singular` is set.
+   !> and is coupled to the next row is eliminated with it as a 2×2 block (its inertia from the block's
+   !> determinant and trace); one that vanishes otherwise is counted as negative (the matrix is singular
+   !> there) and `singular` is set.
    !> status: that of the allocation of the copy (nonzero: the system refused it, nothing counted);
    !> without it a refusal stops the program.
    pure subroutine band_inertia(matrix, negative_pivots, singular, status)
@@ -307,7 +309,7 @@ contains
       logical, intent(out) :: singular
       integer, intent(out), optional :: status
       real(dp), allocatable :: work(:, :), row_scale(:)
-      real(dp) :: pivot, factor, scale
+      real(dp) :: pivot, factor, scale, block(2, 2), det, inverse(2, 2), left(2)
       integer :: k, i, j, offset, last_row, last_col
       negative_pivots = 0
       singular = .false.
@@ -320,13 +322,44 @@ contains
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
       row_scale = row_maxima(matrix)
-      do k = 1, matrix%n
+      k = 1
+      do while (k <= matrix%n)
          pivot = work(offset, k)
          scale = row_scale(k)
          if (scale <= 0.0_dp) scale = 1.0_dp
          if (abs(pivot) <= epsilon(1.0_dp)*scale) then
+            ! A zero pivot coupled to the next row (a rigid contact's reaction whose node is held,
+            ! followed by the Pasternak bed's deflection under it, docs/theory.md §3.10): a 2×2 pivot
+            ! block [0 b; b q] (Bunch & Kaufman 1977, Math. Comp. 31, 163–179), of inertia (1, 1)
+            ! when b ≠ 0, eliminated as a block. Skipping the column instead would leave the next
+            ! row free of the constraint the zero row states, and count the rest's inertia wrong.
+            if (k < matrix%n .and. matrix%ku >= 1 .and. matrix%kl >= 1) then
+               block = reshape([work(offset, k), work(offset + 1, k), work(offset - 1, k + 1), &
+                                work(offset, k + 1)], [2, 2])
+               det = block(1, 1)*block(2, 2) - block(1, 2)*block(2, 1)
+               if (abs(block(1, 2)) > epsilon(1.0_dp)*scale .and. det /= 0.0_dp) then
+                  if (det < 0.0_dp) then
+                     negative_pivots = negative_pivots + 1
+                  else if (block(1, 1) + block(2, 2) < 0.0_dp) then
+                     negative_pivots = negative_pivots + 2
+                  end if
+                  ! A(i, j) −= [A(i, k) A(i, k+1)] block⁻¹ [A(k, j); A(k+1, j)] for i, j > k + 1 in the
+                  ! band (block⁻¹ by its adjugate)
+                  inverse = reshape([block(2, 2), -block(2, 1), -block(1, 2), block(1, 1)], [2, 2])/det
+                  do i = k + 2, min(matrix%n, k + 1 + matrix%kl)
+                     left = matmul([entry(i, k), entry(i, k + 1)], inverse)
+                     do j = k + 2, min(matrix%n, k + 1 + matrix%ku)
+                        work(offset + i - j, j) = work(offset + i - j, j) - left(1)*entry(k, j) - &
+                                                  left(2)*entry(k + 1, j)
+                     end do
+                  end do
+                  k = k + 2
+                  cycle
+               end if
+            end if
             singular = .true.
             negative_pivots = negative_pivots + 1
+            k = k + 1
             cycle
          end if
          if (pivot < 0.0_dp) negative_pivots = negative_pivots + 1
@@ -338,7 +371,18 @@ contains
                work(offset + i - j, j) = work(offset + i - j, j) - factor*work(offset + k - j, j)
             end do
          end do
+         k = k + 1
       end do
+
+   contains
+
+      !> A(i, j) of the working copy, 0 outside the band.
+      pure real(dp) function entry(i, j)
+         integer, intent(in) :: i, j
+         entry = 0.0_dp
+         if (i - j <= matrix%kl .and. j - i <= matrix%ku) entry = work(offset + i - j, j)
+      end function entry
+
    end subroutine band_inertia
 
    !> The relative pivot test for a singular or near-singular matrix (a mechanism): Gaussian

@@ -244,7 +244,7 @@ contains
             allocate (candidates(0))
             return
          end if
-         call pasternak_bed(foundation%modulus, foundation%shear_modulus, lengths, &
+         call pasternak_bed(foundation%modulus, foundation%shear_modulus, foundation%continues, lengths, &
                             path_coordinates(coordinates, nodes), candidates(1:n))
       end if
       if (.not. foundation%tangential_modulus > 0.0_dp) return
@@ -272,15 +272,17 @@ contains
    !> points (Galerkin, docs/theory.md §3.10):
    !>     K_b = K × diag(tributary lengths)                 (Winkler's part lumped as Winkler's bed)
    !>         + G_p/h [1 −1; −1 1] per element of length h  (the shear layer, consistent)
-   !>         + √(K G_p) at both end points                 (the semi-infinite bed beyond each end:
+   !>         + √(K G_p) at each end point where the bed continues (the semi-infinite bed beyond it:
    !>           w = w_end exp(−|x|/ℓ), ℓ = √(G_p/K), whose shear force G_p w' = √(K G_p) w_end; Kerr
-   !>           1964, Selvadurai 1979 §2.5)
+   !>           1964, Selvadurai 1979 §2.5); nothing where it ends with the set (the natural condition
+   !>           G_p w' = 0 of a free shear layer, which is also w' = 0 at a symmetry plane)
    !> Each candidate becomes a rigid contact with the surface (flexibility 0) and gets its row of K_b
    !> and its neighbours (local indices, made global by the builder). Units: K force/length², G_p
    !> force, lengths in the model's unit; K_b force/length.
-   pure subroutine pasternak_bed(modulus, shear_modulus, lengths, s, candidates)
+   pure subroutine pasternak_bed(modulus, shear_modulus, continues, lengths, s, candidates)
       real(dp), intent(in) :: modulus                  !< K > 0
       real(dp), intent(in) :: shear_modulus            !< G_p > 0
+      logical, intent(in) :: continues(2)              !< the bed goes on beyond (first, last) point
       real(dp), intent(in) :: lengths(:)               !< (n) tributary lengths
       real(dp), intent(in) :: s(:)                     !< (n) arc length at the points
       type(contact_candidate_t), intent(inout) :: candidates(:)   !< (n)
@@ -303,8 +305,8 @@ contains
          candidates(i)%bed_next = i + 1
          candidates(i + 1)%bed_previous = i
       end do
-      candidates(1)%bed_stiffness(2) = candidates(1)%bed_stiffness(2) + end_stiffness
-      candidates(n)%bed_stiffness(2) = candidates(n)%bed_stiffness(2) + end_stiffness
+      if (continues(1)) candidates(1)%bed_stiffness(2) = candidates(1)%bed_stiffness(2) + end_stiffness
+      if (continues(2)) candidates(n)%bed_stiffness(2) = candidates(n)%bed_stiffness(2) + end_stiffness
    end subroutine pasternak_bed
 
    !> Whether `nodes` (the chain order of `elements`, `chain_nodes`) is one open chain: n − 1 elements,

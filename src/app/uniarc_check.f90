@@ -8,7 +8,8 @@ module uniarc_check
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, analysis_linear, control_load, control_displacement, dofs_per_node, &
-                           element_kind_of, element_truss, element_length, load_pressure
+                           element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak
+   use uniarc_contact_law, only: chain_nodes
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text
@@ -19,7 +20,7 @@ module uniarc_check
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
-   public :: nearly_mechanism_warning
+   public :: nearly_mechanism_warning, check_bed_ends
 
    !> A linear response to the loads that moves a node by more than this many times the model's size
    !> is reported as a nearly singular model (nearly_mechanism_warning).
@@ -98,6 +99,49 @@ contains
          return
       end do
    end subroutine check_element_scales
+
+   !> A Pasternak bed that goes on beyond an end of its set (`continues`, an end spring √(K G_p),
+   !> docs/theory.md §3.10) where that end node is held as at a symmetry plane across the set: its
+   !> rotation and its displacement along the set's tangent held, its displacement across free (XSYMM
+   !> on a set along x, YSYMM on one along y). At a symmetry plane the bed's surface has w_b' = 0, no
+   !> end spring (CONTINUES= naming the other end only); with the spring the results are those of a bed
+   !> going on past the plane, silently wrong (a half infinite beam gave 0.63 of the whole beam's
+   !> deflection). Errors (error_input, exit code 2): the first such foundation and end. An end held
+   !> otherwise (pinned, clamped, free) is not judged: the bed may well go on there.
+   subroutine check_bed_ends(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(out) :: error
+      integer, allocatable :: nodes(:)
+      integer :: f, end, node, neighbour, along, across
+      real(dp) :: tangent(2)
+      character(len=*), parameter :: end_name(2) = ['start', 'end  '], other(2) = ['END  ', 'START']
+      if (.not. allocated(model%foundations)) return
+      do f = 1, size(model%foundations)
+         associate (bed => model%foundations(f))
+            if (bed%law /= foundation_pasternak .or. .not. bed%shear_modulus > 0.0_dp) cycle
+            nodes = chain_nodes(model%n_nodes, model%connectivity, bed%elements)
+            if (size(nodes) < 2) cycle
+            do end = 1, 2
+               if (.not. bed%continues(end)) cycle
+               node = nodes(merge(1, size(nodes), end == 1))
+               neighbour = nodes(merge(2, size(nodes) - 1, end == 1))
+               tangent = model%coordinates(:, neighbour) - model%coordinates(:, node)
+               tangent = tangent/norm2(tangent)
+               ! a symmetry plane across a set running along x (XSYMM) or along y (YSYMM); the first
+               ! element's chord on a curved set turns by half the element's angle from the tangent
+               along = merge(1, 2, abs(tangent(1)) >= abs(tangent(2)))
+               across = 3 - along
+               if (.not. (model%fixed(3, node) .and. model%fixed(along, node) .and. .not. model%fixed(across, node))) cycle
+               call make_error(error, model%deck_path//': foundation '''//bed%name//''' (TYPE=PASTERNAK) goes '// &
+                               'on beyond the '//trim(end_name(end))//' of its set, node '// &
+                               integer_to_string(model%node_label(node))//', held there as at a symmetry plane '// &
+                               '(rotation and displacement along the set); expected CONTINUES='// &
+                               trim(other(end))//' or NONE (no end spring at a symmetry plane, where w_b'' = 0)', error_input)
+               return
+            end do
+         end associate
+      end do
+   end subroutine check_bed_ends
 
    !> The memory check of a model before its analysis (after its DOF numbering). Errors (error_input,
    !> exit code 2): the model has no free degree of freedom (every displacement and rotation held:

@@ -23,7 +23,7 @@ module uniarc_run
    use uniarc_foreign, only: interrupt_signal, signal_name
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_path_mechanism, only: check_model_mechanism
-   use uniarc_check, only: check_model, check_element_scales, print_model_summary, model_memory_estimate, &
+   use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
                            nearly_mechanism_warning
    use uniarc_memory, only: available_memory, memory_text
    use uniarc_strings, only: integer_to_string, counted
@@ -74,6 +74,8 @@ contains
       end if
       ! Memory and stiffness checks (uniarc_check) before any large array or result file.
       call check_element_scales(model, error)
+      if (allocated(error)) return
+      call check_bed_ends(model, error)
       if (allocated(error)) return
       call build_dof_map(model, map, error)
       if (allocated(error)) return
@@ -134,6 +136,8 @@ contains
       type(dof_map_t) :: map
       integer :: k
       call check_element_scales(model, error)
+      if (allocated(error)) return
+      call check_bed_ends(model, error)
       if (allocated(error)) return
       call build_dof_map(model, map, error)
       if (allocated(error)) return

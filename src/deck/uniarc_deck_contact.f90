@@ -32,11 +32,11 @@ contains
 
    !> *FOUNDATION, ELSET=set, MODULUS=K, SIDE=INNER|OUTER|LEFT|RIGHT or DIRECTION=angle [, BILATERAL]
    !> [, NAME=name] [, SCALE=s] [, KT=K_t [, TANGENTIAL=CONTACT|BONDED]] [, QU=q_u] [, TYPE=WINKLER|PASTERNAK
-   !> [, GP=G_p]] [, GAP=g0] [, TU=t_u [, KU=k_u]]: a Winkler foundation along an element set, lumped to
-   !> its nodes, with tangential springs of modulus K_t if asked (`tangential_springs`), a bearing limit
-   !> q_u if asked (`bearing_limit`) and an uplift limit t_u with it (`uplift_limit`; KU = K only); or a
-   !> Pasternak bed, Winkler's under a shear layer G_p (`foundation_law`; uniarc_contact_law,
-   !> pasternak_bed); an initial gap g0.
+   !> [, GP=G_p [, CONTINUES=BOTH|NONE|START|END]]] [, GAP=g0] [, TU=t_u [, KU=k_u]]: a Winkler foundation
+   !> along an element set, lumped to its nodes, with tangential springs of modulus K_t if asked
+   !> (`tangential_springs`), a bearing limit q_u if asked (`bearing_limit`) and an uplift limit t_u with
+   !> it (`uplift_limit`; KU = K only); or a Pasternak bed, Winkler's under a shear layer G_p
+   !> (`foundation_law`; uniarc_contact_law, pasternak_bed); an initial gap g0.
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
    !> Winkler bed (Kerr 1964) lumped onto the nodes by the trapezoidal rule for ∫ K w δw ds, i.e. a
@@ -57,7 +57,7 @@ contains
 
       call check_options(source, card, [character(len=11) :: 'ELSET=', 'MODULUS=', 'SIDE=', 'DIRECTION=', &
                                         'BILATERAL', 'NAME=', 'SCALE=', 'KT=', 'TANGENTIAL=', 'QU=', 'TYPE=', &
-                                        'GP=', 'GAP=', 'TU=', 'KU='], error)
+                                        'GP=', 'GAP=', 'TU=', 'KU=', 'CONTINUES='], error)
       if (allocated(error)) return
       call contact_group_name(source, card, deck, 'foundation', foundation%name, error)
       if (allocated(error)) return
@@ -696,20 +696,23 @@ contains
    !> TYPE=WINKLER|PASTERNAK, GP=G_p and GAP=g0 of *FOUNDATION: the law of the bed and its initial gap.
    !> TYPE=PASTERNAK needs GP (≥ 0, force: the shear layer's stiffness per unit width; 0 is Winkler's
    !> bed, the same candidates); GP is refused with Winkler's law. GAP (≥ 0, length; default 0) is the
-   !> gap g0 between the structure and the bed's surface at the start, at every node.
+   !> gap g0 between the structure and the bed's surface at the start, at every node. CONTINUES= (with
+   !> TYPE=PASTERNAK only) names the ends of the set, in its chain order, beyond which the bed goes on
+   !> (an end spring √(K G_p) there, docs/theory.md §3.10): BOTH (the default), NONE, START or END.
    subroutine foundation_law(source, card, deck, foundation, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
       type(deck_t), intent(in) :: deck
       type(foundation_t), intent(inout) :: foundation
       type(error_t), allocatable, intent(out) :: error
-      integer :: type_option, gp_option, gap_option
+      integer :: type_option, gp_option, gap_option, continues_option
       foundation%law = foundation_winkler
       foundation%shear_modulus = 0.0_dp
       foundation%gap = 0.0_dp
       type_option = option_index(card, 'TYPE')
       gp_option = option_index(card, 'GP')
       gap_option = option_index(card, 'GAP')
+      continues_option = option_index(card, 'CONTINUES')
       if (type_option > 0) then
          select case (to_upper(card%options(type_option)%value))
          case ('WINKLER')
@@ -730,9 +733,12 @@ contains
          end if
          call option_real(source, card, deck, gp_option, 'a shear-layer stiffness', foundation%shear_modulus, error)
          if (allocated(error)) return
-         if (foundation%shear_modulus < 0.0_dp .or. .not. foundation%shear_modulus < huge(1.0_dp)) then
+         ! At most 1e100, as EA and EI (uniarc_deck_mesh): K_b's entries G_p/h and their products in the
+         ! solves must stay finite in double precision (GP=1e200 ended Lemke on a ray instead).
+         if (foundation%shear_modulus < 0.0_dp .or. .not. foundation%shear_modulus <= 1.0e100_dp) then
             call raise(source, card%line, card%options(gp_option)%value_column, &
-                       'expected GP >= 0 (0: Winkler''s bed), found '//real_to_string(foundation%shear_modulus), error)
+                       'expected 0 <= GP <= 1e100 (0: Winkler''s bed; larger overflow the equations in double '// &
+                       'precision: rescale the units), found '//real_to_string(foundation%shear_modulus), error)
             return
          end if
       else if (gp_option > 0) then
@@ -740,12 +746,35 @@ contains
                     'TYPE=PASTERNAK on *FOUNDATION, found it on a Winkler foundation', error)
          return
       end if
+      if (continues_option > 0) then
+         if (foundation%law /= foundation_pasternak) then
+            call raise(source, card%line, card%options(continues_option)%column, 'expected CONTINUES= only ' // &
+                       'with TYPE=PASTERNAK on *FOUNDATION, found it on a Winkler foundation', error)
+            return
+         end if
+         select case (to_upper(card%options(continues_option)%value))
+         case ('BOTH')
+            foundation%continues = [.true., .true.]
+         case ('NONE')
+            foundation%continues = [.false., .false.]
+         case ('START')
+            foundation%continues = [.true., .false.]
+         case ('END')
+            foundation%continues = [.false., .true.]
+         case default
+            call raise(source, card%line, card%options(continues_option)%value_column, 'expected ' // &
+                       'CONTINUES=BOTH|NONE|START|END (the ends the bed goes on beyond), found '''// &
+                       clip(card%options(continues_option)%value)//'''', error)
+            return
+         end select
+      end if
       if (gap_option == 0) return
       call option_real(source, card, deck, gap_option, 'an initial gap', foundation%gap, error)
       if (allocated(error)) return
-      if (foundation%gap < 0.0_dp .or. .not. foundation%gap < huge(1.0_dp)) then
+      ! at most 1e100 in magnitude, as coordinates (uniarc_check: coordinate_bound)
+      if (foundation%gap < 0.0_dp .or. .not. foundation%gap <= 1.0e100_dp) then
          call raise(source, card%line, card%options(gap_option)%value_column, &
-                    'expected GAP >= 0 (the gap between the structure and the bed at the start), found '// &
+                    'expected 0 <= GAP <= 1e100 (the gap between the structure and the bed at the start), found '// &
                     real_to_string(foundation%gap), error)
       end if
    end subroutine foundation_law

@@ -210,6 +210,9 @@ module uniarc_model
       real(dp) :: uplift_limit = 0.0_dp
       !> G_p: the shear-layer stiffness of a Pasternak bed (force, i.e. force per unit width; ≥ 0)
       real(dp) :: shear_modulus = 0.0_dp
+      !> whether the Pasternak bed goes on beyond the set's (start, end) in chain order (an end spring
+      !> √(K G_p) there) or ends with it (free shear layer, G_p w' = 0: also a symmetry plane)
+      logical :: continues(2) = .true.
    end type foundation_t
 
    !> Path-following controls (paper §5; Crisfield 1991 ch. 9).
