@@ -29,8 +29,8 @@ module uniarc_path_following
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, candidate_reactions, equilibrium_at, commit_joint_state, &
-                                yielded_joints, commit_plastic
+                                nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
+                                accept_trial
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -291,7 +291,7 @@ contains
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
       type(path_state_t) :: before
-      real(dp) :: length, factor, remaining, target
+      real(dp) :: length, factor, remaining, target, committed_lambda
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
@@ -383,19 +383,14 @@ contains
             ! system: moved out).
             before = state
             ! Commit the converged trial.
-            state%u = state%u + trial%increment
-            state%lambda = state%lambda + trial%dlambda
+            committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
-            if (to_limit .and. halvings == 0) state%lambda = real(state%direction, dp)*options%lambda_max
-            if (landed) state%lambda = target
-            state%active = trial%active
-            call commit_plastic(model, state, trial%yielding)
-            state%last_increment = trial%increment
+            if (to_limit .and. halvings == 0) committed_lambda = real(state%direction, dp)*options%lambda_max
+            if (landed) committed_lambda = target
+            call accept_trial(model, state, trial, committed_lambda)
             ! A load step's displacement is round-off where the contacts carry the load: no direction
             ! for the next step's angle tests.
             if (degenerate_step(before, trial)) state%last_increment = 0.0_dp
-            state%point%s = state%point%s + masked_norm(state%map, trial%increment)
-            call commit_joint_state(model, state)
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)

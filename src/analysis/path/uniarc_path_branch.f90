@@ -19,9 +19,8 @@ module uniarc_path_branch
    use uniarc_assembly, only: gather_nodal
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
-   use uniarc_path_state, only: commit_plastic
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
-                                masked_norm, nodal_displacements, commit_joint_state
+                                masked_norm, nodal_displacements, accept_trial
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -129,14 +128,8 @@ contains
       end do
       ! Commit: the first point of the secondary branch, numbered after the last one of the primary.
       state = critical
-      state%u = critical%u + trial%increment
-      state%lambda = critical%lambda + trial%dlambda
-      state%active = trial%active
-      call commit_plastic(model, state, trial%yielding)
-      state%last_increment = trial%increment
-      state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+      call accept_trial(model, state, trial)
       state%step_length = xi
-      call commit_joint_state(model, state)
       call commit_tangent(model, state, system, .false., error)
       if (allocated(error)) then
          call move_alloc(system, state%system)

@@ -6,8 +6,7 @@ module uniarc_path_probe
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
    use uniarc_model, only: model_t, control_arclength
-   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                commit_plastic, commit_joint_state
+   use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, masked_dot, accept_trial
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
@@ -36,13 +35,7 @@ contains
       ok = trial%converged
       if (.not. ok) return
       probe = before
-      probe%u = probe%u + trial%increment
-      probe%lambda = probe%lambda + trial%dlambda
-      probe%active = trial%active
-      call commit_plastic(model, probe, trial%yielding)
-      probe%last_increment = trial%increment
-      probe%point%s = probe%point%s + masked_norm(probe%map, trial%increment)
-      call commit_joint_state(model, probe)
+      call accept_trial(model, probe, trial)
       call commit_tangent(model, probe, system, .false., commit_error)
       if (allocated(commit_error)) then
          ok = .false.

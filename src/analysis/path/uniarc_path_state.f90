@@ -29,7 +29,7 @@ module uniarc_path_state
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
    public :: hold_floating
-   public :: commit_plastic
+   public :: commit_plastic, accept_trial
    public :: fail_attempt
 
    !> What a converged point of the path tells the critical-point detector.
@@ -454,6 +454,26 @@ contains
          masked_norm = sqrt(sum((map%metric*a)**2))
       end if
    end function masked_norm
+
+   !> A converged attempt `trial` made the committed state (path_advance's commit; the critical-point
+   !> probes and branch switching do the same on their copies): u += Δx, λ += Δλ (or `lambda`, where
+   !> the step lands on a target exactly), the trial's working set, the plastic slip and yielding set
+   !> (commit_plastic), the last increment, the arc length s and the joints' plastic rotations
+   !> (commit_joint_state). The tangent is committed apart (uniarc_path_stability, commit_tangent).
+   subroutine accept_trial(model, state, trial, lambda)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(step_trial_t), intent(in) :: trial
+      real(dp), intent(in), optional :: lambda
+      state%u = state%u + trial%increment
+      state%lambda = state%lambda + trial%dlambda
+      if (present(lambda)) state%lambda = lambda
+      state%active = trial%active
+      call commit_plastic(model, state, trial%yielding)
+      state%last_increment = trial%increment
+      state%point%s = state%point%s + masked_norm(state%map, trial%increment)
+      call commit_joint_state(model, state)
+   end subroutine accept_trial
 
    !> The commit of plastic media (docs/theory.md §3.9), after state%u has become the converged state of
    !> a trial with the candidates `yielding` at their limit: the slip of each of them moves on by its
