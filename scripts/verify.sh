@@ -42,7 +42,7 @@ work=$(cd "$work" && pwd)
 mkdir -p "$(dirname "$output")/img"
 start=$(date +%s)
 python3 - "$root" "$uniarc" "$work" "$output" "$build_type" "$start" <<'PYTHON'
-import argparse, concurrent.futures, datetime, math, os, shlex, shutil, subprocess, sys, time
+import argparse, concurrent.futures, datetime, math, os, re, shlex, shutil, subprocess, sys, time
 
 root, uniarc, work, output, build_type, start = sys.argv[1:7]
 sys.path.insert(0, os.path.join(root, 'tests', 'regression'))
@@ -90,7 +90,15 @@ parser.add_argument('--rtol', type=float)
 parser.add_argument('--atol', type=float)
 parser.add_argument('--expect-exit', type=int, default=0)
 
-cmake_text = open(os.path.join(root, 'tests', 'regression', 'CMakeLists.txt')).read()
+def expand_foreach(text):
+    """The CMake loops `foreach(var a b ...) BODY endforeach()` (not nested) written out: BODY once per
+    value with ${var} replaced, so that every test of a loop is read like the others."""
+    loop = re.compile(r'^foreach\((\w+)((?:\s+[^)\s]+)+)\)\n(.*?)^endforeach\(\)\n', re.S | re.M)
+    return loop.sub(lambda m: ''.join(m.group(3).replace('${' + m.group(1) + '}', value)
+                                      for value in m.group(2).split()), text)
+
+
+cmake_text = expand_foreach(open(os.path.join(root, 'tests', 'regression', 'CMakeLists.txt')).read())
 tests = []
 for words in cmake_calls(cmake_text, 'uniarc_regression'):
     args, unknown = parser.parse_known_args([substitute(w) for w in words[2:]])
@@ -275,6 +283,11 @@ def evaluate(test, result):
         checks.append((f'{"largest" if is_max else "smallest"} {column} along the path {extreme:.6g} '
                        f'(required {"≥" if is_max else "≤"} {bound})', ok))
     for expectation in args.expect_all:
+        if '>=' in expectation:   # COLUMN>=VALUE: a lower bound at every step
+            column, bound = expectation.split('>=')
+            smallest = min(row[names.index(column)] for row in rows)
+            checks.append((f'{column} at every step ≥ {bound} (smallest {smallest:.2e})', smallest >= float(bound)))
+            continue
         column, bound = expectation.split('<=')
         largest = max(row[names.index(column)] for row in rows)
         checks.append((f'{column} at every step ≤ {bound} (largest {largest:.2e})', largest <= float(bound)))
