@@ -16,7 +16,7 @@ module uniarc_deck_contact
                            side_direction, gap_fixed_direction, gap_circle_inside, gap_circle_outside, &
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact, &
                            tangential_bonded
-   use uniarc_model_builder, only: add_foundation, add_springs, add_obstacle
+   use uniarc_model_contacts, only: add_foundation, add_springs, add_obstacle
    use uniarc_contact_law, only: foundation_straight, foundation_problem, foundation_not_open_chain
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
                                 resolve_elements

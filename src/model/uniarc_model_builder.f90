@@ -6,7 +6,8 @@
 !> `model_t`. Entities refer to each other by internal index (1..n in order of addition): `add_node`
 !> makes node n_nodes, `add_element` element n_elements, `add_section` section n_sections; user labels
 !> are kept for messages and output. Its components may be read (the deck's checks look up nodes, sets
-!> and groups); they are written only by the procedures here.
+!> and groups); they are written only by the procedures here and, for the media (springs, foundations,
+!> obstacles and their contact groups), by those of uniarc_model_contacts.
 !>
 !> Usage:
 !>
@@ -26,29 +27,21 @@ module uniarc_model_builder
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
-                           gap_fixed_direction, element_beam_column, thermal_load_t, end_joint_t, &
+                           element_beam_column, thermal_load_t, end_joint_t, &
                            load_pattern_t
-   use uniarc_contact_law, only: foundation_candidates, obstacle_candidate, initial_gap, spring_flexibility, &
-                                 path_coordinates, normals_valid, foundation_straight, foundation_problem, &
-                                 foundation_not_open_chain
    implicit none
    private
    public :: model_builder_t, finish_model
    public :: add_section, add_node, add_element, add_to_node_set, add_to_element_set
    public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
-   public :: add_springs, add_foundation, add_obstacle, set_element_kind, element_kinds
+   public :: set_element_kind, element_kinds
    public :: set_end_joint
    public :: node_index, element_index, section_index, node_set_index, element_set_index
    public :: unused_node, element_without_section, model_size
-   public :: penetration_tolerance
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
    public :: set_section_weight, set_section_alpha
    public :: remove_support, supports
-
-   !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
-   !> of a node placed exactly on the surface stays far below it.
-   real(dp), parameter :: penetration_tolerance = 1.0e-9_dp
 
    !> Slots of an element's distributed-load records: one fixed-direction, one pressure, one follower.
    integer, parameter :: slot_fixed = 1, slot_pressure = 2, slot_follower = 3
@@ -483,188 +476,6 @@ contains
       builder%tracks(builder%n_tracks) = track_t(name=name, node=node, dof=dof, scale=scale)
    end subroutine add_track
 
-   ! ================================================================================================
-   ! Foundations and obstacles: each makes one contact group of candidates (uniarc_contact_law)
-   ! ================================================================================================
-
-   !> Add a group `name` of discrete springs: at `nodes(i)` a spring of stiffness `stiffness(i)` > 0
-   !> (force per length) pushing along the unit `directions(:, i)`, gap g = n·u; coordinates the
-   !> cumulative distance between the nodes in order.
-   pure subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, yield_force, uplift_force)
-      type(model_builder_t), intent(inout) :: builder
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: nodes(:)
-      real(dp), intent(in) :: directions(:, :)         !< (2, size(nodes))
-      real(dp), intent(in) :: stiffness(:)             !< (size(nodes))
-      logical, intent(in) :: bilateral
-      !> q_u > 0 (force): elastic–perfectly plastic in compression (docs/theory.md §3.9); absent: elastic
-      real(dp), intent(in), optional :: yield_force
-      !> t_u > 0 (force), with yield_force: an uplift limit too, the spring bonded while elastic
-      !> (docs/theory.md §3.9); absent: compression-only
-      real(dp), intent(in), optional :: uplift_force
-      type(contact_candidate_t), allocatable :: candidates(:)
-      integer :: i
-      allocate (candidates(size(nodes)))
-      do i = 1, size(nodes)
-         candidates(i)%node = nodes(i)
-         candidates(i)%gap_kind = gap_fixed_direction
-         candidates(i)%direction = directions(:, i)
-         candidates(i)%offset = 0.0_dp
-         candidates(i)%flexibility = spring_flexibility(stiffness(i))
-         candidates(i)%bilateral = bilateral
-         if (present(yield_force)) then
-            candidates(i)%plastic = .true.
-            candidates(i)%yield_force = yield_force
-            if (present(uplift_force)) then
-               candidates(i)%uplift_force = uplift_force
-               candidates(i)%bilateral = .true.
-            end if
-         end if
-      end do
-      candidates%coordinate = path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
-      call add_contact_group(builder, name, candidates)
-   end subroutine add_springs
-
-   !> Add a foundation as described (`foundation%elements` internal indices; its name names its group):
-   !> the model keeps the description, and its candidates are derived by `foundation_candidates`.
-   !>
-   !> Errors (category error_input): a side (not side_direction) on a set whose nodal normals are not
-   !> defined, or inner/outer on a straight set. Then `status` (if present) is the contact law's code
-   !> (normals_branch, normals_opposed, normals_folded, foundation_straight, foundation_not_open_chain)
-   !> and `bad_node` the node concerned (0 for the last two), and nothing is added. A Pasternak bed
-   !> (G_p > 0) must lie on one open chain of elements.
-   subroutine add_foundation(builder, foundation, error, status, bad_node)
-      type(model_builder_t), intent(inout) :: builder
-      type(foundation_t), intent(in) :: foundation
-      type(error_t), allocatable, intent(out) :: error
-      integer, intent(out), optional :: status
-      integer, intent(out), optional :: bad_node
-      type(contact_candidate_t), allocatable :: candidates(:)
-      type(foundation_t), allocatable :: grown(:)
-      integer :: outcome, node
-      character(len=:), allocatable :: problem
-
-      call foundation_candidates(foundation, builder%coordinates(:, 1:builder%n_nodes), &
-                                 builder%connectivity(:, 1:builder%n_elements), candidates, outcome, node)
-      if (present(status)) status = outcome
-      if (present(bad_node)) bad_node = node
-      if (outcome /= normals_valid) then
-         if (outcome == foundation_straight .or. outcome == foundation_not_open_chain) then
-            problem = foundation_problem(outcome)
-         else
-            problem = 'at node '//integer_to_string(builder%node_label(node))//', '//foundation_problem(outcome)
-         end if
-         call make_error(error, 'foundation '''//foundation%name//''': '//problem, error_input)
-         return
-      end if
-
-      if (.not. allocated(builder%foundations)) allocate (builder%foundations(2))
-      if (builder%n_foundations == size(builder%foundations)) then
-         allocate (grown(2*size(builder%foundations)))
-         grown(1:builder%n_foundations) = builder%foundations(1:builder%n_foundations)
-         call move_alloc(grown, builder%foundations)
-      end if
-      builder%n_foundations = builder%n_foundations + 1
-      builder%foundations(builder%n_foundations) = foundation
-      builder%foundations(builder%n_foundations)%group = builder%n_contact_groups + 1
-      call add_contact_group(builder, foundation%name, candidates)
-   end subroutine add_foundation
-
-   !> Add an obstacle group `name`: one candidate per node of `nodes` facing the obstacle of kind
-   !> `gap_kind` (`obstacle_candidate`: a plane through `point` with unit `normal` to the free side, or a
-   !> circle of centre `point` and `radius`). `stiffness` > 0 makes it elastic, a spring per node, the
-   !> first and the last node's multiplied by `end_factor`; 0 makes it rigid. Coordinates: scale × the
-   !> cumulative distance between the nodes.
-   !>
-   !> Error (category error_input): a node starting inside the obstacle (initial gap below
-   !> −penetration_tolerance × `model_size`); then `bad` (if present) is its index in `nodes` and `depth`
-   !> how far inside it is, and nothing is added.
-   !> An ellipse (gap_ellipse_inside/outside) takes `semi_axes` (a along `normal`, b across), a polyline
-   !> (gap_polyline) its `vertices` (2, n ≥ 2).
-   subroutine add_obstacle(builder, name, gap_kind, point, normal, radius, nodes, stiffness, end_factor, &
-                                scale, error, bad, depth, semi_axes, vertices)
-      type(model_builder_t), intent(inout) :: builder
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: gap_kind
-      real(dp), intent(in) :: point(2), normal(2), radius
-      integer, intent(in) :: nodes(:)
-      real(dp), intent(in) :: stiffness, end_factor, scale
-      type(error_t), allocatable, intent(out) :: error
-      integer, intent(out), optional :: bad
-      real(dp), intent(out), optional :: depth
-      real(dp), intent(in), optional :: semi_axes(2)
-      real(dp), intent(in), optional :: vertices(:, :)
-      type(contact_candidate_t), allocatable :: candidates(:)
-      real(dp) :: tolerance, gap, factor
-      integer :: i
-
-      if (present(bad)) bad = 0
-      if (present(depth)) depth = 0.0_dp
-      tolerance = penetration_tolerance*model_size(builder)
-      allocate (candidates(size(nodes)))
-      do i = 1, size(nodes)
-         candidates(i) = obstacle_candidate(gap_kind, point, normal, radius, nodes(i), builder%coordinates(:, nodes(i)), &
-                                            semi_axes, vertices)
-         gap = initial_gap(candidates(i), builder%coordinates(:, nodes(i)))
-         if (gap < -tolerance) then
-            if (present(bad)) bad = i
-            if (present(depth)) depth = -gap
-            call make_error(error, 'obstacle '''//name//''': node '//integer_to_string(builder%node_label(nodes(i)))// &
-                            ' starts inside it', error_input)
-            return
-         end if
-         if (stiffness > 0.0_dp) then
-            factor = 1.0_dp
-            if (i == 1 .or. i == size(nodes)) factor = end_factor
-            candidates(i)%flexibility = spring_flexibility(factor*stiffness)
-         end if
-      end do
-      candidates%coordinate = scale*path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
-      call add_contact_group(builder, name, candidates)
-   end subroutine add_obstacle
-
-   !> Append the contact group `name` made of `candidates` (in node order).
-   pure subroutine add_contact_group(builder, name, candidates)
-      type(model_builder_t), intent(inout) :: builder
-      character(len=*), intent(in) :: name
-      type(contact_candidate_t), intent(in) :: candidates(:)
-      type(contact_candidate_t), allocatable :: grown(:)
-      type(contact_group_t), allocatable :: grown_groups(:)
-      integer :: first, group, i
-
-      if (.not. allocated(builder%contacts)) allocate (builder%contacts(max(16, size(candidates))))
-      if (.not. allocated(builder%contact_groups)) allocate (builder%contact_groups(4))
-      if (builder%n_contacts + size(candidates) > size(builder%contacts)) then
-         allocate (grown(max(2*size(builder%contacts), builder%n_contacts + size(candidates))))
-         grown(1:builder%n_contacts) = builder%contacts(1:builder%n_contacts)
-         call move_alloc(grown, builder%contacts)
-      end if
-      if (builder%n_contact_groups == size(builder%contact_groups)) then
-         allocate (grown_groups(2*size(builder%contact_groups)))
-         grown_groups(1:builder%n_contact_groups) = builder%contact_groups(1:builder%n_contact_groups)
-         call move_alloc(grown_groups, builder%contact_groups)
-      end if
-
-      builder%n_contact_groups = builder%n_contact_groups + 1
-      group = builder%n_contact_groups
-      first = builder%n_contacts + 1
-      builder%contacts(first:first + size(candidates) - 1) = candidates
-      builder%contacts(first:first + size(candidates) - 1)%group = group
-      ! a partner (a tangential spring's radial candidate) is given within `candidates`: made global
-      where (builder%contacts(first:first + size(candidates) - 1)%partner > 0) &
-         builder%contacts(first:first + size(candidates) - 1)%partner = &
-         builder%contacts(first:first + size(candidates) - 1)%partner + first - 1
-      ! so are a Pasternak bed point's neighbours on its bed
-      where (builder%contacts(first:first + size(candidates) - 1)%bed_previous > 0) &
-         builder%contacts(first:first + size(candidates) - 1)%bed_previous = &
-         builder%contacts(first:first + size(candidates) - 1)%bed_previous + first - 1
-      where (builder%contacts(first:first + size(candidates) - 1)%bed_next > 0) &
-         builder%contacts(first:first + size(candidates) - 1)%bed_next = &
-         builder%contacts(first:first + size(candidates) - 1)%bed_next + first - 1
-      builder%n_contacts = builder%n_contacts + size(candidates)
-      builder%contact_groups(group)%name = name
-      builder%contact_groups(group)%candidates = [(i, i = first, builder%n_contacts)]
-   end subroutine add_contact_group
 
    ! ================================================================================================
    ! The model
