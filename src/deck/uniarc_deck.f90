@@ -26,7 +26,7 @@ module uniarc_deck
                                 check_prescribed_nodes
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
-   use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps
+   use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps, take_steps
    use uniarc_deck_imperfection, only: read_imperfection
    implicit none
    private
@@ -81,7 +81,11 @@ contains
          return
       end if
       if (deck%n_steps > 0) then
-         model%steps = deck%steps(1:deck%n_steps)
+         call take_steps(deck, model%steps, error)
+         if (allocated(error)) then
+            call add_context(error, path)
+            return
+         end if
          model%analysis = model%steps(1)%analysis
          model%fixed = model%steps(1)%fixed   ! the supports of the first step (the builder's: the last's)
       end if

@@ -13,7 +13,8 @@
 !> - every step has a load, and the steps are all *STATIC or all *PATH.
 module uniarc_deck_steps
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, same_text
    use uniarc_deck_source, only: source_t, card_t, raise, check_options, option_index
    use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
@@ -21,7 +22,7 @@ module uniarc_deck_steps
    use uniarc_deck_state, only: deck_t
    implicit none
    private
-   public :: check_step_placement, read_step, read_end_step, finish_steps
+   public :: check_step_placement, read_step, read_end_step, finish_steps, take_steps
 
 contains
 
@@ -100,7 +101,10 @@ contains
          return
       end if
       if (.not. allocated(deck%steps)) allocate (deck%steps(4))
-      if (deck%n_steps == size(deck%steps)) deck%steps = [deck%steps, deck%steps]
+      if (deck%n_steps == size(deck%steps)) then
+         call grow_steps(deck, error)
+         if (allocated(error)) return
+      end if
       deck%steps(deck%n_steps + 1)%name = 'Step-'//integer_to_string(deck%n_steps + 1)
       k = option_index(card, 'NAME')
       if (k > 0) then
@@ -197,6 +201,58 @@ contains
       deck%model%analysis = analysis_options_t()
       deck%analysis_line = 0
    end subroutine read_end_step
+
+   !> The list of steps doubled: the steps read so far moved into a list twice as long, their arrays
+   !> not copied (an array constructor [steps, steps] copied every step's load patterns three times, and
+   !> a copy that the system refuses crashes inside gfortran's copy of a derived type). Errors: the
+   !> system refuses the longer list (error_input, exit code 2: the deck does not fit in memory).
+   subroutine grow_steps(deck, error)
+      type(deck_t), intent(inout) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      type(analysis_step_t), allocatable :: grown(:)
+      integer :: status, j
+      allocate (grown(2*size(deck%steps)), stat=status)
+      call allocation_failure(status, 'the list of '//integer_to_string(2*size(deck%steps))//' analysis steps', &
+                              real(storage_size(grown)/8, dp)*2*size(deck%steps), error_input, error)
+      if (allocated(error)) return
+      do j = 1, deck%n_steps
+         call move_step(deck%steps(j), grown(j))
+      end do
+      call move_alloc(grown, deck%steps)
+   end subroutine grow_steps
+
+   !> The deck's `n_steps` analysis steps moved into `steps` (the model's), the deck's list left empty:
+   !> no copy of their load patterns. Errors: the system refuses the list (error_input, exit code 2).
+   subroutine take_steps(deck, steps, error)
+      type(deck_t), intent(inout) :: deck
+      type(analysis_step_t), allocatable, intent(out) :: steps(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: status, j
+      allocate (steps(deck%n_steps), stat=status)
+      call allocation_failure(status, 'the list of '//integer_to_string(deck%n_steps)//' analysis steps', &
+                              real(storage_size(steps)/8, dp)*deck%n_steps, error_input, error)
+      if (allocated(error)) return
+      do j = 1, deck%n_steps
+         call move_step(deck%steps(j), steps(j))
+      end do
+   end subroutine take_steps
+
+   !> Step `from` moved into `to` (`from` left empty): its allocatable components handed over with
+   !> move_alloc, its scalars and small records copied. Every allocatable component of analysis_step_t
+   !> and load_pattern_t (uniarc_model) must be moved here.
+   subroutine move_step(from, to)
+      type(analysis_step_t), intent(inout) :: from
+      type(analysis_step_t), intent(inout) :: to
+      if (allocated(from%name)) call move_alloc(from%name, to%name)
+      to%analysis = from%analysis
+      if (allocated(from%fixed)) call move_alloc(from%fixed, to%fixed)
+      to%loads%factor = from%loads%factor
+      if (allocated(from%loads%nodal_load)) call move_alloc(from%loads%nodal_load, to%loads%nodal_load)
+      if (allocated(from%loads%distributed_loads)) &
+         call move_alloc(from%loads%distributed_loads, to%loads%distributed_loads)
+      if (allocated(from%loads%thermal_loads)) call move_alloc(from%loads%thermal_loads, to%loads%thermal_loads)
+      if (allocated(from%loads%prescribed)) call move_alloc(from%loads%prescribed, to%loads%prescribed)
+   end subroutine move_step
 
    !> At the end of the deck: a step left open is an error (at its *STEP).
    subroutine finish_steps(source, deck, error)
