@@ -134,7 +134,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, line, column
+      integer :: i, line, column, status
       logical :: released
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
@@ -148,7 +148,10 @@ contains
          return
       end if
       associate (step => deck%steps(deck%n_steps + 1))
-         call take_loads(deck%model, step%loads)
+         call take_loads(deck%model, step%loads, status)
+         call allocation_failure(status, 'the load pattern of analysis step '//integer_to_string(deck%n_steps + 1), &
+                                 24.0_dp*deck%model%n_nodes, error_input, error)
+         if (allocated(error)) return
          step%fixed = supports(deck%model)
          released = any(deck%step_start_fixed .and. .not. step%fixed)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &

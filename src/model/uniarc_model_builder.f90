@@ -411,25 +411,39 @@ contains
 
    !> Move the loads added so far (nodal, distributed, temperature changes, prescribed displacements) into
    !> `pattern` (an analysis step's, *STEP) and start again without loads; the element's load records
-   !> start afresh too.
-   pure subroutine take_loads(builder, pattern)
+   !> start afresh too. `status` (optional): that of the pattern's allocations (nonzero: the system
+   !> refused them, `pattern` incomplete and the builder's loads kept); without it a refusal stops the
+   !> program.
+   subroutine take_loads(builder, pattern, status)
       type(model_builder_t), intent(inout) :: builder
       type(load_pattern_t), intent(out) :: pattern
-      integer :: i
+      integer, intent(out), optional :: status
+      integer :: i, stat_value
+      if (allocated(builder%nodal_load)) then
+         allocate (pattern%nodal_load(dofs_per_node, builder%n_nodes), pattern%distributed_loads(builder%n_loads), &
+                   pattern%thermal_loads(builder%n_thermal), stat=stat_value)
+      else
+         allocate (pattern%nodal_load(dofs_per_node, 0), pattern%distributed_loads(builder%n_loads), &
+                   pattern%thermal_loads(builder%n_thermal), stat=stat_value)
+      end if
+      if (stat_value == 0 .and. builder%n_prescribed > 0) &
+         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), stat=stat_value)
+      if (present(status)) status = stat_value
+      if (stat_value /= 0) then
+         if (present(status)) return
+         error stop 'uniarc: the model does not fit in memory (an analysis step''s load pattern)'
+      end if
       if (allocated(builder%nodal_load)) then
          pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
          builder%nodal_load = 0.0_dp
-      else
-         allocate (pattern%nodal_load(dofs_per_node, 0))
       end if
-      allocate (pattern%distributed_loads(builder%n_loads), pattern%thermal_loads(builder%n_thermal))
       if (builder%n_loads > 0) pattern%distributed_loads = builder%loads(1:builder%n_loads)
       if (builder%n_thermal > 0) pattern%thermal_loads = builder%thermal(1:builder%n_thermal)
       builder%n_loads = 0
       builder%n_thermal = 0
       if (allocated(builder%load_index)) builder%load_index = 0
       if (builder%n_prescribed > 0) then
-         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), source=0.0_dp)
+         pattern%prescribed = 0.0_dp
          do i = 1, builder%n_prescribed
             pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
                pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
