@@ -39,10 +39,8 @@ contains
       logical, intent(in) :: linear
       real(dp), allocatable, intent(out) :: reactions(:, :)
       real(dp), intent(in), optional :: joint_plastic(:, :)
-      !> an allocation of the numbering the system refused (error_analysis); without `error` such a
-      !> refusal ends the program as an unchecked allocation would (docs/contracts.md, "Memory")
-      type(error_t), allocatable, intent(out), optional :: error
-      type(error_t), allocatable :: map_error
+      !> an allocation of the numbering the system refused (error_analysis)
+      type(error_t), allocatable, intent(out) :: error
       type(model_t) :: unsupported
       type(dof_map_t) :: map
       type(band_matrix_t) :: stiffness
@@ -62,12 +60,8 @@ contains
             if (allocated(unsupported%held(j)%prescribed)) deallocate (unsupported%held(j)%prescribed)
          end do
       end if
-      call build_dof_map(unsupported, map, map_error, error_analysis)
-      if (allocated(map_error)) then
-         if (.not. present(error)) error stop 'uniarc: analysis failed: out of memory (support reactions)'
-         call move_alloc(map_error, error)
-         return
-      end if
+      call build_dof_map(unsupported, map, error, error_analysis)
+      if (allocated(error)) return
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
       allocate (x(map%n_equations), source=0.0_dp)
       allocate (internal(map%n_equations), reference(map%n_equations), fixed_load(map%n_equations))

@@ -272,7 +272,8 @@ contains
       end if
       call open_outputs(model, results, options%provenance, options%csv, files, io_error)
       call open_vtk_series(model, options%stem, vtk)
-      call record_state(model, stepped, driver, record)
+      call record_state(model, stepped, driver, record, error)
+      if (allocated(error)) return
       record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
@@ -287,7 +288,11 @@ contains
             call driver_step(stepped, driver, outcome, error)
             if (allocated(error)) exit
             last_written = record
-            call record_state(model, stepped, driver, record)
+            call record_state(model, stepped, driver, record, error)
+            if (allocated(error)) then
+               record = last_written
+               exit
+            end if
             record%analysis_step = k_step
             if (.not. finite_record(record)) then
                call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
@@ -374,7 +379,11 @@ contains
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         call record_state(model, stepped, driver, record)
+         call record_state(model, stepped, driver, record, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k_step, error)
+            exit
+         end if
          record%analysis_step = k_step
          call write_path_row(files, model, record, io_error)
       end do
@@ -498,10 +507,12 @@ contains
 
    !> The committed state of the path as a row of the result files (`stepped`: the model of the
    !> analysis step traced, uniarc_model_steps; it has the prescribed displacements of the step).
-   subroutine record_state(model, stepped, driver, record)
+   subroutine record_state(model, stepped, driver, record, error)
       type(model_t), intent(in) :: model, stepped
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
+      !> the support reactions' numbering refused by the system (out of memory, error_analysis)
+      type(error_t), allocatable, intent(out) :: error
       type(contact_summary_t) :: summary
       real(dp), allocatable :: reactions(:, :)
       associate (state => driver%state)
@@ -530,10 +541,11 @@ contains
       if (has_prescribed(model)) then
          if (allocated(driver%state%joint_plastic)) then
             call support_reactions(stepped, record%displacement, record%lambda, .false., reactions, &
-                                   driver%state%joint_plastic)
+                                   driver%state%joint_plastic, error)
          else
-            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions)
+            call support_reactions(stepped, record%displacement, record%lambda, .false., reactions, error=error)
          end if
+         if (allocated(error)) return
          record%prescribed_force = prescribed_force(stepped, reactions)
       end if
    end subroutine record_state

@@ -411,28 +411,23 @@ contains
 
    !> Move the loads added so far (nodal, distributed, temperature changes, prescribed displacements) into
    !> `pattern` (an analysis step's, *STEP) and start again without loads; the element's load records
-   !> start afresh too. `status` (optional): that of the pattern's allocations (nonzero: the system
-   !> refused them, `pattern` incomplete and the builder's loads kept); without it a refusal stops the
-   !> program.
+   !> start afresh too. `status`: that of the pattern's allocations (nonzero: the system refused them,
+   !> `pattern` incomplete and the builder's loads kept).
    subroutine take_loads(builder, pattern, status)
       type(model_builder_t), intent(inout) :: builder
       type(load_pattern_t), intent(out) :: pattern
-      integer, intent(out), optional :: status
-      integer :: i, stat_value
+      integer, intent(out) :: status
+      integer :: i
       if (allocated(builder%nodal_load)) then
          allocate (pattern%nodal_load(dofs_per_node, builder%n_nodes), pattern%distributed_loads(builder%n_loads), &
-                   pattern%thermal_loads(builder%n_thermal), stat=stat_value)
+                   pattern%thermal_loads(builder%n_thermal), stat=status)
       else
          allocate (pattern%nodal_load(dofs_per_node, 0), pattern%distributed_loads(builder%n_loads), &
-                   pattern%thermal_loads(builder%n_thermal), stat=stat_value)
+                   pattern%thermal_loads(builder%n_thermal), stat=status)
       end if
-      if (stat_value == 0 .and. builder%n_prescribed > 0) &
-         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), stat=stat_value)
-      if (present(status)) status = stat_value
-      if (stat_value /= 0) then
-         if (present(status)) return
-         error stop 'uniarc: the model does not fit in memory (an analysis step''s load pattern)'
-      end if
+      if (status == 0 .and. builder%n_prescribed > 0) &
+         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), stat=status)
+      if (status /= 0) return
       if (allocated(builder%nodal_load)) then
          pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
          builder%nodal_load = 0.0_dp
