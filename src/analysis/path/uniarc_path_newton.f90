@@ -410,6 +410,25 @@ contains
       ok = degenerate_tangent(state, response(:, 1))
    end function lands_degenerate
 
+   !> The committed state linearised with the working set `active`: K_T assembled (its copy kept in
+   !> system%assembled) and factorised, the residual λR − F and the solves K⁻¹[residual, R] in lin%rhs.
+   !> Errors: a singular tangent, or a copy the system refuses (error_analysis).
+   subroutine linearize_at_start(model, state, system, lin, active, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(linearization_t), intent(inout) :: lin
+      logical, intent(in) :: active(:)
+      type(error_t), allocatable, intent(out) :: error
+      call equilibrium_at(model, state, system, state%u, state%lambda, active, lin%nodal, &
+                          lin%internal, lin%reference, lin%element_scale)
+      lin%residual = state%lambda*lin%reference - lin%internal
+      call band_copy(system%tangent, system%assembled, error, error_analysis)
+      if (.not. allocated(error)) &
+         call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+   end subroutine linearize_at_start
+
+
    !> The predictor of an attempt: trial%dlambda and trial%increment along the committed tangent K⁻¹R;
    !> with contact, the contact LCP at the committed state first chooses the working set trial%active
    !> and the tangent is that of the set. `predicted` is false (and trial%reason says why) if a tangent
@@ -456,12 +475,7 @@ contains
                call band_solve(system%tangent, lin%rhs(:, 1:1), error)
                lin%rhs(:, 2) = state%tangent_displacement
             else
-               call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
-                                   lin%internal, lin%reference, lin%element_scale)
-               lin%residual = state%lambda*lin%reference - lin%internal
-               call band_copy(system%tangent, system%assembled, error, error_analysis)
-               if (.not. allocated(error)) &
-                  call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               call linearize_at_start(model, state, system, lin, trial%active, error)
             end if
             if (allocated(error)) then
                call fail_attempt(trial, 'singular tangent at the start of the step', error)
@@ -477,12 +491,7 @@ contains
                ! and the predictor's Δλ is taken as a load step (docs/theory.md §2.7). The LCP lent
                ! the system's matrices: the committed tangent is assembled again.
                trial%load_step = .true.
-               call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
-                                   lin%internal, lin%reference, lin%element_scale)
-               lin%residual = state%lambda*lin%reference - lin%internal
-               call band_copy(system%tangent, system%assembled, error, error_analysis)
-               if (.not. allocated(error)) &
-                  call factorize_and_solve(system%tangent, lin%residual, lin%reference, lin%rhs, error)
+               call linearize_at_start(model, state, system, lin, trial%active, error)
                if (allocated(error)) then
                   call fail_attempt(trial, 'singular tangent at the start of the step', error)
                   return
