@@ -25,7 +25,7 @@ module uniarc_deck
    use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature, &
                                 check_prescribed_nodes
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
-   use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output
+   use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output, check_track_names
    use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps, take_steps
    use uniarc_deck_imperfection, only: read_imperfection
    implicit none
@@ -292,6 +292,8 @@ contains
       end if
       if (allocated(error)) return
       call check_plastic_analysis(source, deck, error)
+      if (allocated(error)) return
+      call check_track_names(source, deck, error)
       if (allocated(error)) return
       bad = unused_node(deck%model)
       if (bad > 0) then

@@ -13,7 +13,16 @@ module uniarc_deck_analysis
    use uniarc_deck_state, only: deck_t, option_field, resolve_nodes
    implicit none
    private
-   public :: read_track, read_static, read_path, read_output
+   public :: read_track, read_static, read_path, read_output, check_track_names
+
+   !> The path file's own columns (uniarc_output, path_header; docs/contracts.md), which a *TRACK name
+   !> may not repeat (compared as track names are, regardless of case), and the columns each contact
+   !> group gets under its name in a model with more than one group.
+   character(len=*), parameter :: builtin_columns(14) = [character(len=16) :: 'step', 'lambda', 'n_contact', &
+      'contact_regions', 's_contact_1', 's_contact_2', 'reaction_max', 'reaction_sum', 'prescribed_force', &
+      'lcp_residual', 'lcp_pivots', 'iterations', 'neg_pivots', 'analysis_step']
+   character(len=*), parameter :: group_columns(6) = [character(len=15) :: 'n_contact', 'contact_regions', &
+      's_contact_1', 's_contact_2', 'reaction_max', 'reaction_sum']
 
 contains
 
@@ -40,6 +49,14 @@ contains
                        'digits, _), found '''//clip(fields(1)%text)//'''', error)
             return
          end if
+         do j = 1, size(builtin_columns)
+            if (same_text(trim(builtin_columns(j)), fields(1)%text)) then
+               call raise(source, line, fields(1)%column, 'expected a track name that is not a column of '// &
+                          'the path file, found '''//fields(1)%text//''' (the path file''s own column '''// &
+                          trim(builtin_columns(j))//''')', error)
+               return
+            end if
+         end do
          do j = 1, deck%model%n_tracks
             if (same_text(deck%model%tracks(j)%name, fields(1)%text)) then
                call raise(source, line, fields(1)%column, 'expected a new track name, found '''// &
@@ -73,8 +90,36 @@ contains
          end if
 
          call add_track(deck%model, fields(1)%text, nodes(1), dof, scale)
+         if (.not. allocated(deck%track_line)) allocate (deck%track_line(0), deck%track_column(0))
+         deck%track_line = [deck%track_line, line]
+         deck%track_column = [deck%track_column, fields(1)%column]
       end do
    end subroutine read_track
+
+   !> At the end of the deck: no *TRACK name may be one of the path columns of a contact group, which a
+   !> model with more than one group writes as `<column>_<group name>` (docs/contracts.md), the contact
+   !> cards possibly after the *TRACK.
+   subroutine check_track_names(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      integer :: i, g, k
+      if (deck%model%n_contact_groups < 2 .or. deck%model%n_tracks == 0) return
+      do i = 1, deck%model%n_tracks
+         do g = 1, deck%model%n_contact_groups
+            do k = 1, size(group_columns)
+               if (same_text(deck%model%tracks(i)%name, trim(group_columns(k))//'_'// &
+                             deck%model%contact_groups(g)%name)) then
+                  call raise(source, deck%track_line(i), deck%track_column(i), 'expected a track name that '// &
+                             'is not a column of the path file, found '''//deck%model%tracks(i)%name// &
+                             ''' (the path column of contact group '''//deck%model%contact_groups(g)%name// &
+                             ''')', error)
+                  return
+               end if
+            end do
+         end do
+      end do
+   end subroutine check_track_names
 
    !> *STATIC: a linear static analysis (also what a deck without an analysis card gets).
    subroutine read_static(source, card, deck, error)

@@ -294,6 +294,13 @@ contains
                if (allocated(error)) return
                call check_magnitude(source, line, fields(3), value, error)
                if (allocated(error)) return
+               if (load_type == 'WEIGHT' .and. .not. (value >= 0.0_dp)) then
+                  ! a weight is a magnitude, as *SECTION, WEIGHT= is: its direction is the angle
+                  call raise(source, line, fields(3)%column, 'expected a weight per unit length >= 0 (its '// &
+                             'direction is the angle field, default 270: down), found '//real_to_string(value)// &
+                             ' at element '//integer_to_string(deck%model%element_label(elements(j))), error)
+                  return
+               end if
             end if
             select case (load_type)
             case ('PX')

@@ -41,6 +41,9 @@ module uniarc_deck_state
       integer :: stop_track_line = 0, stop_track_column = 0
       integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
       integer :: forces_line = 0                      !< line of the *OUTPUT, FORCES card, 0 if none yet
+      !> Where each *TRACK name was given (checked against the contact groups' path columns at the end
+      !> of the deck: uniarc_deck_analysis, check_track_names)
+      integer, allocatable :: track_line(:), track_column(:)
       !> Analysis steps (*STEP ... *END STEP, uniarc_deck_steps): the steps closed so far, whether one
       !> is open and where it began, and the first load and analysis card met outside every step
       !> (refused once the deck turns out to have steps).

@@ -16,7 +16,7 @@ module uniarc_deck_steps
    use uniarc_error, only: error_t, error_input
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, same_text
-   use uniarc_deck_source, only: source_t, card_t, raise, check_options, option_index
+   use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index
    use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
    use uniarc_model_builder, only: take_loads, supports
    use uniarc_deck_state, only: deck_t
@@ -75,7 +75,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: k
+      integer :: k, j
       call check_options(source, card, [character(len=5) :: 'NAME='], error)
       if (allocated(error)) return
       if (deck%in_step) then
@@ -113,8 +113,27 @@ contains
                        'found none', error)
             return
          end if
+         if (.not. is_step_name(trim(card%options(k)%value))) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a step name (a letter, '// &
+                       'then letters, digits, _ or -), found '''//clip(trim(card%options(k)%value))//'''', error)
+            return
+         end if
          deck%steps(deck%n_steps + 1)%name = trim(card%options(k)%value)
       end if
+      ! Names are unique regardless of case (a step's name is a field of the crit file's rows).
+      do j = 1, deck%n_steps
+         if (same_text(deck%steps(j)%name, deck%steps(deck%n_steps + 1)%name)) then
+            if (k > 0) then
+               call raise(source, card%line, card%options(k)%value_column, 'expected a new step name, found '''// &
+                          deck%steps(deck%n_steps + 1)%name//''', the name of step '//integer_to_string(j), error)
+            else
+               call raise(source, card%line, card%column, 'expected a new step name, found the default name '''// &
+                          deck%steps(deck%n_steps + 1)%name//''' already taken by step '//integer_to_string(j)// &
+                          ' (give this *STEP a NAME=)', error)
+            end if
+            return
+         end if
+      end do
       deck%in_step = .true.
       deck%step_line = card%line
       deck%step_column = card%column
@@ -265,5 +284,15 @@ contains
       if (deck%in_step) call raise(source, deck%step_line, deck%step_column, 'expected *END STEP to close '// &
                                    'this *STEP, found the end of the deck', error)
    end subroutine finish_steps
+
+   !> A step name: a letter, then letters, digits, `_` or `-` (the default names are Step-1, Step-2, ...).
+   pure logical function is_step_name(text)
+      character(len=*), intent(in) :: text
+      character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ'
+      is_step_name = .false.
+      if (len(text) == 0) return
+      if (index(letters, text(1:1)) == 0) return
+      is_step_name = verify(text, letters//'0123456789_-') == 0
+   end function is_step_name
 
 end module uniarc_deck_steps
