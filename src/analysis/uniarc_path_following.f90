@@ -40,6 +40,8 @@ module uniarc_path_following
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
+   use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
+   use uniarc_contact_lcp, only: degenerate_fraction
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -174,6 +176,7 @@ contains
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :)
       associate (options => model%analysis)
          call start_lambda_scale(model, state, error)
          if (allocated(error)) return
@@ -188,6 +191,13 @@ contains
          if (options%first_increment < 0.0_dp) state%direction = -1
          state%load_norm = abs(options%first_increment)*norm2(state%reference)
          if (options%control == control_displacement) state%load_norm = norm2(state%reference)
+         if (.not. (norm2(state%reference) > 0.0_dp)) then
+            ! The supports take every equivalent nodal force of the element loads (a bar heated between
+            ! two pins): the loads are sized by those forces, held DOFs included
+            ! (uniarc_path_element_loads).
+            call nodal_displacements(model, state, nodal)
+            state%load_norm = abs(options%first_increment)*element_load_norm(model, nodal)
+         end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
                             error_analysis)
@@ -232,15 +242,22 @@ contains
       type(path_system_t) :: released
       type(error_t), allocatable :: singular
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
-      real(dp) :: element_scale, scale
+      real(dp) :: element_scale, scale, natural
       logical, allocatable :: bonded(:)
       integer :: c, status
       state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
-      if (.not. any(state%active)) return
+      natural = natural_deformation_scale(model)
+      if (.not. any(state%active)) then
+         call supports_carry_all(state, natural)
+         return
+      end if
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
       ! the committed factors stay for the first predictor.
       bonded = [(state%active(c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
-      if (all(bonded .eqv. state%active)) return
+      if (all(bonded .eqv. state%active)) then
+         call supports_carry_all(state, natural)
+         return
+      end if
       call band_allocate(released%tangent, state%map%n_equations, state%map%half_bandwidth, &
                          state%map%half_bandwidth, error)
       if (allocated(error)) return
@@ -263,12 +280,27 @@ contains
       state%lambda_scale = scale
       if (.not. degenerate_tangent(state, state%tangent_displacement)) then
          state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
+      else if (.not. (scale > 0.0_dp) .and. natural > 0.0_dp) then
+         ! released from its contacts a mechanism, but its held DOFs take the element loads
+         state%lambda_scale = natural
       else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
          call make_error(error, 'unloaded state: the contacts that touch at the start carry the whole reference '// &
                          'load, and without them the structure is a mechanism: an arc length has nothing '// &
                          'to measure; trace it with CONTROL=LOAD', error_analysis)
       end if
    end subroutine start_lambda_scale
+
+   !> ψ where K⁻¹R has no displacement and no contact to release: the supports take every equivalent
+   !> nodal force of the step's temperature changes (a bar heated between two pins, a clamped beam
+   !> under a gradient). The path goes in λ alone (docs/theory.md §2.7), measured by the elements'
+   !> free thermal deformation per unit λ (uniarc_path_element_loads).
+   subroutine supports_carry_all(state, natural)
+      type(path_state_t), intent(inout) :: state
+      real(dp), intent(in) :: natural
+      if (.not. (natural > 0.0_dp)) return
+      if (state%lambda_scale > degenerate_fraction*natural) return
+      state%lambda_scale = natural
+   end subroutine supports_carry_all
 
    !> Advance one converged step, cutting the step length on failure; error if it cannot be done.
    !>
