@@ -300,8 +300,8 @@ contains
       if (self%degenerate) then
          q = 0.0_dp
          call make_error(error, 'the path constraint does not fix the load increment with this contact '// &
-                         'set (the contacts carry the whole reference load; load or displacement control '// &
-                         'of another node can pass here)', error_analysis)
+                         'set (its contacts and the supports carry the whole reference load; load or '// &
+                         'displacement control of another node can pass here)', error_analysis)
          return
       end if
       dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)

@@ -176,7 +176,6 @@ contains
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: nodal(:, :)
       associate (options => model%analysis)
          call start_lambda_scale(model, state, error)
          if (allocated(error)) return
@@ -191,12 +190,11 @@ contains
          if (options%first_increment < 0.0_dp) state%direction = -1
          state%load_norm = abs(options%first_increment)*norm2(state%reference)
          if (options%control == control_displacement) state%load_norm = norm2(state%reference)
-         if (.not. (norm2(state%reference) > 0.0_dp)) then
+         if (.not. (norm2(state%reference) > degenerate_fraction*element_load_norm_at(model, state))) then
             ! The supports take every equivalent nodal force of the element loads (a bar heated between
             ! two pins): the loads are sized by those forces, held DOFs included
             ! (uniarc_path_element_loads).
-            call nodal_displacements(model, state, nodal)
-            state%load_norm = abs(options%first_increment)*element_load_norm(model, nodal)
+            state%load_norm = abs(options%first_increment)*element_load_norm_at(model, state)
          end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
@@ -277,18 +275,29 @@ contains
          if (.not. allocated(singular)) scale = masked_norm(state%map, rhs(:, 1))
          if (.not. (scale < huge(1.0_dp))) scale = 0.0_dp
       end if
+      ! Released from its contacts the structure is a mechanism or still moves nothing but round-off,
+      ! and its held DOFs take the element loads (a heated bar pinned at its ends settled on a bed):
+      ! ψ is the elements' free thermal deformation (supports_carry_all).
+      if (natural > 0.0_dp .and. .not. (scale > degenerate_fraction*natural)) scale = natural
       state%lambda_scale = scale
       if (.not. degenerate_tangent(state, state%tangent_displacement)) then
          state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
-      else if (.not. (scale > 0.0_dp) .and. natural > 0.0_dp) then
-         ! released from its contacts a mechanism, but its held DOFs take the element loads
-         state%lambda_scale = natural
       else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
          call make_error(error, 'unloaded state: the contacts that touch at the start carry the whole reference '// &
                          'load, and without them the structure is a mechanism: an arc length has nothing '// &
                          'to measure; trace it with CONTROL=LOAD', error_analysis)
       end if
    end subroutine start_lambda_scale
+
+   !> element_load_norm (uniarc_path_element_loads) at the committed displacements.
+   function element_load_norm_at(model, state) result(norm)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp) :: norm
+      real(dp), allocatable :: nodal(:, :)
+      call nodal_displacements(model, state, nodal)
+      norm = element_load_norm(model, nodal)
+   end function element_load_norm_at
 
    !> ψ where K⁻¹R has no displacement and no contact to release: the supports take every equivalent
    !> nodal force of the step's temperature changes (a bar heated between two pins, a clamped beam

@@ -127,7 +127,7 @@ contains
          if (.not. (abs(du_tangent(state%control_equation)) > 0.0_dp)) then
             dl = 0.0_dp
             reason = 'the reference load does not move the controlled displacement with this contact set '// &
-                     '(the contacts carry it): trace it with CONTROL=ARCLENGTH or CONTROL=LOAD'
+                     '(its contacts and the supports carry it): trace it with CONTROL=ARCLENGTH or CONTROL=LOAD'
             return
          end if
          dl = -du_residual(state%control_equation)/du_tangent(state%control_equation)
@@ -160,7 +160,8 @@ contains
       ! With the contacts of the working set carrying the whole reference load, K⁻¹R has no
       ! displacement part and no arc-length strategy can fix δλ (a rigid obstacle under the load).
       if (.not. (masked_dot(map, du_tangent, du_tangent) > 0.0_dp)) then
-         reason = 'the reference load moves no displacement with this contact set (the contacts carry it)'
+         reason = 'the reference load moves no displacement with this contact set (its contacts and the '// &
+                  'supports carry it)'
          return
       end if
       select case (options%iteration)
