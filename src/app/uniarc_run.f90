@@ -307,7 +307,8 @@ contains
             do k = 1, size(outcome%events)
                if (allocated(model%steps)) then
                   call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
-                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error, k_step)
+                                      outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error, &
+                                      analysis_step=k_step, step_name=model%steps(k_step)%name)
                else
                   call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
                                       outcome%events(k)%lambda, outcome%event_tracked(:, k), io_error)
@@ -347,7 +348,10 @@ contains
          end do
          if (allocated(error)) call name_analysis_step(model, k_step, error)
          if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none) exit
-         ! The next analysis step, from the state where this one stopped (its shape written first).
+         ! The next analysis step, from the state where this one stopped (its shape and, with *OUTPUT,
+         ! FORCES, its forces written first: the end of every analysis step is in STEM.forces).
+         call write_forces(files, stepped, record, io_error)
+         if (allocated(io_error)) exit
          end_lambda(k_step) = driver%state%lambda
          if (.not. options%quiet) write (output_unit, '(a)') 'analysis step '//integer_to_string(k_step)//' ('// &
             model%steps(k_step)%name//') ended at step '//integer_to_string(record%step)//', lambda = '// &

@@ -80,6 +80,7 @@ module uniarc_output
       logical :: with_forces = .false.      !< the forces tables are open
       logical :: with_contact = .false.     !< STEM.contact is open
       integer :: forces_last = -1           !< the step last written to them, −1 before any
+      logical :: step_column = .false.      !< a deck with analysis steps: rows end with `analysis_step`
    end type output_files_t
 
    !> Number format of every real: ES with 13 significant digits (docs/contracts.md).
@@ -101,8 +102,9 @@ contains
       comments = provenance_lines(provenance)
       call open_table(results, files%path, results%stem//'.path', path_header(model), comments, csv, error)
       if (allocated(error)) return
+      ! a deck with steps: the event's analysis step by number and by name (docs/contracts.md)
       call open_table(results, files%crit, results%stem//'.crit', 'kind step lambda'//track_names(model)// &
-                      step_column(model), &
+                      step_column(model)//trim(merge(' step_name', '          ', allocated(model%steps))), &
                       comments, csv, error)
       if (allocated(error)) return
       call open_table(results, files%shape, results%stem//'.shape', &
@@ -113,17 +115,18 @@ contains
       end if
       if (allocated(error) .or. .not. model%output%forces) return
       call open_table(results, files%forces, results%stem//'.forces', &
-                      'step lambda element node_start node_end N_start V_start M_start N_end V_end M_end', &
-                      comments, csv, error)
+                      'step lambda element node_start node_end N_start V_start M_start N_end V_end M_end'// &
+                      step_column(model), comments, csv, error)
       if (allocated(error)) return
       files%with_forces = .true.
+      files%step_column = allocated(model%steps)
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
       ! plastic media: two more columns, the slip and whether the candidate yields (docs/contracts.md)
       call open_table(results, files%contact, results%stem//'.contact', &
                       'step lambda medium candidate node s gap reaction length pressure tangential_displacement '// &
                       'tangential_force shear'//trim(merge(' slip yielding', '              ', &
-                      any(model%contacts%plastic))), comments, csv, error)
+                      any(model%contacts%plastic)))//step_column(model), comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -273,8 +276,9 @@ contains
 
    !> One event of the critical-point file: kind, where it lies (a step number, fractional when the
    !> event was located between two steps), λ and the tracked values at the event; `analysis_step`
-   !> (given for a deck with *STEP cards only) the analysis step it happened in. Flushed.
-   subroutine write_crit_row(files, kind, position, lambda, tracked, error, analysis_step)
+   !> (given for a deck with *STEP cards only) the analysis step it happened in, `step_name` (with it)
+   !> that step's name (*STEP, NAME=; Step-k by default). Flushed.
+   subroutine write_crit_row(files, kind, position, lambda, tracked, error, analysis_step, step_name)
       type(output_files_t), intent(inout) :: files
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position
@@ -282,9 +286,11 @@ contains
       real(dp), intent(in) :: tracked(:)
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in), optional :: analysis_step
+      character(len=*), intent(in), optional :: step_name
       character(len=:), allocatable :: step_text
       step_text = ''
       if (present(analysis_step)) step_text = ' '//integer_to_string(analysis_step)
+      if (present(step_name)) step_text = step_text//' '//step_name
       call put_row(files%crit, kind//' '//trim(format_number(position))//' '//trim(format_number(lambda))// &
                    numbers_text(tracked)//step_text)
       call flush_table(files%crit, error)
@@ -363,12 +369,14 @@ contains
       real(dp) :: tangential(3)
       integer, allocatable :: spring(:)
       logical, allocatable :: yielding(:)
-      character(len=:), allocatable :: head
+      character(len=:), allocatable :: head, tail
       integer :: e, c
       logical :: plastic
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
+      tail = ''
+      if (files%step_column) tail = ' '//integer_to_string(record%analysis_step)
       if (allocated(record%joint_plastic)) then
          forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic)
       else
@@ -377,7 +385,7 @@ contains
       do e = 1, model%n_elements
          call put_row(files%forces, head//integer_to_string(model%element_label(e))//' '// &
                       integer_to_string(model%node_label(model%connectivity(1, e)))//' '// &
-                      integer_to_string(model%node_label(model%connectivity(2, e)))//numbers_text(forces(:, e)))
+                      integer_to_string(model%node_label(model%connectivity(2, e)))//numbers_text(forces(:, e))//tail)
       end do
       call put_row(files%forces, '')
       call put_row(files%forces, '')
@@ -409,12 +417,12 @@ contains
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                          numbers_text([model%contacts(c)%coordinate, gaps(c) + slip(c), reactions(c), lengths(c), &
-                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//yield_flag(c))
+                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//yield_flag(c)//tail)
          else
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                          numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                       reactions(c)/lengths(c), tangential]))
+                                       reactions(c)/lengths(c), tangential])//tail)
          end if
       end do
       call put_row(files%contact, '')

@@ -11,6 +11,7 @@ Usage (one CTest per call):
                   [--expect-snap-back COLUMN]...
                   [--expect-crit KIND[#k]=EXPECTED]...            # lambda of the k-th event of a kind
                   [--expect-crit-column KIND[#k]:COLUMN=EXPECTED]...
+                  [--expect-crit-step-name KIND[#k]=NAME]...     # the step_name of an event (decks with *STEP)
                   [--expect-crit-count KIND=N]... [--expect-crit-before KIND[#k]<KIND[#j]]...
                   [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
@@ -121,6 +122,14 @@ def split_event(text):
     return text.strip(), 1
 
 
+def number_or_text(field):
+    """A field of a table row as a float, or as its text when it is not a number (a name)."""
+    try:
+        return float(field)
+    except ValueError:
+        return field
+
+
 def read_events(path):
     """Column names (after `kind`) and the events of a STEM.crit file as (kind, [numbers])."""
     with open(path) as handle:
@@ -135,7 +144,8 @@ def read_events(path):
             continue
         if len(fields) != len(names) + 1:
             raise SystemExit(f'{path}:{number}: {len(fields)} fields, header has {len(names) + 1}')
-        events.append((fields[0], [float(x) for x in fields[1:]]))
+        # a deck with steps ends each row with the step's name (text, docs/contracts.md): kept as text
+        events.append((fields[0], [number_or_text(x) for x in fields[1:]]))
     return names, events
 
 
@@ -274,6 +284,17 @@ def check_events(args, crit_file, path_names=None, path_rows=None):
         failure = check_value(f'lambda of {kind}#{k}', numbers[names.index('lambda')], expected)
         if failure:
             failures.append(failure)
+    for expectation in args.expect_crit_step_name:
+        event, expected = expectation.split('=', 1)
+        kind, k = split_event(event)
+        numbers = find_event(events, kind, k)
+        if numbers is None or 'step_name' not in names:
+            failures.append(f'no event {kind}#{k} or no column step_name in {crit_file}')
+            continue
+        got = numbers[names.index('step_name')]
+        print(f'{"ok" if got == expected else "FAIL"}: step_name at {kind}#{k} = {got!r}, expected {expected!r}')
+        if got != expected:
+            failures.append(f'step_name at {kind}#{k} = {got!r}, not {expected!r}')
     for expectation in args.expect_crit_column:
         left, expected = expectation.split('=', 1)
         event, column = left.rsplit(':', 1)
@@ -325,6 +346,7 @@ def main():
     parser.add_argument('--expect-snap-back', action='append', default=[])
     parser.add_argument('--expect-crit', action='append', default=[])
     parser.add_argument('--expect-crit-column', action='append', default=[])
+    parser.add_argument('--expect-crit-step-name', action='append', default=[])
     parser.add_argument('--expect-crit-count', action='append', default=[])
     parser.add_argument('--expect-crit-before', action='append', default=[])
     parser.add_argument('--expect-crit-path', action='append', default=[])
@@ -368,7 +390,7 @@ def main():
         else:
             failures += check_path_features(args, names, rows)
     if (args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before
-            or args.expect_crit_path):
+            or args.expect_crit_path or args.expect_crit_step_name):
         path_names, path_rows = read_table(path_file)
         failures += check_events(args, os.path.join(args.out, stem + '.crit'), path_names, path_rows)
     crit_file = os.path.join(args.out, stem + '.crit')
