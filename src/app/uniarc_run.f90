@@ -81,6 +81,8 @@ contains
       if (allocated(error)) return
       call check_model(model, map, error)
       if (allocated(error)) return
+      call check_step_supports(model, error)
+      if (allocated(error)) return
       call warn_nearly_mechanism(model, map)
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
@@ -102,6 +104,40 @@ contains
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
       call abandon_results(results)
    end subroutine run_model
+
+   !> A deck whose analysis steps release supports (*BOUNDARY, REMOVE): the structure of each such
+   !> step — its supports, every contact closed, the model's own check (check_model_mechanism) — must
+   !> not be a mechanism, checked before the analysis (exit code 2, no result file), the message naming
+   !> the step, the free motion and the node and DOF it moves most. `model` is unchanged on return
+   !> (intent(inout) for step_model).
+   subroutine check_step_supports(model, error)
+      type(model_t), intent(inout) :: model
+      type(error_t), allocatable, intent(out) :: error
+      type(model_t) :: stepped
+      type(dof_map_t) :: map
+      real(dp), allocatable :: end_lambda(:)
+      logical, allocatable :: before(:, :)
+      integer :: k
+      if (.not. allocated(model%steps)) return
+      allocate (end_lambda(size(model%steps)), source=0.0_dp)
+      before = model%fixed
+      do k = 1, size(model%steps)
+         if (.not. allocated(model%steps(k)%fixed)) cycle
+         if (.not. any(before .and. .not. model%steps(k)%fixed)) then
+            before = model%steps(k)%fixed
+            cycle
+         end if
+         before = model%steps(k)%fixed
+         stepped = step_model(model, k, end_lambda)
+         call build_dof_map(stepped, map, error)
+         if (.not. allocated(error)) call check_model_mechanism(stepped, map, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k, error)
+            error%message = error%message//' (the supports of this step are those left after its *BOUNDARY, REMOVE)'
+            return
+         end if
+      end do
+   end subroutine check_step_supports
 
    !> A nearly singular model's warning on stderr (uniarc_check, nearly_mechanism_warning; also with
    !> -q, as errors are): the analysis goes on (docs/contracts.md, "Nearly singular models").
@@ -131,7 +167,7 @@ contains
    !> `uniarc --check`: the checks of run_model (uniarc_check: memory, stiffness) and the model's
    !> summary on stdout, without an analysis and without any file. Errors: those of check_model.
    subroutine check_deck(model, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model   !< unchanged on return (check_step_supports)
       type(error_t), allocatable, intent(out) :: error
       type(dof_map_t) :: map
       integer :: k
@@ -157,6 +193,7 @@ contains
       end if
       call check_model(model, map, error)
       if (.not. allocated(error)) call check_model_mechanism(model, map, error)
+      if (.not. allocated(error)) call check_step_supports(model, error)
       if (.not. allocated(error)) call warn_nearly_mechanism(model, map)
       if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
    end subroutine check_deck

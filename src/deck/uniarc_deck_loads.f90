@@ -32,7 +32,8 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, j, k, line, first_dof, last_dof, c
-      logical :: held(3), named, remove
+      logical :: held(3), named, remove, both(3)
+      character(len=2), parameter :: dof_names(3) = ['UX', 'UY', 'RZ']
       real(dp) :: settlement
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
@@ -140,6 +141,24 @@ contains
                              'gap would not see the support''s displacement)', error)
                   return
                end do
+            end if
+            if (deck%in_step) then
+               ! A DOF is added or removed in a step, not both: a support added and removed in one
+               ! step (or removed and added again) is no change and no load.
+               if (remove) then
+                  both = held .and. deck%model%fixed(:, nodes(j)) .and. .not. deck%step_start_fixed(:, nodes(j))
+               else
+                  both = held .and. deck%step_start_fixed(:, nodes(j)) .and. .not. deck%model%fixed(:, nodes(j))
+               end if
+               if (any(both)) then
+                  call raise(source, line, fields(2)%column, 'expected a DOF either added or removed in a step, '// &
+                             'found '//trim(dof_names(findloc(both, .true., 1)))//' of node '// &
+                             integer_to_string(deck%model%node_label(nodes(j)))//' '// &
+                             trim(merge('added by this step''s *BOUNDARY and now removed        ', &
+                                        'removed by this step''s *BOUNDARY, REMOVE and now added', remove))// &
+                             ' (a support changes once per step; change it again in a later step)', error)
+                  return
+               end if
             end if
             if (remove) then
                if (.not. all(deck%model%fixed(:, nodes(j)) .or. .not. held)) then
