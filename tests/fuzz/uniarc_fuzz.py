@@ -267,8 +267,8 @@ def check_table(path, problems):
         problems.append(('torn_row', f'{os.path.basename(path)}: no header line'))
         return
     header = lines[0].replace(',', ' ').split()
-    # Columns of words: the event kind of .crit, the medium's name of .contact and .surface.
-    word_columns = {k for k, name in enumerate(header) if name in ('kind', 'medium')}
+    # Columns of words: the event kind and the analysis step's name of .crit, the medium's name of .contact and .surface.
+    word_columns = {k for k, name in enumerate(header) if name in ('kind', 'medium', 'step_name')}
     for number, line in enumerate(lines[1:], start=2):
         if not line.strip() or line.startswith('#'):
             continue
