@@ -241,6 +241,7 @@ contains
       type(error_t), allocatable :: singular
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale, scale, natural
+      character(len=:), allocatable :: where
       logical, allocatable :: bonded(:)
       integer :: c, status
       state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
@@ -283,7 +284,13 @@ contains
       if (.not. degenerate_tangent(state, state%tangent_displacement)) then
          state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
-         call make_error(error, 'unloaded state: the contacts that touch at the start carry the whole reference '// &
+         ! where: the path's unloaded state, or the start of an analysis step after the first (its
+         ! model holds the earlier steps' loads)
+         where = 'unloaded state'
+         if (allocated(model%held)) then
+            if (size(model%held) > 0) where = 'start of the step'
+         end if
+         call make_error(error, where//': the contacts that touch at the start carry the whole reference '// &
                          'load, and without them the structure is a mechanism: an arc length has nothing '// &
                          'to measure; trace it with CONTROL=LOAD', error_analysis)
       end if
