@@ -176,6 +176,7 @@ contains
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(error_t), allocatable, intent(out) :: error
+      real(dp) :: element_norm
       associate (options => model%analysis)
          call start_lambda_scale(model, state, error)
          if (allocated(error)) return
@@ -190,11 +191,13 @@ contains
          if (options%first_increment < 0.0_dp) state%direction = -1
          state%load_norm = abs(options%first_increment)*norm2(state%reference)
          if (options%control == control_displacement) state%load_norm = norm2(state%reference)
-         if (.not. (norm2(state%reference) > degenerate_fraction*element_load_norm_at(model, state))) then
+         element_norm = element_load_norm_at(model, state)
+         if (.not. (norm2(state%reference) > degenerate_fraction*element_norm)) then
             ! The supports take every equivalent nodal force of the element loads (a bar heated between
             ! two pins): the loads are sized by those forces, held DOFs included
             ! (uniarc_path_element_loads).
-            state%load_norm = abs(options%first_increment)*element_load_norm_at(model, state)
+            state%load_norm = abs(options%first_increment)*element_norm
+            if (options%control == control_displacement) state%load_norm = element_norm
          end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
@@ -241,7 +244,7 @@ contains
       type(error_t), allocatable :: singular
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: element_scale, scale, natural
-      character(len=:), allocatable :: where
+      character(len=:), allocatable :: place
       logical, allocatable :: bonded(:)
       integer :: c, status
       state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
@@ -284,13 +287,13 @@ contains
       if (.not. degenerate_tangent(state, state%tangent_displacement)) then
          state%lambda_scale = masked_norm(state%map, state%tangent_displacement)
       else if (model%analysis%control == control_arclength .and. .not. (scale > 0.0_dp)) then
-         ! where: the path's unloaded state, or the start of an analysis step after the first (its
-         ! model holds the earlier steps' loads)
-         where = 'unloaded state'
+         ! the path's unloaded state, or the start of an analysis step after the first (its model
+         ! holds the earlier steps' loads)
+         place = 'unloaded state'
          if (allocated(model%held)) then
-            if (size(model%held) > 0) where = 'start of the step'
+            if (size(model%held) > 0) place = 'start of the step'
          end if
-         call make_error(error, where//': the contacts that touch at the start carry the whole reference '// &
+         call make_error(error, place//': the contacts that touch at the start carry the whole reference '// &
                          'load, and without them the structure is a mechanism: an arc length has nothing '// &
                          'to measure; trace it with CONTROL=LOAD', error_analysis)
       end if
