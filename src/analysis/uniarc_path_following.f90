@@ -40,6 +40,7 @@ module uniarc_path_following
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
+   use uniarc_path_corner, only: step_past_corner
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -295,7 +296,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed
+      logical :: to_limit, hidden, landed, cornered, corner_passed
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -321,6 +322,8 @@ contains
             end if
          end if
          halvings = 0
+         cornered = .false.
+         corner_passed = .false.
          ! A converged attempt that landed on another branch (far from its predictor, where the
          ! path's tangent lies across the step, or reversing the last step) is rejected and cut like
          ! one that did not converge: no silent jump (docs/theory.md §2.3).
@@ -364,6 +367,20 @@ contains
                if (length < options%min_increment*state%first_length) exit
             end do
             if (present(cuts)) cuts = halvings
+            ! No step length converges along this piece of the path: a corner, where a contact opens or
+            ! closes exactly at the committed state (docs/theory.md §2.12). Under arc length the
+            ! next piece's working set and tangent are sought (uniarc_path_corner); once per step.
+            if (.not. trial%converged .and. options%control == control_arclength .and. .not. cornered) then
+               cornered = .true.
+               call step_past_corner(model, state, system, trial, length, corner_passed)
+               write(0,*) 'DBG passed', corner_passed, trial%converged
+               if (allocated(trial%fatal)) then
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
+            end if
             if (.not. trial%converged) then
                call move_alloc(system, state%system)
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
@@ -422,7 +439,12 @@ contains
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either.
             jump = ''
             if (.not. degenerate_step(before, trial)) then
-               if (off_branch(state%map, trial%increment, before%last_increment, landing)) then
+               ! At a corner the path may turn by more than a right angle (a contact closing where the
+               ! smooth piece would have folded back): only the landing tangent is checked there.
+               if (corner_passed) then
+                  if (off_branch(state%map, trial%increment, 0.0_dp*before%last_increment, landing)) &
+                     jump = 'the path''s tangent there is across the step past the corner'
+               else if (off_branch(state%map, trial%increment, before%last_increment, landing)) then
                   jump = 'the path''s tangent there is across the step, or the step reverses the last one'
                else if (options%control == control_arclength .and. &
                         masked_norm(state%map, trial%increment) > overlong_ratio*length) then
@@ -437,6 +459,7 @@ contains
                                      'the path, two critical points, passed in one step'
                end if
             end if
+            if (cornered) write(0,*) 'DBG jump ', jump, trial%converged
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length)
