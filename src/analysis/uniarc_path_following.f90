@@ -373,7 +373,6 @@ contains
             if (.not. trial%converged .and. options%control == control_arclength .and. .not. cornered) then
                cornered = .true.
                call step_past_corner(model, state, system, trial, length, corner_passed)
-               write(0,*) 'DBG passed', corner_passed, trial%converged
                if (allocated(trial%fatal)) then
                   call move_alloc(system, state%system)
                   call move_alloc(trial%fatal, error)
@@ -459,7 +458,6 @@ contains
                                      'the path, two critical points, passed in one step'
                end if
             end if
-            if (cornered) write(0,*) 'DBG jump ', jump, trial%converged
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length)

@@ -68,7 +68,6 @@ contains
       call pick_candidates(state, chosen)
       if (size(chosen) == 0) return
       call tie_groups(state, chosen, toggled)
-      write(0,*) 'DBG chosen', chosen, state%point%contact_value(chosen), state%point%contact_rate(chosen), state%active(chosen)
       system%holds_committed = .false.
       system%holds_converged = .false.
       best = 0
@@ -79,8 +78,6 @@ contains
          if (.not. allocated(ut)) cycle
          if (degenerate_tangent(state, ut)) cycle
          call consistent_sign(model, state, nodal, toggled(:, a), ut, sign_of)
-         write(0,*) 'DBG corner a', a, pack([(a*0+h, h=1,size(toggled,1))], toggled(:,a)), 'sign', sign_of, sign_of*masked_dot(state%map, ut, state%last_increment)/ &
-                     (masked_norm(state%map, ut)*masked_norm(state%map, state%last_increment))
          if (sign_of == 0.0_dp) cycle
          size_ut = masked_norm(state%map, ut)
          cosine = 1.0_dp
@@ -103,7 +100,6 @@ contains
          attempt%length = dl
          call attempt_step(model, corner, system, attempt, start=best_sign*dl*best_ut/size_ut, &
                            start_dlambda=best_sign*dl/size_ut)
-         write(0,*) 'DBG attempt', dl, attempt%converged, attempt%reason, count(attempt%active), count(state%active)
          if (attempt%converged) then
             ! the new piece: the converged set differs from the committed one (or it was the old corner)
             if (any(attempt%active .neqv. state%active)) then
