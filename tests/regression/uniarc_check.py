@@ -408,6 +408,15 @@ def main():
             if '-0.000000000000E+000' in text:
                 failures.append('%s has a negative zero' % name)
             failures += check_table_format(os.path.join(args.out, name), text, args.deck, args.define)
+    # On every run: STEM.crit lists its rows in path order (docs/contracts.md), their step column not
+    # decreasing.
+    if os.path.exists(crit_file):
+        with open(crit_file) as f:
+            positions = [float(line.split()[1]) for line in f.read().splitlines()[1:]
+                         if line.strip() and not line.startswith('#')]
+        for earlier, later in zip(positions, positions[1:]):
+            if later < earlier:
+                failures.append(f'{stem}.crit is not in path order: step {later!r} after {earlier!r}')
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
