@@ -5,12 +5,12 @@
 !> (a corner). A step from a state exactly at the corner (a candidate's reaction or gap at zero) along
 !> the tangent of the old set leaves the admissible region at once, and the contact LCP of the
 !> predictor, posed about that tangent, may keep returning the old set: no step length converges and
-!> the cut-backs run out (pipeline on a hump, /work/shared/cases, λ ≈ 0.062).
+!> the cut-backs run out (tests/regression/decks/pipeline_hump_corner_200.inp stopped at λ ≈ 0.062).
 !>
-!> The corner is passed as a piecewise-linear complementarity problem is (Eaves' path following of
-!> piecewise-linear maps; the same idea as the "pivoting" continuation of Lemke's algorithm, Cottle,
-!> Pang & Stone 1992, The Linear Complementarity Problem, §4.4): the next piece has a working set that
-!> differs from the current one by the candidates at their change. For each assumption — one such
+!> The corner is passed as a piecewise-linear complementarity path is followed from one piece to the
+!> next (Eaves 1976, A short course in solving equations with PL homotopies, SIAM-AMS Proc. 9; the
+!> complementary pivoting of Cottle, Pang & Stone 1992, The Linear Complementarity Problem, ch. 4):
+!> the next piece has a working set that differs from the current one by the candidates at their change. For each assumption — one such
 !> candidate toggled, or a group of them whose values and rates agree to within the problem's round-off
 !> (a symmetric pair, which must change together or the path runs into the asymmetric dead end) — the
 !> tangent of that set's path, t = ±(K_S⁻¹R, 1), is computed at the committed state; the assumption is
