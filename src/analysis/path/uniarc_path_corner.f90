@@ -36,8 +36,10 @@ module uniarc_path_corner
    integer, parameter :: per_kind = 3
    !> Two candidates tie (a symmetric pair) when their values and their rates along the current
    !> tangent agree to within this fraction of the larger of the two. Relative, not absolute: on the
-   !> pipeline over a hump at 200 elements the gap rates of the symmetric pair differed by 2.8e-7
-   !> (units of the problem), round-off of an ill-conditioned K_T of a long beam (condition ~1e9).
+   !> pipeline over a hump at 200 elements (pipeline_hump_corner_200.inp, step 172) the symmetric pair
+   !> of end contacts had reactions 2.6344439e-7 and 2.6344545e-7 (4e-6 apart, relative) and rates
+   !> −3.7406507 and −3.7406509 (1.8e-7 apart): round-off of the ill-conditioned K_T of a long beam,
+   !> above any absolute 1e-8, far below 1e-4.
    real(dp), parameter :: tie_tolerance = 1.0e-4_dp
    !> Halvings of the corner step before the corner is given up.
    integer, parameter :: corner_halvings = 8
