@@ -36,7 +36,7 @@ module uniarc_path_corner
    integer, parameter :: per_kind = 3
    !> Two candidates tie (a symmetric pair) when their values and their rates along the current
    !> tangent agree to within this fraction of the larger of the two. Relative, not absolute: on the
-   !> pipeline over a hump at 200 elements (pipeline_hump_corner_200.inp, step 172) the symmetric pair
+   !> pipeline over a hump at 200 elements (pipeline_hump_corner_200.inp, past λ = 0.0609) the symmetric pair
    !> of end contacts had reactions 2.6344439e-7 and 2.6344545e-7 (4e-6 apart, relative) and rates
    !> −3.7406507 and −3.7406509 (1.8e-7 apart): round-off of the ill-conditioned K_T of a long beam,
    !> above any absolute 1e-8, far below 1e-4.
