@@ -14,11 +14,12 @@ module uniarc_critical_points
    use uniarc_path_state, only: path_point_t
    implicit none
    private
-   public :: critical_event_t, find_critical_events, find_contact_events
+   public :: critical_event_t, find_critical_events, find_contact_events, sort_events
 
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
-      character(len=:), allocatable :: kind   !< limit_max, limit_min, bifurcation or unilateral_bifurcation
+      !> limit_max, limit_min, contact_corner, bifurcation, unilateral_bifurcation or a contact event
+      character(len=:), allocatable :: kind
       real(dp) :: position = 0.0_dp           !< step number, fractional (e.g. 12.4)
       real(dp) :: lambda = 0.0_dp
       real(dp) :: fraction = 0.0_dp           !< 0..1 between the two points
@@ -58,6 +59,9 @@ contains
             event%kind = 'limit_min'
             event%lambda = min(event%lambda, before%lambda, after%lambda)
          end if
+         ! Located at a change of the working set (uniarc_path_locate): a corner of the path, a contact
+         ! event at which λ turns (docs/theory.md §2.12), not a limit point.
+         if (after%limit_by_contact) event%kind = 'contact_corner'
          event%position = before%step + event%fraction
          events = [events, event]
          unexplained = max(0, unexplained - 1)
@@ -88,6 +92,24 @@ contains
          events = [events, event]
       end if
    end subroutine find_critical_events
+
+   !> The events of one interval in path order: by position, stable (events at the same position keep
+   !> the order they were found in). Insertion sort: an interval holds a handful.
+   pure subroutine sort_events(events)
+      type(critical_event_t), intent(inout) :: events(:)
+      type(critical_event_t) :: moving
+      integer :: i, j
+      do i = 2, size(events)
+         moving = events(i)
+         j = i - 1
+         do while (j >= 1)
+            if (.not. events(j)%position > moving%position) exit
+            events(j + 1) = events(j)
+            j = j - 1
+         end do
+         events(j + 1) = moving
+      end do
+   end subroutine sort_events
 
    !> Contact start (no candidate in contact before, some after) and loss (the reverse) between two
    !> converged points. Each candidate's gap (free) or reaction (in contact) is extrapolated along the

@@ -23,7 +23,7 @@ module uniarc_path_driver
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
-   use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events
+   use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
    use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
    use uniarc_model_steps, only: prescribed_at, has_prescribed
@@ -73,8 +73,8 @@ module uniarc_path_driver
       !> Halvings of the step length before the step converged (path_advance's count; on failure the
       !> halvings it made).
       integer :: cuts = 0
-      !> Critical points and contact events between the previous converged point and this one, in the
-      !> order of find_critical_events then find_contact_events.
+      !> Critical points and contact events between the previous converged point and this one, in path
+      !> order (by position; at one position in the order of find_critical_events, find_contact_events).
       type(critical_event_t), allocatable :: events(:)
       !> (size(model%tracks), size(events)): the tracked values at each event, linear between the two
       !> steps at the event's fraction (the event's λ is on the Hermite interpolant; the displacements
@@ -204,6 +204,8 @@ contains
          call find_critical_events(previous, driver%state%point, outcome%events)
          call find_contact_events(previous, driver%state%point, outcome%events)
          call find_contact_branching(previous, driver%state%point, outcome%events)
+         ! STEM.crit rows in path order (a limit found before a contact event may lie after it)
+         call sort_events(outcome%events)
       end if
       allocate (outcome%event_tracked(size(driver%tracked), size(outcome%events)))
       do k = 1, size(outcome%events)

@@ -42,6 +42,7 @@ module uniarc_path_following
    use uniarc_path_branch, only: switch_branch
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
+   use uniarc_path_corner, only: step_past_corner
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -329,7 +330,8 @@ contains
    !> A converged attempt off the branch it followed is cut like one that did not converge
    !> (docs/theory.md §2.3): far from its predictor (far_from_predictor), its landing tangent across
    !> the step or a reversal (off_branch), a chord longer than overlong_ratio step lengths (arc length),
-   !> a change of the inertia by more than one while the step can be halved, or a pair of critical
+   !> a change of the inertia by more than one while the step can be halved (on a lift-off tangent: with
+   !> the working set unchanged), or a pair of critical
    !> points hidden in the step (uniarc_path_hidden, find_hidden_pair).
    !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why;
    !> under load control from a stable state, that this is where the load reaches a limit point); a
@@ -346,7 +348,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed
+      logical :: to_limit, hidden, landed, cornered, corner_passed
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -372,6 +374,8 @@ contains
             end if
          end if
          halvings = 0
+         cornered = .false.
+         corner_passed = .false.
          ! A converged attempt that landed on another branch (far from its predictor, where the
          ! path's tangent lies across the step, or reversing the last step) is rejected and cut like
          ! one that did not converge: no silent jump (docs/theory.md §2.3).
@@ -415,6 +419,19 @@ contains
                if (length < options%min_increment*state%first_length) exit
             end do
             if (present(cuts)) cuts = halvings
+            ! No step length converges along this piece of the path: a corner, where a contact opens or
+            ! closes exactly at the committed state (docs/theory.md §2.12). Under arc length the
+            ! next piece's working set and tangent are sought (uniarc_path_corner); once per step.
+            if (.not. trial%converged .and. options%control == control_arclength .and. .not. cornered) then
+               cornered = .true.
+               call step_past_corner(model, state, system, trial, length, corner_passed)
+               if (allocated(trial%fatal)) then
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
+            end if
             if (.not. trial%converged) then
                call move_alloc(system, state%system)
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
@@ -473,13 +490,23 @@ contains
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either.
             jump = ''
             if (.not. degenerate_step(before, trial)) then
-               if (off_branch(state%map, trial%increment, before%last_increment, landing)) then
+               ! At a corner the path may turn by more than a right angle (a contact closing where the
+               ! smooth piece would have folded back): only the landing tangent is checked there.
+               if (corner_passed) then
+                  if (off_branch(state%map, trial%increment, 0.0_dp*before%last_increment, landing)) &
+                     jump = 'the path''s tangent there is across the step past the corner'
+               else if (off_branch(state%map, trial%increment, before%last_increment, landing)) then
                   jump = 'the path''s tangent there is across the step, or the step reverses the last one'
                else if (options%control == control_arclength .and. &
                         masked_norm(state%map, trial%increment) > overlong_ratio*length) then
                   jump = 'it lies more than '//integer_to_string(nint(overlong_ratio))//' step lengths from the start'
+               ! (A lift-off tangent's count may change by more where the working set changes — contacts
+               ! touching or leaving at once; with the same set it counts the lift-off modes passed, one
+               ! per event: the strut on a tensionless bed with increment 0.3 passed Euler's 9th and
+               ! 16th modes in one step and reported one of them.)
                else if (abs(state%point%neg_pivots - before%point%neg_pivots) > 1 .and. &
-                        .not. (state%point%liftoff .or. before%point%liftoff) .and. &
+                        (.not. (state%point%liftoff .or. before%point%liftoff) .or. &
+                         all(state%active .eqv. before%active)) .and. &
                         0.5_dp*length >= options%min_increment*state%first_length) then
                   jump = 'the count of negative pivots changed by more than one critical point can change it'
                else

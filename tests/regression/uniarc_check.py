@@ -16,6 +16,7 @@ Usage (one CTest per call):
                   [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
                   [--expect-all COLUMN>=VALUE]...                   # (from above or from below)
+                  [--expect-all-ratio NUM/DEN=VALUE:RTOL]...        # NUM/DEN on every row (DEN != 0)
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
@@ -231,6 +232,27 @@ def check_path_features(args, names, rows):
         print(f'{"ok" if ok else "FAIL"}: every {column} <= {bound} (largest {largest!r})')
         if not ok:
             failures.append(f'{column} reaches {largest!r} > {bound}')
+    for expectation in args.expect_all_ratio:
+        # e.g. reaction_sum/lambda=200:1e-6: an equilibrium every written row must satisfy
+        ratio, expected = expectation.split('=')
+        numerator, denominator = ratio.split('/')
+        value, tolerance = (float(x) for x in expected.split(':'))
+        if numerator not in names or denominator not in names:
+            failures.append(f'no column {numerator} or {denominator} in {names}')
+            continue
+        worst, worst_step = 0.0, None
+        for row in rows:
+            den = row[names.index(denominator)]
+            if den == 0.0:
+                continue
+            error = abs(row[names.index(numerator)] / den - value) / abs(value)
+            if error >= worst:
+                worst, worst_step = error, row[names.index('step')]
+        ok = worst <= tolerance
+        print(f'{"ok" if ok else "FAIL"}: every {ratio} = {value!r} (worst relative error {worst:.3e} at step '
+              f'{worst_step}, tolerance {tolerance:.1e})')
+        if not ok:
+            failures.append(f'{ratio}: relative error {worst:.3e} > {tolerance:.1e} at step {worst_step}')
     for column in args.expect_snap_back:
         if column not in names:
             failures.append(f'no column {column} in {names}')
@@ -351,6 +373,7 @@ def main():
     parser.add_argument('--expect-crit-before', action='append', default=[])
     parser.add_argument('--expect-crit-path', action='append', default=[])
     parser.add_argument('--expect-all', action='append', default=[])
+    parser.add_argument('--expect-all-ratio', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
     args = parser.parse_args()
 
@@ -383,7 +406,8 @@ def main():
                   f'(tolerance {tolerance:.1e})')
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
-    if args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all:
+    if (args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all
+            or args.expect_all_ratio):
         names, rows = read_table(path_file)
         if len(rows) < 2:
             failures.append('path file has fewer than two rows')
@@ -406,6 +430,15 @@ def main():
             if '-0.000000000000E+000' in text:
                 failures.append('%s has a negative zero' % name)
             failures += check_table_format(os.path.join(args.out, name), text, args.deck, args.define)
+    # On every run: STEM.crit lists its rows in path order (docs/contracts.md), their step column not
+    # decreasing.
+    if os.path.exists(crit_file):
+        with open(crit_file) as f:
+            positions = [float(line.split()[1]) for line in f.read().splitlines()[1:]
+                         if line.strip() and not line.startswith('#')]
+        for earlier, later in zip(positions, positions[1:]):
+            if later < earlier:
+                failures.append(f'{stem}.crit is not in path order: step {later!r} after {earlier!r}')
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0

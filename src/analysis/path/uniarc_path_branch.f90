@@ -148,6 +148,7 @@ contains
       state%point%limit_fraction = -1.0_dp
       state%point%bifurcation_fraction = -1.0_dp
       state%point%stability_by_contact = .false.
+      state%point%limit_by_contact = .false.
    end subroutine switch_branch
 
    !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that

@@ -121,13 +121,16 @@ contains
    !> trial%dlambda with the working set trial%active; if not, trial%reason says why. `system` is
    !> overwritten (its committed factors used first if it still holds them).
    !> `start` (n, optional) replaces the tangent predictor: the increment the corrections start from, at
-   !> the committed λ (the predictor along a buckling mode onto a secondary branch, uniarc_path_branch).
-   subroutine attempt_step(model, state, system, trial, start)
+   !> the committed λ (the predictor along a buckling mode onto a secondary branch, uniarc_path_branch),
+   !> or at λ + `start_dlambda` (optional; along the tangent of the next piece at a corner of the path,
+   !> uniarc_path_corner).
+   subroutine attempt_step(model, state, system, trial, start, start_dlambda)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(in), optional :: start(:)
+      real(dp), intent(in), optional :: start_dlambda
       type(linearization_t) :: lin
       type(newton_test_t) :: test
       type(path_constraint_t) :: constraint
@@ -161,6 +164,7 @@ contains
       if (present(start)) then
          system%holds_committed = .false.
          trial%increment = start
+         if (present(start_dlambda)) trial%dlambda = start_dlambda
       else
          call predict(model, state, system, lin, trial, predicted)
          if (.not. predicted) return

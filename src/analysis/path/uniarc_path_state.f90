@@ -60,6 +60,10 @@ module uniarc_path_state
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
       !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2).
       logical :: stability_by_contact = .false.
+      !> The sign change of dλ/ds since the previous point happens where the working set changes (a
+      !> corner of the path, uniarc_path_locate): a contact event with λ at an extreme (`contact_corner`
+      !> in STEM.crit), not a limit point (docs/theory.md §2.12).
+      logical :: limit_by_contact = .false.
       !> This point is the first of a secondary branch, reached from a bifurcation (uniarc_path_branch):
       !> the interval before it joins two branches and holds no critical point.
       logical :: switched = .false.
