@@ -295,7 +295,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed
+      logical :: to_limit, hidden, landed, left_branch
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -439,7 +439,10 @@ contains
             end if
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
-               call locate_critical_points(model, before, state, system, length)
+               call locate_critical_points(model, before, state, system, length, left_branch)
+               if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
+            end if
+            if (len(jump) == 0) then
                if (allocated(state%bifurcation)) then
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation

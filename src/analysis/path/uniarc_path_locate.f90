@@ -16,7 +16,7 @@ module uniarc_path_locate
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
-                                bifurcation_state_t
+                                bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_critical_points, only: critical_event_t, find_critical_events
    implicit none
@@ -29,6 +29,12 @@ module uniarc_path_locate
    !> The bracket is narrowed to this fraction of the step length. Across it the cubic interpolant
    !> of λ has an error O(w⁴) of 1e-12 of the step's own, far below the equilibrium tolerance.
    real(dp), parameter :: bracket_tolerance = 1.0e-3_dp
+   !> The two converged ends of a bifurcation's final bracket are on one branch if their distance is
+   !> at most this many times the bracket's share of the step's chord ||Δu||·(h_b − h_a)/Δl. On a
+   !> branch the ratio is 1 up to the curvature across 1e-3 of a step (measured on every deck of the
+   !> repository that locates a bifurcation: 1.0000 to 1.00004); Walker's whole arch with a crown
+   !> imperfection of 1e-4, whose step jumped across the near-bifurcation: 616.
+   real(dp), parameter :: gap_ratio = 10.0_dp
 
 contains
 
@@ -44,12 +50,16 @@ contains
    !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
    !> magnitude) and its least eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
-   subroutine locate_critical_points(model, before, after, system, length)
+   !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
+   !> gap_ratio times farther apart than the bracket's share of the step's chord — the step left the
+   !> branch it followed (nothing is located; the caller rejects the step).
+   subroutine locate_critical_points(model, before, after, system, length, left_branch)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
       type(path_state_t), intent(inout) :: after
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
+      logical, intent(out) :: left_branch
       type(path_point_t) :: pa, pb, probe
       type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
@@ -59,6 +69,7 @@ contains
       after%point%limit_fraction = -1.0_dp
       after%point%bifurcation_fraction = -1.0_dp
       after%point%stability_by_contact = .false.
+      left_branch = .false.
       limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
       bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
       if (.not. (limit .or. bifurcation)) return
@@ -142,6 +153,14 @@ contains
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
+      else if (hb - ha <= bracket_tolerance*length .and. &
+               masked_norm(after%map, state_b%u - state_a%u)*length > &
+               gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
+         ! The ends of the final bracket are far apart for their distance in h: the re-solved states
+         ! change branch there, no branch crosses. The step went past a near-bifurcation of an
+         ! imperfect structure (where its path turns sharply to a limit point) onto the
+         ! complementary path (docs/theory.md §2.3): the caller rejects it and cuts the step.
+         left_branch = .true.
       else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).
