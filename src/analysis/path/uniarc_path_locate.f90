@@ -31,10 +31,17 @@ module uniarc_path_locate
    real(dp), parameter :: bracket_tolerance = 1.0e-3_dp
    !> The two converged ends of a bifurcation's final bracket are on one branch if their distance is
    !> at most this many times the bracket's share of the step's chord ||Δu||·(h_b − h_a)/Δl. On a
-   !> branch the ratio is 1 up to the curvature across 1e-3 of a step (measured on every deck of the
-   !> repository that locates a bifurcation: 1.0000 to 1.00004); Walker's whole arch with a crown
-   !> imperfection of 1e-4, whose step jumped across the near-bifurcation: 616.
+   !> branch the ratio is 1 up to the curvature across 1e-3 of a step (most decks of the repository
+   !> that locate a bifurcation: 1.0000 to 1.00004); Walker's whole arch with a crown imperfection of
+   !> 1e-4, whose step jumped across the near-bifurcation: 616. Not enough alone: near a true
+   !> bifurcation the probes may converge on the bifurcated branch (the pressurised rings: 165 to
+   !> 3e5), so the load must also see the critical mode at both ends (mode_load_cosine).
    real(dp), parameter :: gap_ratio = 10.0_dp
+   !> The reference load sees the least eigenvector when |φᵀR| exceeds this fraction of |φ||R|: at
+   !> the bifurcations of the repository's symmetric decks it is round-off (at most 3e-8, the
+   !> pressurised rings, on the bifurcated branch), at the near-bifurcation of Walker's whole arch with
+   !> a crown imperfection of 1e-4 it is 1.9e-4 and 1.1e-2 (it scales with the imperfection).
+   real(dp), parameter :: mode_load_cosine = 1.0e-6_dp
 
 contains
 
@@ -51,8 +58,9 @@ contains
    !> magnitude) and its least eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
-   !> gap_ratio times farther apart than the bracket's share of the step's chord — the step left the
-   !> branch it followed (nothing is located; the caller rejects the step).
+   !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
+   !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
+   !> step left the branch it followed (nothing is located; the caller rejects the step).
    subroutine locate_critical_points(model, before, after, system, length, left_branch)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
@@ -153,7 +161,7 @@ contains
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
-      else if (hb - ha <= bracket_tolerance*length .and. &
+      else if (hb - ha <= bracket_tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
                gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
          ! The ends of the final bracket are far apart for their distance in h: the re-solved states
@@ -196,6 +204,19 @@ contains
             indicator = point%min_eigenvalue
          end if
       end function indicator
+
+      !> Whether the reference load has a component along the least eigenvector of `near`'s tangent
+      !> above round-off (|φᵀR| > mode_load_cosine |φ||R|): the critical point there is a limit
+      !> point (φᵀR ≠ 0), not a bifurcation (φᵀR = 0), docs/theory.md §2.2.
+      logical function load_sees_mode(near)
+         type(path_state_t), intent(in) :: near
+         real(dp) :: size_mode, size_load
+         load_sees_mode = .false.
+         if (.not. (allocated(near%eigenvector) .and. allocated(near%reference))) return
+         size_mode = norm2(near%eigenvector)
+         size_load = norm2(near%reference)
+         load_sees_mode = abs(dot_product(near%eigenvector, near%reference)) > mode_load_cosine*size_mode*size_load
+      end function load_sees_mode
 
       !> Whether the point lies beyond the critical point (on the side of `after`).
       pure logical function passed(point)
