@@ -439,7 +439,8 @@ contains
             end if
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
-               call locate_critical_points(model, before, state, system, length, left_branch)
+               call locate_critical_points(model, before, state, system, length, left_branch, &
+                                           switching=state%bifurcations + 1 == options%switch_bifurcation)
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
             end if
             if (len(jump) == 0) then

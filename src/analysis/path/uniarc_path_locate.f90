@@ -29,6 +29,13 @@ module uniarc_path_locate
    !> The bracket is narrowed to this fraction of the step length. Across it the cubic interpolant
    !> of λ has an error O(w⁴) of 1e-12 of the step's own, far below the equilibrium tolerance.
    real(dp), parameter :: bracket_tolerance = 1.0e-3_dp
+   !> The bracket of a bifurcation the path is to switch branches at (`*PATH, SWITCH=n`): the state the
+   !> secondary branch leaves from is the one re-solved at the located point, and its λ is within
+   !> 1e-6 (relative) of the located bifurcation's (docs/contracts.md) when the bracket is 1e-7 of the
+   !> step (λ varies across it by 1e-7 of the step's Δλ; Walker's whole arch: 4.8e-6 absolute, 7e-8
+   !> relative, at 1e-3; below 1e-9 at 1e-7). Bisection from 1e-3 to 1e-7 takes 14 more probes.
+   real(dp), parameter :: switch_bracket_tolerance = 1.0e-7_dp
+   integer, parameter :: switch_max_probes = 32
    !> The two converged ends of a bifurcation's final bracket are on one branch if their distance is
    !> at most this many times the bracket's share of the step's chord ||Δu||·(h_b − h_a)/Δl. On a
    !> branch the ratio is 1 up to the curvature across 1e-3 of a step (most decks of the repository
@@ -61,13 +68,17 @@ contains
    !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
    !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
    !> step left the branch it followed (nothing is located; the caller rejects the step).
-   subroutine locate_critical_points(model, before, after, system, length, left_branch)
+   subroutine locate_critical_points(model, before, after, system, length, left_branch, switching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
       type(path_state_t), intent(inout) :: after
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       logical, intent(out) :: left_branch
+      !> the path switches branches at the bifurcation if the step passed one: a finer bracket
+      logical, intent(in), optional :: switching
+      real(dp) :: tolerance
+      integer :: probes
       type(path_point_t) :: pa, pb, probe
       type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
@@ -78,6 +89,14 @@ contains
       after%point%bifurcation_fraction = -1.0_dp
       after%point%stability_by_contact = .false.
       left_branch = .false.
+      tolerance = bracket_tolerance
+      probes = max_probes
+      if (present(switching)) then
+         if (switching) then
+            tolerance = switch_bracket_tolerance
+            probes = switch_max_probes
+         end if
+      end if
       limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
       bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
       if (.not. (limit .or. bifurcation)) return
@@ -95,9 +114,9 @@ contains
       probed = .false.
       last_side = 0
       same_side = 0
-      do k = 1, max_probes
+      do k = 1, probes
          width = hb - ha
-         if (width <= bracket_tolerance*length) exit
+         if (width <= tolerance*length) exit
          ! Secant (regula falsi) on the indicator when it changes sign across the bracket, kept 5 %
          ! inside it; bisection when it does not or when one end has moved twice in a row (the
          ! regula falsi's one-sided stall).
@@ -154,14 +173,14 @@ contains
             after%point%limit_lambda = min(after%point%limit_lambda, pa%lambda, pb%lambda)
          end if
          after%point%limit_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
-      else if (hb - ha <= bracket_tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
+      else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
          ! The count changes where the working set does (within 1e-3 of the step): a contact closing
          ! or opening adds or removes its stiffness, and the least eigenvalue jumps across zero there
          ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
-      else if (hb - ha <= bracket_tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
+      else if (hb - ha <= tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
                gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
          ! The ends of the final bracket are far apart for their distance in h: the re-solved states
