@@ -68,13 +68,17 @@ contains
    !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
    !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
    !> step left the branch it followed (nothing is located; the caller rejects the step).
-   subroutine locate_critical_points(model, before, after, system, length, left_branch, switching)
+   !> `unresolved`: a re-solution failed before the bracket was narrowed to its tolerance (the point
+   !> is interpolated across the bracket so far; the caller may cut the step and locate it again).
+   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, switching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
       type(path_state_t), intent(inout) :: after
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       logical, intent(out) :: left_branch
+      !> a re-solution inside the bracket did not converge before it was narrowed to the tolerance
+      logical, intent(out) :: unresolved
       !> the path switches branches at the bifurcation if the step passed one: a finer bracket
       logical, intent(in), optional :: switching
       real(dp) :: tolerance
@@ -89,6 +93,7 @@ contains
       after%point%bifurcation_fraction = -1.0_dp
       after%point%stability_by_contact = .false.
       left_branch = .false.
+      unresolved = .false.
       tolerance = bracket_tolerance
       probes = max_probes
       if (present(switching)) then
@@ -126,7 +131,13 @@ contains
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
          call re_solve(h, probe, probe_state, converged)
-         if (.not. converged) exit
+         if (.not. converged) then
+            ! The bracket cannot be narrowed: the interpolation across it may place the point far
+            ! from the path's (ex. 3 as a whole arch: a limit_min at 130.81 across a step whose
+            ! contact set changed, where a fine trace has three limits between 131.56 and 133.58).
+            unresolved = width > tolerance*length
+            exit
+         end if
          probed = .true.
          fp = indicator(probe)
          if (passed(probe)) then
