@@ -68,8 +68,9 @@ contains
    !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
    !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
    !> step left the branch it followed (nothing is located; the caller rejects the step).
-   !> `unresolved`: a re-solution failed before the bracket was narrowed to its tolerance (the point
-   !> is interpolated across the bracket so far; the caller may cut the step and locate it again).
+   !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
+   !> tolerance (the point is interpolated across the bracket so far; the caller may cut the step and
+   !> locate it again).
    subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, switching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
@@ -135,7 +136,10 @@ contains
             ! The bracket cannot be narrowed: the interpolation across it may place the point far
             ! from the path's (ex. 3 as a whole arch: a limit_min at 130.81 across a step whose
             ! contact set changed, where a fine trace has three limits between 131.56 and 133.58).
-            unresolved = width > tolerance*length
+            ! (Limit points only: a bifurcation bracketed so far is placed by the least eigenvalue,
+            ! linear across it; cutting such steps changed the step sequence of ex. 2 as a whole arch
+            ! at k = 5e4, 160 elements, where the path then left its symmetric branch at a corner.)
+            unresolved = limit .and. width > tolerance*length
             exit
          end if
          probed = .true.
