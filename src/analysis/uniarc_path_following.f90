@@ -348,7 +348,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed, cornered, corner_passed
+      logical :: to_limit, hidden, landed, cornered, corner_passed, left_branch, unresolved
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -517,7 +517,15 @@ contains
             end if
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
-               call locate_critical_points(model, before, state, system, length)
+               call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
+                                           switching=state%bifurcations + 1 == options%switch_bifurcation)
+               if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
+               ! A critical point that the re-solutions could not bracket is located again in a
+               ! shorter step (while the step may be cut: else the interpolation is kept).
+               if (unresolved .and. 0.5_dp*length >= options%min_increment*state%first_length) &
+                  jump = 'the critical point it passed could not be bracketed by re-solving it'
+            end if
+            if (len(jump) == 0) then
                if (allocated(state%bifurcation)) then
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation

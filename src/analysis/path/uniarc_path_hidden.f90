@@ -50,8 +50,50 @@ contains
       real(dp) :: size_chord, size_tangent, first, second
       logical :: ok
       hides = .false.
-      if (before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp) return
-      if (before%point%neg_pivots /= after%point%neg_pivots) return
+      if (before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp) then
+         ! A regular limit point changes the sign of det K_T (the augmented tangent is regular there,
+         ! one eigenvalue of K_T crosses zero: docs/theory.md §2.2), so the count of negative pivots
+         ! changes with the slope's sign. A step that turned the slope with the count unchanged, the
+         ! working set, the yielding set and the joints the same, passed a second critical point too,
+         ! or crossed onto another branch at a near-bifurcation (Walker's whole arch with a crown
+         ! imperfection of 1e-4: past its limit_min onto the complementary path).
+         if (before%point%neg_pivots /= after%point%neg_pivots) return
+         if (before%point%liftoff .or. after%point%liftoff) return
+         if (allocated(before%joint_plastic)) return
+         if (any(before%active .neqv. after%active)) return
+         if (allocated(before%yielding) .and. allocated(after%yielding)) then
+            if (any(before%yielding .neqv. after%yielding)) return
+         end if
+         hides = .true.
+         return
+      end if
+      ! λ went against the slope of both ends: with no limit point between them λ is monotone along
+      ! the step, so it passed two (a loop), or landed on another branch (Walker's whole arch with a
+      ! crown imperfection of 1e-3, docs/theory.md §2.3: past the limit_min the step went on across
+      ! the near-bifurcation onto the complementary path, λ falling where the path rises).
+      if (before%point%dlambda_ds*after%point%dlambda_ds > 0.0_dp .and. &
+          (after%lambda - before%lambda)*after%point%dlambda_ds < 0.0_dp) then
+         hides = .true.
+         return
+      end if
+      if (before%point%neg_pivots /= after%point%neg_pivots) then
+         ! One change of the inertia with the slope's sign kept: a bifurcation, or a step that went
+         ! past a near-bifurcation of an imperfect structure (where the path turns sharply to a limit
+         ! point) onto the complementary path. The half step tells: on a branch through a
+         ! bifurcation it lies between the ends, with their slope.
+         if (abs(before%point%neg_pivots - after%point%neg_pivots) /= 1) return
+         if (before%point%liftoff .or. after%point%liftoff) return
+         call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
+         if (ok) then
+            first = masked_norm(after%map, half%u - before%u)
+            second = masked_norm(after%map, after%u - half%u)
+            hides = half%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp .or. &
+                    (half%lambda - before%lambda)*(after%lambda - half%lambda) < 0.0_dp .or. &
+                    second > halves_ratio*first .or. first > halves_ratio*second
+         end if
+         call restore_tangent(model, after, system)
+         return
+      end if
       ! A degenerate landing tangent (round-off of a load the contacts carry) has no direction.
       if (degenerate_tangent(after, after%tangent_displacement)) return
       chord = after%u - before%u

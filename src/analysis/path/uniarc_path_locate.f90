@@ -16,7 +16,7 @@ module uniarc_path_locate
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
-                                bifurcation_state_t
+                                bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_critical_points, only: critical_event_t, find_critical_events
    implicit none
@@ -29,6 +29,26 @@ module uniarc_path_locate
    !> The bracket is narrowed to this fraction of the step length. Across it the cubic interpolant
    !> of λ has an error O(w⁴) of 1e-12 of the step's own, far below the equilibrium tolerance.
    real(dp), parameter :: bracket_tolerance = 1.0e-3_dp
+   !> The bracket of a bifurcation the path is to switch branches at (`*PATH, SWITCH=n`): the state the
+   !> secondary branch leaves from is the one re-solved at the located point, and its λ is within
+   !> 1e-6 (relative) of the located bifurcation's (docs/contracts.md) when the bracket is 1e-7 of the
+   !> step (λ varies across it by 1e-7 of the step's Δλ; Walker's whole arch: 4.8e-6 absolute, 7e-8
+   !> relative, at 1e-3; below 1e-9 at 1e-7). Bisection from 1e-3 to 1e-7 takes 14 more probes.
+   real(dp), parameter :: switch_bracket_tolerance = 1.0e-7_dp
+   integer, parameter :: switch_max_probes = 32
+   !> The two converged ends of a bifurcation's final bracket are on one branch if their distance is
+   !> at most this many times the bracket's share of the step's chord ||Δu||·(h_b − h_a)/Δl. On a
+   !> branch the ratio is 1 up to the curvature across 1e-3 of a step (most decks of the repository
+   !> that locate a bifurcation: 1.0000 to 1.00004); Walker's whole arch with a crown imperfection of
+   !> 1e-4, whose step jumped across the near-bifurcation: 616. Not enough alone: near a true
+   !> bifurcation the probes may converge on the bifurcated branch (the pressurised rings: 165 to
+   !> 3e5), so the load must also see the critical mode at both ends (mode_load_cosine).
+   real(dp), parameter :: gap_ratio = 10.0_dp
+   !> The reference load sees the least eigenvector when |φᵀR| exceeds this fraction of |φ||R|: at
+   !> the bifurcations of the repository's symmetric decks it is round-off (at most 3e-8, the
+   !> pressurised rings, on the bifurcated branch), at the near-bifurcation of Walker's whole arch with
+   !> a crown imperfection of 1e-4 it is 1.9e-4 and 1.1e-2 (it scales with the imperfection).
+   real(dp), parameter :: mode_load_cosine = 1.0e-6_dp
 
 contains
 
@@ -44,12 +64,26 @@ contains
    !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
    !> magnitude) and its least eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
-   subroutine locate_critical_points(model, before, after, system, length)
+   !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
+   !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
+   !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
+   !> step left the branch it followed (nothing is located; the caller rejects the step).
+   !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
+   !> tolerance (the point is interpolated across the bracket so far; the caller may cut the step and
+   !> locate it again).
+   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, switching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: before
       type(path_state_t), intent(inout) :: after
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
+      logical, intent(out) :: left_branch
+      !> a re-solution inside the bracket did not converge before it was narrowed to the tolerance
+      logical, intent(out) :: unresolved
+      !> the path switches branches at the bifurcation if the step passed one: a finer bracket
+      logical, intent(in), optional :: switching
+      real(dp) :: tolerance
+      integer :: probes
       type(path_point_t) :: pa, pb, probe
       type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
@@ -61,6 +95,16 @@ contains
       after%point%bifurcation_fraction = -1.0_dp
       after%point%stability_by_contact = .false.
       after%point%limit_by_contact = .false.
+      left_branch = .false.
+      unresolved = .false.
+      tolerance = bracket_tolerance
+      probes = max_probes
+      if (present(switching)) then
+         if (switching) then
+            tolerance = switch_bracket_tolerance
+            probes = switch_max_probes
+         end if
+      end if
       limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
       bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
       if (.not. (limit .or. bifurcation)) return
@@ -80,9 +124,9 @@ contains
       probed = .false.
       last_side = 0
       same_side = 0
-      do k = 1, max_probes
+      do k = 1, probes
          width = hb - ha
-         if (width <= bracket_tolerance*length) exit
+         if (width <= tolerance*length) exit
          ! Secant (regula falsi) on the indicator when it changes sign across the bracket, kept 5 %
          ! inside it; bisection when it does not or when one end has moved twice in a row (the
          ! regula falsi's one-sided stall).
@@ -92,7 +136,16 @@ contains
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
          call re_solve(h, probe, probe_state, converged)
-         if (.not. converged) exit
+         if (.not. converged) then
+            ! The bracket cannot be narrowed: the interpolation across it may place the point far
+            ! from the path's (ex. 3 as a whole arch: a limit_min at 130.81 across a step whose
+            ! contact set changed, where a fine trace has three limits between 131.56 and 133.58).
+            ! (Limit points only: a bifurcation bracketed so far is placed by the least eigenvalue,
+            ! linear across it; cutting such steps changed the step sequence of ex. 2 as a whole arch
+            ! at k = 5e4, 160 elements, where the path then left its symmetric branch at a corner.)
+            unresolved = limit .and. width > tolerance*length
+            exit
+         end if
          probed = .true.
          fp = indicator(probe)
          if (passed(probe)) then
@@ -154,13 +207,21 @@ contains
             after%point%limit_fraction = min(1.0_dp, max(0.0_dp, ha/length))
             after%point%limit_lambda = pa%lambda
          end if
-      else if (hb - ha <= bracket_tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
+      else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
          ! The count changes where the working set does (within 1e-3 of the step): a contact closing
          ! or opening adds or removes its stiffness, and the least eigenvalue jumps across zero there
          ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
+      else if (hb - ha <= tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
+               masked_norm(after%map, state_b%u - state_a%u)*length > &
+               gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
+         ! The ends of the final bracket are far apart for their distance in h: the re-solved states
+         ! change branch there, no branch crosses. The step went past a near-bifurcation of an
+         ! imperfect structure (where its path turns sharply to a limit point) onto the
+         ! complementary path (docs/theory.md §2.3): the caller rejects it and cuts the step.
+         left_branch = .true.
       else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).
@@ -196,6 +257,19 @@ contains
             indicator = point%min_eigenvalue
          end if
       end function indicator
+
+      !> Whether the reference load has a component along the least eigenvector of `near`'s tangent
+      !> above round-off (|φᵀR| > mode_load_cosine |φ||R|): the critical point there is a limit
+      !> point (φᵀR ≠ 0), not a bifurcation (φᵀR = 0), docs/theory.md §2.2.
+      logical function load_sees_mode(near)
+         type(path_state_t), intent(in) :: near
+         real(dp) :: size_mode, size_load
+         load_sees_mode = .false.
+         if (.not. (allocated(near%eigenvector) .and. allocated(near%reference))) return
+         size_mode = norm2(near%eigenvector)
+         size_load = norm2(near%reference)
+         load_sees_mode = abs(dot_product(near%eigenvector, near%reference)) > mode_load_cosine*size_mode*size_load
+      end function load_sees_mode
 
       !> Whether the point lies beyond the critical point (on the side of `after`).
       pure logical function passed(point)
