@@ -256,6 +256,7 @@ contains
          call move_alloc(from%loads%distributed_loads, to%loads%distributed_loads)
       if (allocated(from%loads%thermal_loads)) call move_alloc(from%loads%thermal_loads, to%loads%thermal_loads)
       if (allocated(from%loads%prescribed)) call move_alloc(from%loads%prescribed, to%loads%prescribed)
+      if (allocated(from%loads%moves)) call move_alloc(from%loads%moves, to%loads%moves)
    end subroutine move_step
 
    !> At the end of the deck: a step left open is an error (at its *STEP).
