@@ -78,7 +78,7 @@ contains
       if (allocated(error)) return
       line = card%data_lines(1)
       call data_fields(source, line, fields)
-      call require_field_count(source, line, fields, 2, 2, 'dx, dy (a translation; rotations are not supported)', &
+      call require_field_count(source, line, fields, 2, 2, 'dx, dy: a translation only, no rotation', &
                                error)
       if (allocated(error)) return
       do i = 1, 2
