@@ -38,7 +38,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: option, group, g, line, i
+      integer :: option, group, g, kind, line, i
       character(len=:), allocatable :: name
       type(field_t), allocatable :: fields(:)
       real(dp) :: d(2)
@@ -59,17 +59,14 @@ contains
          return
       end if
       if (.not. allocated(deck%obstacle_kind)) allocate (deck%obstacle_kind(0))
-      if (group > size(deck%obstacle_kind)) then
-         g = 0
-      else
-         g = deck%obstacle_kind(group)
-      end if
-      if (g == 0) then
+      kind = 0   ! not made by *OBSTACLE
+      if (group <= size(deck%obstacle_kind)) kind = deck%obstacle_kind(group)
+      if (kind == 0) then
          call raise(source, card%line, card%options(option)%value_column, 'expected the name of an '// &
                     '*OBSTACLE, found '''//clip(name)//''', a foundation or spring (only obstacles move)', error)
          return
       end if
-      if (g /= gap_fixed_direction) then
+      if (kind /= gap_fixed_direction) then
          call raise(source, card%line, card%options(option)%value_column, 'expected an obstacle of '// &
                     'TYPE=PLANE, found '''//clip(name)//''' of another type (only planes move)', error)
          return
