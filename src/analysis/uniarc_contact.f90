@@ -49,7 +49,7 @@ contains
    !> a_c without stiffness (condensed), its bearing limit q (docs/theory.md §3.9).
    !> `deflections` (one per candidate, default 0): the Pasternak bed's surface deflections d_c.
    subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal, slip, yielding, &
-                               deflections)
+                               deflections, reference)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -60,6 +60,9 @@ contains
       real(dp), intent(in), optional :: slip(:)
       logical, intent(in), optional :: yielding(:)
       real(dp), intent(in), optional :: deflections(:)
+      !> R (n): a moving obstacle's row in the set gets ∂g/∂λ (contact_candidate_t%gap_rate), so that the
+      !> residual λR − F_aug of the row is its gap g(u) + λ ∂g/∂λ + t r (docs/theory.md §3.11)
+      real(dp), intent(inout), optional :: reference(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       real(dp), allocatable :: d(:)
       integer :: c, i, j, row, node, eq(2), bed
@@ -107,6 +110,7 @@ contains
                end do
                call band_add(tangent, row, row, -candidate%flexibility)
                if (bed > 0) call band_add(tangent, row, bed, -1.0_dp)
+               if (present(reference) .and. candidate%gap_rate /= 0.0_dp) reference(row) = candidate%gap_rate
             else
                internal(row) = reactions(c)
                call band_add(tangent, row, row, 1.0_dp)
@@ -123,7 +127,7 @@ contains
    !> yielding candidate is never flipped (uniarc_path_contact_set, sign_rule).
    !> `deflections` (one per candidate, default 0): the Pasternak bed's surface deflections d_c.
    subroutine toggle_contacts(model, map, displacement, reactions, flip, active, tangent, residual, slip, &
-                              deflections)
+                              deflections, lambda, reference)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :), reactions(:)
@@ -132,6 +136,10 @@ contains
       real(dp), intent(inout) :: residual(:)
       real(dp), intent(in), optional :: slip(:)
       real(dp), intent(in), optional :: deflections(:)
+      !> λ of the state and its R (n): a moving obstacle's gap is g(u) + λ ∂g/∂λ, and its row of R is
+      !> ∂g/∂λ in the set, 0 out of it (assemble_contact)
+      real(dp), intent(in), optional :: lambda
+      real(dp), intent(inout), optional :: reference(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       logical, allocatable :: before(:)
       logical :: entering
@@ -148,8 +156,11 @@ contains
                             gradient, hessian)
          if (model%contacts(c)%plastic) gap = gap + slip_shift(model, c, slip)
          if (present(deflections)) gap = gap + deflections(c)
+         if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) gap = gap + lambda*model%contacts(c)%gap_rate
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
                              reactions(c), entering, tangent, residual, map%bed_equation(c))
+         if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(reference) .and. row > 0) &
+            reference(row) = merge(model%contacts(c)%gap_rate, 0.0_dp, entering)
       end do
    end subroutine toggle_contacts
 

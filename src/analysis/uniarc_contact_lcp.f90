@@ -73,6 +73,8 @@ module uniarc_contact_lcp
       !> r = q are part of K_S and no variable of this LCP (their yield pairs are exchanged outside it)
       real(dp), allocatable :: slip(:)
       logical, allocatable :: yielding(:)
+      !> λ of the state: the gap of a moving obstacle is g(u) + λ ∂g/∂λ (gap_rate, docs/theory.md §3.11)
+      real(dp) :: lambda = 0.0_dp
    end type contact_linearization_t
 
    !> What the contact LCP selects.
@@ -100,6 +102,9 @@ module uniarc_contact_lcp
       real(dp), allocatable :: hessian(:, :, :)  !< (2, 2, m) ∂a_c/∂u at the state
       real(dp), allocatable :: flexibility(:) !< (m) t_c = 1/k_c (0: rigid)
       real(dp), allocatable :: gap(:)         !< (m) g_c at the state
+      !> (m) ∂g_c/∂λ of a moving obstacle (contact_candidate_t%gap_rate; 0 for the others): R of the row
+      !> in the set, and the δλ term of the gap of a candidate out of it (docs/theory.md §3.11)
+      real(dp), allocatable :: rate(:)
       real(dp), allocatable :: reaction(:)    !< (m) r_c, the unknown at the state
       logical, allocatable :: active(:)       !< (m) the frame: in the working set
       type(band_matrix_t) :: matrix           !< K_S assembled (unfactorised) for the frame
@@ -161,7 +166,7 @@ contains
                         [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
                           c=1, size(map%candidate_equation))])
       if (allocated(linearization%yielding)) unilateral = pack(unilateral, .not. linearization%yielding(unilateral))
-      call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, lcp)
+      call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, linearization%lambda, lcp)
       if (allocated(linearization%slip)) then
          do j = 1, lcp%m
             c = unilateral(j)
@@ -248,17 +253,18 @@ contains
    end subroutine select_contact_set
 
    !> The per-candidate data of the operator for the unilateral candidates `unilateral`.
-   subroutine candidate_data(model, map, x, nodal, unilateral, active, lcp)
+   subroutine candidate_data(model, map, x, nodal, unilateral, active, lambda, lcp)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
       integer, intent(in) :: unilateral(:)
       logical, intent(in) :: active(:)
+      real(dp), intent(in) :: lambda   !< of the state (moving obstacles)
       type(contact_lcp_operator_t), intent(inout) :: lcp
       integer :: j, c, node
       lcp%m = size(unilateral)
       allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%bed(lcp%m), lcp%gradient(2, lcp%m), lcp%hessian(2, 2, lcp%m), &
-                lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m))
+                lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m), lcp%rate(lcp%m))
       do j = 1, lcp%m
          c = unilateral(j)
          node = model%contacts(c)%node
@@ -270,6 +276,8 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), lcp%gap(j), &
                             lcp%gradient(:, j), lcp%hessian(:, :, j))
          lcp%gap(j) = lcp%gap(j) + bed_deflection(map, c, x)
+         lcp%rate(j) = model%contacts(c)%gap_rate
+         if (lcp%rate(j) /= 0.0_dp) lcp%gap(j) = lcp%gap(j) + lambda*lcp%rate(j)
          if (lcp%row(j) > 0) then
             lcp%reaction(j) = x(lcp%row(j))
          else if (lcp%active(j)) then
@@ -319,13 +327,14 @@ contains
                q(j) = -(self%gap(j) + along(self, j, particular))/self%flexibility(j)
                largest_reaction = max(largest_reaction, abs(q(j)))
             else
-               q(j) = self%gap(j) + along(self, j, particular)
+               q(j) = self%gap(j) + along(self, j, particular) + dlambda*self%rate(j)
             end if
          else if (self%active(j)) then
             q(j) = self%reaction(j) + particular(self%row(j))
             largest_reaction = max(largest_reaction, abs(q(j)))
          else
-            q(j) = self%gap(j) + along(self, j, particular) + &
+            ! a moving obstacle's gap changes with λ too: + δλ ∂g/∂λ (docs/theory.md §3.11)
+            q(j) = self%gap(j) + along(self, j, particular) + dlambda*self%rate(j) + &
                    self%flexibility(j)*(self%reaction(j) + particular(self%row(j)))
          end if
       end do
@@ -383,6 +392,7 @@ contains
       real(dp), intent(out) :: v(:)
       type(error_t), allocatable, intent(out) :: error
       integer :: j
+      real(dp) :: dlambda
       self%work = 0.0_dp
       do j = 1, self%m
          if (self%row(j) == 0) then
@@ -400,7 +410,9 @@ contains
       end do
       call band_solve(self%factors, self%work, error)
       if (allocated(error)) return
-      self%work(:, 1) = self%work(:, 1) - self%du_tangent*dot_product(self%border, self%work(:, 1))
+      ! δλ of the response (the bordering); a moving obstacle's gap out of the set changes by δλ ∂g/∂λ
+      dlambda = -dot_product(self%border, self%work(:, 1))
+      self%work(:, 1) = self%work(:, 1) + self%du_tangent*dlambda
       do j = 1, self%m
          if (self%row(j) == 0) then
             if (self%active(j)) then
@@ -411,7 +423,8 @@ contains
          else if (self%active(j)) then
             v(j) = self%work(self%row(j), 1)
          else
-            v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*self%work(self%row(j), 1)
+            v(j) = along(self, j, self%work(:, 1)) + self%flexibility(j)*self%work(self%row(j), 1) + &
+                   dlambda*self%rate(j)
          end if
       end do
    end subroutine contact_apply
@@ -445,6 +458,9 @@ contains
          end if
       end do
       self%work(:, 1) = self%work(:, 1) - self%border*dot_product(self%du_tangent, self%work(:, 1))
+      ! the transpose of the δλ term of contact_apply: −c Σ_{j∉S} y_j ∂g_j/∂λ (rows out of the set)
+      if (any(self%rate /= 0.0_dp)) self%work(:, 1) = self%work(:, 1) - &
+                                    self%border*sum(y*self%rate, mask=.not. self%active .and. self%row > 0)
       call band_solve_transpose(self%factors, self%work, error)
       if (allocated(error)) return
       do j = 1, self%m
@@ -491,6 +507,9 @@ contains
          call set_membership(self%row(j), self%eq(:, j), self%gap(j), self%gradient(:, j), self%hessian(:, :, j), &
                              self%flexibility(j), self%reaction(j), self%active(j), self%matrix, self%residual, &
                              self%bed(j))
+         ! a moving obstacle's row has R = ∂g/∂λ in the set, 0 out of it (uniarc_contact, assemble_contact)
+         if (self%row(j) > 0 .and. self%rate(j) /= 0.0_dp) &
+            self%reference(self%row(j)) = merge(self%rate(j), 0.0_dp, self%active(j))
       end do
    end subroutine toggle
 

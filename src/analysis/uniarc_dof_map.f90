@@ -112,7 +112,8 @@ contains
          do c = 1, n_candidates
             associate (candidate => model%contacts(c))
                if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
-               map%condensed(c) = candidate%flexibility > 0.0_dp .and. &
+               ! a moving obstacle keeps its row: its ∂g/∂λ is that row's reference load (theory §3.11)
+               map%condensed(c) = candidate%flexibility > 0.0_dp .and. candidate%gap_rate == 0.0_dp .and. &
                                   candidate%flexibility*stiffness(candidate%node) >= 1.0_dp
             end associate
          end do

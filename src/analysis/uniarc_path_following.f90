@@ -200,6 +200,18 @@ contains
             state%load_norm = abs(options%first_increment)*element_norm
             if (options%control == control_displacement) state%load_norm = element_norm
          end if
+         ! Obstacles that move but touch nothing yet (a punch above the structure): R is zero until one
+         ! touches (docs/theory.md §3.11). Under load control λ (the motion) goes on all the same, the
+         ! force scale that of their contact rows once in the set; an arc length has nothing to measure.
+         if (.not. state%load_norm > 0.0_dp .and. moving_obstacles(model)) then
+            if (options%control /= control_load) then
+               call make_error(error, 'the moving obstacles touch nothing at the start of the step: their '// &
+                               'motion moves nothing until they do, and the path has nothing to measure; '// &
+                               'trace it with CONTROL=LOAD', error_analysis)
+               return
+            end if
+            state%load_norm = abs(options%first_increment)*norm2(model%contacts%gap_rate)
+         end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
                             error_analysis)
@@ -207,6 +219,13 @@ contains
          end if
       end associate
    end subroutine size_first_step
+
+   !> The model has an obstacle that moves with λ in its step (*MOVE, contact_candidate_t%gap_rate).
+   pure logical function moving_obstacles(model)
+      type(model_t), intent(in) :: model
+      moving_obstacles = .false.
+      if (allocated(model%contacts)) moving_obstacles = any(model%contacts%gap_rate /= 0.0_dp)
+   end function moving_obstacles
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral

@@ -25,6 +25,7 @@ module uniarc_deck
    use uniarc_deck_loads, only: read_boundary, read_concentrated_load, read_distributed_load, read_temperature, &
                                 check_prescribed_nodes
    use uniarc_deck_contact, only: read_foundation, read_spring, read_obstacle
+   use uniarc_deck_move, only: read_move
    use uniarc_deck_analysis, only: read_track, read_static, read_path, read_output, check_track_names
    use uniarc_deck_steps, only: check_step_placement, read_step, read_end_step, finish_steps, take_steps
    use uniarc_deck_imperfection, only: read_imperfection
@@ -137,6 +138,8 @@ contains
          call read_spring(source, card, deck, error)
       case ('OBSTACLE')
          call read_obstacle(source, card, deck, error)
+      case ('MOVE')
+         call read_move(source, card, deck, error)
       case ('RELEASE')
          call read_release(source, card, deck, error)
       case ('PATH')
@@ -150,7 +153,7 @@ contains
       case default
          call raise(source, card%line, card%column, 'expected a known card (*HEADING, *PARAMETER, *SECTION, ' // &
                     '*NODE, *ELEMENT, *ARC, *RING, *LINE, *NSET, *ELSET, *BOUNDARY, *CLOAD, *DLOAD, *TRACK, ' // &
-                    '*FOUNDATION, *SPRING, *OBSTACLE, *RELEASE, *STATIC, *PATH, *OUTPUT, *IMPERFECTION, *STEP, *END STEP), found ''*'// &
+                    '*FOUNDATION, *SPRING, *OBSTACLE, *MOVE, *RELEASE, *STATIC, *PATH, *OUTPUT, *IMPERFECTION, *STEP, *END STEP), found ''*'// &
                     clip(card%keyword)//'''', error)
       end select
    end subroutine dispatch

@@ -18,6 +18,7 @@ module uniarc_deck_contact
                            tangential_bonded
    use uniarc_model_contacts, only: add_foundation, add_springs, add_obstacle
    use uniarc_contact_law, only: foundation_straight, foundation_problem, foundation_not_open_chain
+   use uniarc_deck_move, only: record_obstacle
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
                                 resolve_elements
    implicit none
@@ -421,7 +422,10 @@ contains
          call add_obstacle(deck%model, name, gap_kind, values(1:2), normal, values(3), nodes, stiffness, &
                            end_factor, scale, error, bad, depth, semi_axes=values(3:4))
       end if
-      if (.not. allocated(error)) return
+      if (.not. allocated(error)) then
+         call record_obstacle(deck, deck%model%n_contact_groups, gap_kind)
+         return
+      end if
       select case (gap_kind)
       case (gap_fixed_direction)
          surface = 'the plane'

@@ -59,6 +59,9 @@ module uniarc_deck_state
       !> against the contact candidates at the end of the deck (uniarc_deck_loads, check_prescribed_nodes)
       integer :: n_prescribed = 0
       integer, allocatable :: prescribed_node(:), prescribed_line(:), prescribed_column(:)
+      !> (n_contact_groups so far, or fewer) the gap kind of each contact group made by *OBSTACLE, 0 for
+      !> the others (uniarc_deck_move: which groups *MOVE may translate)
+      integer, allocatable :: obstacle_kind(:)
       !> The supports when the open step began, and where its first *BOUNDARY card is (0: none yet)
       logical, allocatable :: step_start_fixed(:, :)
       integer :: step_boundary_line = 0, step_boundary_column = 0

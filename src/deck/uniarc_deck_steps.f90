@@ -35,7 +35,8 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical :: load, analysis
       if (card%keyword == 'STEP' .or. card%keyword == 'END STEP') return
-      load = card%keyword == 'CLOAD' .or. card%keyword == 'DLOAD' .or. card%keyword == 'TEMPERATURE'
+      load = card%keyword == 'CLOAD' .or. card%keyword == 'DLOAD' .or. card%keyword == 'TEMPERATURE' .or. &
+             card%keyword == 'MOVE'
       analysis = card%keyword == 'STATIC' .or. card%keyword == 'PATH'
       if (deck%in_step) then
          if (analysis .and. deck%analysis_line == 0) deck%analysis_column = card%column
@@ -47,7 +48,7 @@ contains
             end if
             return
          end if
-         call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE), '// &
+         call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE, *MOVE), '// &
                     '*BOUNDARY, *STATIC, *PATH or *END STEP in the step opened at line '// &
                     integer_to_string(deck%step_line)// &
                     ', found *'//card%keyword//' (the model comes before the first *STEP)', error)
@@ -175,9 +176,9 @@ contains
          released = any(deck%step_start_fixed .and. .not. step%fixed)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
              size(step%loads%thermal_loads) == 0 .and. .not. allocated(step%loads%prescribed) .and. &
-             .not. released) then
+             .not. allocated(step%loads%moves) .and. .not. released) then
             call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE, a '// &
-                       'prescribed displacement or a support removed) in the step opened at line '// &
+                       'prescribed displacement, an obstacle moved or a support removed) in the step opened at line '// &
                        integer_to_string(deck%step_line)//', found none', error)
             return
          end if
@@ -274,6 +275,7 @@ contains
          call move_alloc(from%loads%distributed_loads, to%loads%distributed_loads)
       if (allocated(from%loads%thermal_loads)) call move_alloc(from%loads%thermal_loads, to%loads%thermal_loads)
       if (allocated(from%loads%prescribed)) call move_alloc(from%loads%prescribed, to%loads%prescribed)
+      if (allocated(from%loads%moves)) call move_alloc(from%loads%moves, to%loads%moves)
    end subroutine move_step
 
    !> At the end of the deck: a step left open is an error (at its *STEP).

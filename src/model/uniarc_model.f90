@@ -18,6 +18,7 @@ module uniarc_model
    public :: iteration_chan, iteration_cylindrical, iteration_riks
    public :: find_node_set, find_element_set, element_length, tracked_values
    public :: contact_candidate_t, contact_group_t
+   public :: move_obstacles
    public :: gap_fixed_direction, gap_circle_inside, gap_circle_outside
    public :: foundation_t, foundation_winkler, foundation_pasternak
    public :: tangential_contact, tangential_bonded
@@ -160,6 +161,10 @@ module uniarc_model
       real(dp) :: bed_stiffness(3) = 0.0_dp
       integer :: bed_previous = 0
       integer :: bed_next = 0
+      !> a moving plane obstacle (*MOVE, docs/theory.md §3.11): ∂g/∂λ = −n·d of the analysis step's own
+      !> translation d, so that the gap at load factor λ is g(u) + λ gap_rate (moves of earlier steps are
+      !> in `offset`); 0: the obstacle does not move in the step
+      real(dp) :: gap_rate = 0.0_dp
    end type contact_candidate_t
 
    !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
@@ -278,6 +283,9 @@ module uniarc_model
       !> (3, n_nodes) prescribed displacements of held DOFs (*BOUNDARY with a value inside the step),
       !> scaled like the loads; unallocated: none
       real(dp), allocatable :: prescribed(:, :)
+      !> (2, n_contact_groups) rigid translations d of plane obstacles (*MOVE inside the step), scaled
+      !> like the loads; unallocated: none
+      real(dp), allocatable :: moves(:, :)
    end type load_pattern_t
 
    !> One analysis step of a deck with *STEP cards: its name, its own load pattern (scaled by the
@@ -333,6 +341,34 @@ module uniarc_model
    end type model_t
 
 contains
+
+   !> Translate the plane obstacles of `model` by `factor` × `moves(:, g)` (2, n_contact_groups; the
+   !> groups' translations d, *MOVE): with `own` the step's own pattern, scaled by the step's λ, each
+   !> candidate's gap gets the rate ∂g/∂λ = −factor n·d (gap_rate); else the translation is held, the
+   !> gap's offset lowered by factor n·d (a plane moved by d toward the node closes g = offset + n·u by
+   !> n·d; docs/theory.md §3.11). Only fixed-direction gaps move (the deck refuses other shapes).
+   pure subroutine move_obstacles(model, moves, factor, own)
+      type(model_t), intent(inout) :: model
+      real(dp), intent(in) :: moves(:, :)
+      real(dp), intent(in) :: factor
+      logical, intent(in) :: own
+      real(dp) :: closing
+      integer :: g, i, c
+      if (.not. allocated(model%contact_groups)) return
+      do g = 1, min(size(moves, 2), size(model%contact_groups))
+         if (all(moves(:, g) == 0.0_dp)) cycle
+         do i = 1, size(model%contact_groups(g)%candidates)
+            c = model%contact_groups(g)%candidates(i)
+            if (model%contacts(c)%gap_kind /= gap_fixed_direction) cycle
+            closing = factor*dot_product(model%contacts(c)%direction, moves(:, g))
+            if (own) then
+               model%contacts(c)%gap_rate = model%contacts(c)%gap_rate - closing
+            else
+               model%contacts(c)%offset = model%contacts(c)%offset - closing
+            end if
+         end do
+      end do
+   end subroutine move_obstacles
 
    !> Index of the node set called `name` (case-insensitive), 0 if there is none.
    pure function find_node_set(model, name) result(index)

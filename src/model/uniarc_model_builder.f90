@@ -28,7 +28,7 @@ module uniarc_model_builder
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
                            element_beam_column, thermal_load_t, end_joint_t, &
-                           load_pattern_t
+                           load_pattern_t, move_obstacles, analysis_linear
    implicit none
    private
    public :: model_builder_t, finish_model
@@ -93,6 +93,8 @@ module uniarc_model_builder
       integer :: n_prescribed = 0                     !< prescribed displacements (node, dof, value)
       integer, allocatable :: prescribed_node(:), prescribed_dof(:)
       real(dp), allocatable :: prescribed_value(:)
+      !> (2, n_contact_groups) translations of plane obstacles (*MOVE; uniarc_model_contacts add_move)
+      real(dp), allocatable :: moves(:, :)
    end type model_builder_t
 
 contains
@@ -445,6 +447,7 @@ contains
          end do
          builder%n_prescribed = 0
       end if
+      if (allocated(builder%moves)) call move_alloc(builder%moves, pattern%moves)
    end subroutine take_loads
 
    !> The load record of `element` in `slot`, made if the element has none there yet.
@@ -585,6 +588,10 @@ contains
                model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
          end do
       end if
+      ! A deck without steps: its obstacle moves scale with λ along a path, are applied whole (λ = 1)
+      ! by a linear static analysis (docs/theory.md §3.11).
+      if (allocated(builder%moves)) call move_obstacles(model, builder%moves, 1.0_dp, &
+                                                        own=builder%analysis%kind /= analysis_linear)
    end subroutine finish_model
 
    !> `copy`, `copy_name` := `members`, `name` of a `kind` ('node', 'element') set, the members allocated

@@ -14,7 +14,7 @@ module uniarc_model_contacts
    use uniarc_model_builder, only: model_builder_t, model_size
    implicit none
    private
-   public :: add_springs, add_foundation, add_obstacle
+   public :: add_springs, add_foundation, add_obstacle, add_move
    public :: penetration_tolerance
 
    !> Initial gap (× the model's size) below which a node is taken as penetrating an obstacle: round-off
@@ -158,6 +158,23 @@ contains
       candidates%coordinate = scale*path_coordinates(builder%coordinates(:, 1:builder%n_nodes), nodes)
       call add_contact_group(builder, name, candidates)
    end subroutine add_obstacle
+
+   !> Translate the obstacle of contact group `group` by `d` (2) in the load pattern being read (*MOVE):
+   !> moves of one group add up; taken into the analysis step's pattern with its loads (take_loads), or
+   !> into the model of a deck without steps (finish_model).
+   pure subroutine add_move(builder, group, d)
+      type(model_builder_t), intent(inout) :: builder
+      integer, intent(in) :: group
+      real(dp), intent(in) :: d(2)
+      real(dp), allocatable :: grown(:, :)
+      if (.not. allocated(builder%moves)) allocate (builder%moves(2, builder%n_contact_groups), source=0.0_dp)
+      if (size(builder%moves, 2) < builder%n_contact_groups) then
+         allocate (grown(2, builder%n_contact_groups), source=0.0_dp)
+         grown(:, 1:size(builder%moves, 2)) = builder%moves
+         call move_alloc(grown, builder%moves)
+      end if
+      builder%moves(:, group) = builder%moves(:, group) + d
+   end subroutine add_move
 
    !> Append the contact group `name` made of `candidates` (in node order).
    pure subroutine add_contact_group(builder, name, candidates)

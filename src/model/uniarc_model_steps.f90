@@ -15,7 +15,7 @@
 !> (`prescribed_at`, docs/theory.md §2.9).
 module uniarc_model_steps
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, load_pattern_t, analysis_step_t, analysis_linear, dofs_per_node
+   use uniarc_model, only: model_t, load_pattern_t, analysis_step_t, analysis_linear, dofs_per_node, move_obstacles
    implicit none
    private
    public :: n_analysis_steps, step_model
@@ -77,6 +77,11 @@ contains
          patterns(k)%factor = 1.0_dp
          call merge_patterns(patterns, stepped)
          call merge_prescribed(patterns, stepped)
+         ! moved obstacles: every step's translation at its factor, in the gaps' offsets (superposition)
+         do j = 1, k
+            if (allocated(patterns(j)%moves)) call move_obstacles(stepped, patterns(j)%moves, patterns(j)%factor, &
+                                                                  own=.false.)
+         end do
          allocate (stepped%held(0))
       else
          stepped%nodal_load = model%steps(k)%loads%nodal_load
@@ -93,7 +98,12 @@ contains
             stepped%held(j)%factor = end_lambda(j)
             if (allocated(stepped%held(j)%prescribed)) &
                where (.not. stepped%fixed) stepped%held(j)%prescribed = 0.0_dp
+            ! the obstacles moved in step j stay where that step left them (docs/theory.md §3.11)
+            if (allocated(model%steps(j)%loads%moves)) &
+               call move_obstacles(stepped, model%steps(j)%loads%moves, end_lambda(j), own=.false.)
          end do
+         if (allocated(model%steps(k)%loads%moves)) &
+            call move_obstacles(stepped, model%steps(k)%loads%moves, 1.0_dp, own=.true.)
          if (k > 1 .and. present(start_displacement) .and. present(start_reactions)) &
             call change_supports(model%steps(k - 1)%fixed, start_displacement, start_reactions, stepped)
       end if

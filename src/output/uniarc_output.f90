@@ -392,6 +392,8 @@ contains
       call flush_table(files%forces, error)
       if (allocated(error) .or. .not. files%with_contact) return
       gaps = candidate_gaps(model, record%displacement)
+      ! a moving obstacle's gap at the record's λ (docs/theory.md §3.11; the others untouched)
+      where (model%contacts%gap_rate /= 0.0_dp) gaps = gaps + record%lambda*model%contacts%gap_rate
       ! a Pasternak bed point's gap is with the bed's surface (the others untouched, −0 included)
       if (allocated(record%bed_deflections)) then
          where (model%contacts%bed_stiffness(2) > 0.0_dp) gaps = gaps + record%bed_deflections

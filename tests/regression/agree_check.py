@@ -5,6 +5,9 @@ Usage (one CTest per call):
   agree_check.py --uniarc BIN --deck A --deck B --out DIR --column NAME:RTOL [--column ...]
                  [--define NAME=VALUE]...
 
+NAME may be `NAME_A=NAME_B` where the two decks write the quantity under different names (a moving
+obstacle's `reaction_sum` against a jack's `prescribed_force`).
+
 Used where two analyses must land on the same state: a *STATIC deck with contact (the linear contact
 LCP) and the same structure under a load-controlled *PATH to lambda = 1 at a load so small that the
 geometric nonlinearity is below the tolerance (docs/testing.md). The check fails when either run does
@@ -39,10 +42,12 @@ def main():
     problems = []
     for spec in args.column:
         name, rtol = spec.split(':')
-        if name not in last_rows[0] or name not in last_rows[1]:
+        name_a, _, name_b = name.partition('=')
+        name_b = name_b or name_a
+        if name_a not in last_rows[0] or name_b not in last_rows[1]:
             problems.append(f'column {name} missing')
             continue
-        a, b = last_rows[0][name], last_rows[1][name]
+        a, b = last_rows[0][name_a], last_rows[1][name_b]
         scale = max(abs(a), abs(b))
         ok = abs(a - b) <= float(rtol) * scale
         print(f'{name}: {a!r} vs {b!r} (relative {abs(a - b) / scale if scale else 0.0:.3g}, allowed {rtol})')

@@ -60,6 +60,7 @@ contains
       linearization%nodal = lin%nodal
       linearization%residual = lin%residual
       linearization%reference = lin%reference
+      linearization%lambda = lin%lambda
       linearization%du_residual = lin%rhs(:, 1)
       linearization%du_tangent = lin%rhs(:, 2)
       linearization%constraint = constraint
@@ -84,19 +85,20 @@ contains
    !> largest reaction and the largest displacement.
    !> Plastic media: `yielding` (default state%yielding) are the candidates at their limit, and the
    !> yield pairs are checked too (uniarc_contact_plastic).
-   function complementary(model, state, x, nodal, active, yielding) result(ok)
+   function complementary(model, state, x, nodal, active, yielding, lambda) result(ok)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
       logical, intent(in), optional :: yielding(:)
+      real(dp), intent(in), optional :: lambda   !< of the state: moving obstacles (candidate_state)
       logical :: ok
       real(dp), allocatable :: reaction(:), gap(:)
       if (present(yielding)) then
-         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding)
+         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding, lambda)
          ok = violation(model, state, x, reaction, gap, active, yielding) <= model%analysis%displacement_tolerance
       else
-         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, state%yielding)
+         call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, state%yielding, lambda)
          ok = violation(model, state, x, reaction, gap, active, state%yielding) <= &
               model%analysis%displacement_tolerance
       end if
@@ -106,18 +108,19 @@ contains
    !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
    !> beyond the tolerance of `violation`; the others stay.
    !> A candidate at its bearing limit (`yielding`, optional) stays: its pair is the yield rule's.
-   subroutine sign_rule(model, state, x, nodal, active, new_active, yielding)
+   subroutine sign_rule(model, state, x, nodal, active, new_active, yielding, lambda)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
       logical, intent(out) :: new_active(:)
       logical, intent(in), optional :: yielding(:)
+      real(dp), intent(in), optional :: lambda   !< of the state: moving obstacles (candidate_state)
       real(dp), allocatable :: reaction(:), gap(:)
       type(contact_scales_t) :: units
       real(dp) :: tolerance
       integer :: c
-      call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding)
+      call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding, lambda)
       units = contact_units(state, x, reaction, active)
       tolerance = model%analysis%displacement_tolerance
       new_active = active
@@ -204,7 +207,7 @@ contains
    !> the bed's surface, g + d.
    !> Plastic media: the gaps include the committed `slip` (optional, one per candidate), and a condensed
    !> candidate at its limit (`yielding`, optional) has r = q (r = −t at an uplift limit).
-   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding)
+   pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding, lambda)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
@@ -212,6 +215,8 @@ contains
       real(dp), allocatable, intent(out) :: reaction(:), gap(:)
       real(dp), intent(in), optional :: slip(:)
       logical, intent(in), optional :: yielding(:)
+      !> λ of the state: a moving obstacle's gap is g(u) + λ ∂g/∂λ (docs/theory.md §3.11); absent: λ = 0
+      real(dp), intent(in), optional :: lambda
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c, node
       allocate (reaction(size(map%candidate_equation)), gap(size(map%candidate_equation)))
@@ -221,6 +226,8 @@ contains
                             hessian)
          if (model%contacts(c)%plastic) gap(c) = gap(c) + slip_shift(model, c, slip)
          gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
+         if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) &
+            gap(c) = gap(c) + lambda*model%contacts(c)%gap_rate
          reaction(c) = 0.0_dp
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))

@@ -182,6 +182,7 @@ contains
             call gather_nodal(state%map, lin%x, lin%nodal)
             call equilibrium_at(model, state, system, lin%x, lambda, trial%active, lin%nodal, lin%internal, &
                                 lin%reference, lin%element_scale, lin%roundoff, trial%yielding)
+            lin%lambda = lambda
             lin%rhs(:, 1) = lambda*lin%reference - lin%internal
             force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
             ! NaN or overflow; a scale that overflowed would make any residual pass the test.
@@ -208,7 +209,7 @@ contains
                   call keep_converged(system, lin)
                   exit
                end if
-               if (complementary(model, state, lin%x, lin%nodal, trial%active, trial%yielding)) then
+               if (complementary(model, state, lin%x, lin%nodal, trial%active, trial%yielding, lambda)) then
                   if (.not. lands_degenerate(model, state, system, lin, trial)) then
                      trial%reason = 'the arc-length step cannot be solved with this contact set (contact LCP: '// &
                                     'no solution), and as a load step it does not end where the contacts carry the load'
@@ -243,7 +244,7 @@ contains
                ! factors this iteration needs anyway. The set converges along with equilibrium.
                update_set = contacts .and. .not. fresh_set
                if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active, &
-                                                                trial%yielding)
+                                                                trial%yielding, lambda)
                ! The yield pairs are exchanged like the sign rule's contacts (the tangent of the new
                ! yielding set assembled again at this state).
                if (update_set) then
@@ -258,14 +259,15 @@ contains
                   end if
                end if
                if (update_set .and. trial%set_changes < sign_rule_changes) then
-                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active, trial%yielding)
+                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active, trial%yielding, lambda)
                   if (any(new_active .neqv. trial%active)) then
                      trial%set_changes = trial%set_changes + 1
                      ! The tangent and residual of the new set at this same state: the flipped
                      ! candidates' rows and springs edited in place, no assembly.
                      call toggle_contacts(model, state%map, lin%nodal, candidate_values(state%map, lin%x), &
                                           new_active .neqv. trial%active, new_active, system%tangent, &
-                                          lin%rhs(:, 1), state%slip, bed_values(state%map, lin%x))
+                                          lin%rhs(:, 1), state%slip, bed_values(state%map, lin%x), &
+                                          lambda=lambda, reference=lin%reference)
                      trial%active = new_active
                      call restart_test(test)
                      reuse_factors = .false.
@@ -426,6 +428,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call equilibrium_at(model, state, system, state%u, state%lambda, active, lin%nodal, &
                           lin%internal, lin%reference, lin%element_scale)
+      lin%lambda = state%lambda
       lin%residual = state%lambda*lin%reference - lin%internal
       call band_copy(system%tangent, system%assembled, error, error_analysis)
       if (.not. allocated(error)) &
@@ -517,6 +520,7 @@ contains
                else
                   call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
                                       lin%internal, lin%reference, lin%element_scale)
+                  lin%lambda = state%lambda
                   call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
                                            lin%reference, lin%rhs, error)
                   if (allocated(error)) then

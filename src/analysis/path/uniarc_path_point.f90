@@ -52,7 +52,7 @@ contains
       if (m > 0) then
          call nodal_displacements(model, state, nodal)
          call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, state%slip, &
-                              state%yielding)
+                              state%yielding, state%lambda)
          state%reactions = reaction
          state%point%lcp_residual = violation(model, state, state%u, reaction, gap, state%active, state%yielding)
          ! Reaction (in contact) or gap (free) of each candidate and its rate along the path, from the
@@ -80,6 +80,9 @@ contains
             else
                state%point%contact_value(c) = g
                state%point%contact_rate(c) = state%direction*along(state%tangent_displacement)/norm
+               ! a moving obstacle closes the gap with λ too (docs/theory.md §3.11)
+               if (model%contacts(c)%gap_rate /= 0.0_dp) state%point%contact_rate(c) = &
+                  state%direction*(along(state%tangent_displacement) + model%contacts(c)%gap_rate)/norm
             end if
          end do
       end if

@@ -135,7 +135,7 @@ contains
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal)
-      call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap)
+      call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
       allocate (released(size(reaction)))

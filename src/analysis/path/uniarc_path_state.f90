@@ -183,6 +183,7 @@ module uniarc_path_state
       real(dp), allocatable :: rhs(:, :)       !< (n, 2) the residual and R, then K⁻¹ of both
       real(dp) :: element_scale = 0.0_dp       !< largest element force (assemble_equilibrium)
       real(dp) :: roundoff = 0.0_dp            !< round-off of the assembled residual (force units)
+      real(dp) :: lambda = 0.0_dp              !< λ of the state (the gaps of moving obstacles)
    end type linearization_t
 
    !> A contact holds a free rigid motion v when |a_cᵀv| exceeds this fraction of |a_c| max|v|: the
@@ -237,14 +238,15 @@ contains
          if (present(yielding)) then
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
                                   system%tangent, internal, state%slip, yielding, &
-                                  deflections=bed_values(state%map, x))
+                                  deflections=bed_values(state%map, x), reference=reference)
          else if (allocated(state%yielding)) then
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
                                   system%tangent, internal, state%slip, state%yielding, &
-                                  deflections=bed_values(state%map, x))
+                                  deflections=bed_values(state%map, x), reference=reference)
          else
             call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal, deflections=bed_values(state%map, x))
+                                  system%tangent, internal, deflections=bed_values(state%map, x), &
+                                  reference=reference)
          end if
       end if
       if (allocated(state%floating_equation)) then
