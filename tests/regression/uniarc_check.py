@@ -16,6 +16,7 @@ Usage (one CTest per call):
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
                   [--expect-all COLUMN>=VALUE]...                   # (from above or from below)
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
+                  [--reject-stderr TEXT]...                         # text it must not write there
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
 EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
@@ -330,6 +331,7 @@ def main():
     parser.add_argument('--expect-crit-path', action='append', default=[])
     parser.add_argument('--expect-all', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
+    parser.add_argument('--reject-stderr', action='append', default=[])
     args = parser.parse_args()
 
     command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
@@ -342,6 +344,9 @@ def main():
     for text in args.expect_stderr:
         if text not in run.stderr:
             failures.append(f'stderr does not contain {text!r}')
+    for text in args.reject_stderr:
+        if text in run.stderr:
+            failures.append(f'stderr contains {text!r}, which is not the cause')
     if args.reference:
         failures += numeric_diff(path_file, args.reference, args.rtol, args.atol)
     if args.expect:
