@@ -15,6 +15,8 @@ Usage (one CTest per call):
                   [--expect-crit-path KIND[#k]:COLUMN=EXPECTED]...  # a path column at an event
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
                   [--expect-all COLUMN>=VALUE]...                   # (from above or from below)
+                  [--expect-proportional COLUMN=F:RTOL]...          # every row: COLUMN = F lambda, within
+                                                                    # RTOL of the largest |F lambda| (equilibrium)
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
                   [--reject-stderr TEXT]...                         # text it must not write there
 
@@ -222,6 +224,20 @@ def check_path_features(args, names, rows):
         print(f'{"ok" if ok else "FAIL"}: every {column} <= {bound} (largest {largest!r})')
         if not ok:
             failures.append(f'{column} reaches {largest!r} > {bound}')
+    for expectation in args.expect_proportional:
+        column, rest = expectation.split('=')
+        factor, rtol = (float(v) for v in rest.split(':'))
+        if column not in names or 'lambda' not in names:
+            failures.append(f'no column {column} or lambda in {names}')
+            continue
+        expected = [factor*row[names.index('lambda')] for row in rows]
+        unit = max(abs(v) for v in expected) or 1.0
+        worst = max(abs(row[names.index(column)] - v) for row, v in zip(rows, expected))/unit
+        ok = worst <= rtol
+        print(f'{"ok" if ok else "FAIL"}: every {column} = {factor} lambda, largest difference {worst:.3e} of '
+              f'{unit:.6e} (tolerance {rtol})')
+        if not ok:
+            failures.append(f'{column} differs from {factor} lambda by {worst:.3e} (relative)')
     for column in args.expect_snap_back:
         if column not in names:
             failures.append(f'no column {column} in {names}')
@@ -330,6 +346,7 @@ def main():
     parser.add_argument('--expect-crit-before', action='append', default=[])
     parser.add_argument('--expect-crit-path', action='append', default=[])
     parser.add_argument('--expect-all', action='append', default=[])
+    parser.add_argument('--expect-proportional', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
     args = parser.parse_args()
@@ -366,7 +383,8 @@ def main():
                   f'(tolerance {tolerance:.1e})')
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
-    if args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all:
+    if (args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all
+            or args.expect_proportional):
         names, rows = read_table(path_file)
         if len(rows) < 2:
             failures.append('path file has fewer than two rows')
