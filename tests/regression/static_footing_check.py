@@ -17,7 +17,7 @@ of length L, EI = 1e6, on a bed of modulus k that goes on beyond both ends, a lo
   with its error term). With the whole footing in contact:
     Winkler (G = 0):  w0 = P/(k L),                 theta = P e / (k I),  I = L^3/12 + L h^2/6
     Pasternak:        w0 = P/(k L + 2 sqrt(k G)),   theta = P e / (k I + sqrt(k G) L^2/2 + G L)
-  (derivation in docs/verification.md: beyond each end the bed's surface decays as exp(-|x|/l),
+  (derivation in docs/theory.md §3.6: beyond each end the bed's surface decays as exp(-|x|/l),
   l = sqrt(G/k), and its shear layer pulls the footing's end with sqrt(k G) w(end) -/+ G theta; the
   discrete bed's end spring sqrt(k G) and its shear terms G/h (d_i - d_j) reproduce these exactly for a
   linear w, so the lumped formulas are exact for the model). The footing's own flexibility
