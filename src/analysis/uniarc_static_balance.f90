@@ -46,7 +46,8 @@ contains
                       'supports'' reactions and the contact forces leave a resultant of '// &
                       real_to_string(imbalance)//' of their sum (at most '//real_to_string(balance_tolerance)// &
                       ' accepted): the stiffness matrix is too badly conditioned for the solve (a member far '// &
-                      'stiffer than what holds it); no result file written', error_analysis)
+                      'stiffer than what holds it, or a slender member cut into very many short elements); '// &
+                      'no result file written', error_analysis)
    end subroutine check_static_balance
 
    !> The relative imbalance of a linear static state (module header): max(|ΣF_x|, |ΣF_y|, |ΣM|/ℓ)

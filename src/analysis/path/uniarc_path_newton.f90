@@ -109,6 +109,7 @@ contains
       real(dp), intent(in) :: residual(:)
       integer :: i
       resultant = 0.0_dp
+      if (.not. allocated(map%equation)) return
       if (size(map%equation, 2) == 0) return
       do i = 1, 2
          if (any(map%equation(i, :) <= 0)) cycle
