@@ -18,7 +18,8 @@ module uniarc_linear_static
    use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
-   use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy
+   use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
+                          band_multiply, band_zero
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
@@ -35,6 +36,14 @@ module uniarc_linear_static
    !> Complementarity accepted within this fraction of the force and gap units (the LCP solver's own
    !> acceptance tolerance, uniarc_lcp_implicit, with a decade of room for the final solve's round-off).
    real(dp), parameter :: complementarity_tolerance = 1.0e-8_dp
+   !> Iterative refinement of a solve (refine_solution): at most this many corrections, applied while the
+   !> resultant of the residual exceeds `balance_target` of the forces (or complementarity is violated).
+   !> A solve of K_S with a condition number κ leaves an error of about κε in x; each correction from the
+   !> residual of the element forces multiplies it by about κε again (Higham 2002, §12.1), so two
+   !> suffice for κ up to 1e13; the others are for safety.
+   integer, parameter :: max_refinements = 4
+   !> The resultant of the residual a well-conditioned solve leaves: a few ε times the forces summed.
+   real(dp), parameter :: balance_target = 1.0e-12_dp
 
 contains
 
@@ -64,7 +73,7 @@ contains
       type(band_matrix_t) :: assembled, factors
       type(contact_linearization_t) :: lin
       type(contact_selection_t) :: selection
-      real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :)
+      real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst
@@ -82,6 +91,7 @@ contains
       if (allocated(error)) return
       zero_nodal = 0.0_dp
       call assemble_reference_load(model, map, .true., reference)
+      applied = reference
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
       ! The first working set: candidates that touch at u = 0, and the bonded ones (as the path
       ! following starts): it holds what the contacts hold, so K_S is regular for a structure that
@@ -115,7 +125,12 @@ contains
          x = rhs(:, 1) + rhs(:, 2)
          call linear_contact_state(model, map, x, set, r, g)
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
+         call refine_solution(model, map, set, applied, factors, assembled, length_scale, x, r, g, worst, error)
+         if (allocated(error)) return
          if (worst <= complementarity_tolerance) exit
+         ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+         if (allocated(error)) return
          if (round == max_rounds) then
             call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
                             error_analysis)
@@ -142,6 +157,8 @@ contains
          set = selection%active
       end do
 
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+      if (allocated(error)) return
       ! Inertia of the final K_S: each contact row of the set adds one negative pivot to the
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
       call band_inertia(assembled, negative_pivots, singular, status)
@@ -253,6 +270,145 @@ contains
          end if
       end do
    end subroutine linear_contact_state
+
+   !> Iterative refinement of the solution x of K_S x = R − F_aug(0) for `set` (Higham 2002, §12.1):
+   !> while the resultant of the residual ρ = R − F_aug(x) exceeds balance_target of the forces, or
+   !> complementarity is violated beyond its tolerance, x += K_S⁻¹ρ with the factors of K_S. The
+   !> residual takes the elements' forces from their deformations (linear_residual), not K x: a nearly
+   !> rigid member (EI large against the bed) moves as a rigid body, and K x cancels terms of size
+   !> EI/L³ × its displacement to leave forces smaller by the condition number, so its round-off
+   !> does not balance (a floating stiff beam on a bed balanced 0.998 of its load); each element's
+   !> forces B0ᵀq are in equilibrium to the last bit, so the resultant of ρ is what the solve left.
+   !> A correction that improves neither measure ends the refinement (the round-off floor). Well
+   !> conditioned problems meet the target at once and are not touched.
+   !> `matrix` is workspace (the contact part of K_S is assembled in it); r, g and worst (the reactions,
+   !> gaps and complementarity violation of x, linear_contact_state) are updated with x.
+   subroutine refine_solution(model, map, set, applied, factors, matrix, length_scale, x, r, g, worst, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      logical, intent(in) :: set(:)
+      real(dp), intent(in) :: applied(:)          !< R without the settlements' load (they move the elements)
+      type(band_matrix_t), intent(in) :: factors  !< band LU of K_S
+      type(band_matrix_t), intent(inout) :: matrix
+      real(dp), intent(in) :: length_scale
+      real(dp), intent(inout) :: x(:)
+      real(dp), allocatable, intent(inout) :: r(:), g(:)
+      real(dp), intent(inout) :: worst
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: rho(:), correction(:, :), trial(:), r_trial(:), g_trial(:), contact_force(:)
+      real(dp) :: balance, balance_trial, worst_trial
+      integer :: k, status
+      logical :: assembled
+      assembled = .false.
+      allocate (rho(size(x)), correction(size(x), 1), contact_force(size(x)), stat=status)
+      call allocation_failure(status, 'the vectors of the refinement of the linear solution', 24.0_dp*size(x), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      do k = 0, max_refinements
+         if (k == 0) then
+            if (.not. assembled) then
+               ! The contact part of K_S and F_aug(0) (the rows of the set at u = 0): F_aug(x) is then
+               ! linear_residual's element forces plus these.
+               call band_zero(matrix)
+               contact_force = 0.0_dp
+               if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_displacement(model), &
+                                                                          zero_reactions(map), set, matrix, contact_force)
+               assembled = .true.
+            end if
+            call linear_residual(model, map, applied, contact_force, matrix, x, rho)
+            balance = resultant_imbalance(model, map, applied, r, rho)
+         end if
+         if (balance <= balance_target .and. worst <= complementarity_tolerance) return
+         if (k == max_refinements) return
+         correction(:, 1) = rho
+         call band_solve(factors, correction, error)
+         if (allocated(error)) return
+         trial = x + correction(:, 1)
+         call linear_contact_state(model, map, trial, set, r_trial, g_trial)
+         worst_trial = complementarity_violation(model, map, length_scale, trial, applied, r_trial, g_trial, set)
+         call linear_residual(model, map, applied, contact_force, matrix, trial, rho)
+         balance_trial = resultant_imbalance(model, map, applied, r_trial, rho)
+         if (balance_trial >= balance .and. worst_trial >= worst) return
+         x = trial
+         r = r_trial
+         g = g_trial
+         worst = worst_trial
+         balance = balance_trial
+      end do
+   end subroutine refine_solution
+
+   !> ρ = R − F_aug(x) of the linear problem: the applied loads R, minus the elements' forces
+   !> B0ᵀ Kb (B0 u_e) of their deformations (uniarc_element, linear transformation; u_e with the
+   !> prescribed displacements of held DOFs), minus the contact part F_aug(0) + K_c x (`contact_matrix`
+   !> K_c, `contact_force` F_aug(0), assembled by uniarc_contact at u = 0 for the set).
+   subroutine linear_residual(model, map, applied, contact_force, contact_matrix, x, rho)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: applied(:), contact_force(:)
+      type(band_matrix_t), intent(in) :: contact_matrix
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: rho(:)
+      type(element_response_t) :: response
+      real(dp), allocatable :: nodal(:, :)
+      integer :: e
+      allocate (nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(map, x, nodal)
+      if (allocated(model%prescribed)) nodal = nodal + model%prescribed
+      rho = applied - contact_force - band_multiply(contact_matrix, x)
+      do e = 1, model%n_elements
+         call element_response(model, e, element_displacements(model, e, nodal), transformation_linear, response)
+         call scatter_add(element_equations(model, map, e), -response%internal_force, rho)
+      end do
+   end subroutine linear_residual
+
+   !> The resultant of the residual ρ at the free DOFs — forces (Σρ_x, Σρ_y) and the moment about the
+   !> nodes' centroid Σ(x ρ_y − y ρ_x + ρ_θ) over a length of the model — relative to the forces that
+   !> balance in it: the applied loads' translations and the contact reactions, in absolute value.
+   !> A free structure with all its contacts (a floating beam on its bed) is in equilibrium as a whole
+   !> exactly when this is zero.
+   pure real(dp) function resultant_imbalance(model, map, applied, r, rho) result(imbalance)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: applied(:), r(:), rho(:)
+      real(dp) :: force(2), moment, centre(2), arm(2), scale, length
+      integer :: i, eq
+      centre = sum(model%coordinates, dim=2)/max(model%n_nodes, 1)
+      length = max(maxval(abs(model%coordinates - spread(centre, 2, model%n_nodes))), tiny(1.0_dp))
+      force = 0.0_dp
+      moment = 0.0_dp
+      scale = sum(abs(r))
+      do i = 1, model%n_nodes
+         arm = model%coordinates(:, i) - centre
+         eq = map%equation(1, i)
+         if (eq > 0) then
+            force(1) = force(1) + rho(eq)
+            moment = moment - arm(2)*rho(eq)
+            scale = scale + abs(applied(eq))
+         end if
+         eq = map%equation(2, i)
+         if (eq > 0) then
+            force(2) = force(2) + rho(eq)
+            moment = moment + arm(1)*rho(eq)
+            scale = scale + abs(applied(eq))
+         end if
+         eq = map%equation(3, i)
+         if (eq > 0) moment = moment + rho(eq)
+      end do
+      imbalance = max(abs(force(1)), abs(force(2)), abs(moment)/length)/max(scale, tiny(1.0_dp))
+   end function resultant_imbalance
+
+   !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.
+   pure function zero_displacement(model) result(nodal)
+      type(model_t), intent(in) :: model
+      real(dp) :: nodal(dofs_per_node, model%n_nodes)
+      nodal = 0.0_dp
+   end function zero_displacement
+
+   pure function zero_reactions(map) result(r)
+      type(dof_map_t), intent(in) :: map
+      real(dp) :: r(size(map%candidate_equation))
+      r = 0.0_dp
+   end function zero_reactions
 
    !> Largest relative violation of complementarity of the unilateral candidates: −r/r_unit for a
    !> pulling contact, −w/g_unit for a penetrating free one (w = g + t r), |r w|/(r_unit g_unit); the

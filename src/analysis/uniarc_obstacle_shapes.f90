@@ -19,7 +19,7 @@ module uniarc_obstacle_shapes
    use uniarc_kinds, only: dp
    implicit none
    private
-   public :: ellipse_gap, ellipse_closest_point, polyline_gap
+   public :: ellipse_gap, ellipse_closest_point, polyline_gap, polyline_concave_corner
 
    !> Newton iterations of the ellipse's closest point: it converges monotonically (see
    !> ellipse_closest_point), quadratically near the root; 200 is far above what any point needs.
@@ -195,6 +195,29 @@ contains
       gradient = sgn*e
       hessian = (sgn/best_vertex)*reshape([1.0_dp - e(1)**2, -e(1)*e(2), -e(1)*e(2), 1.0_dp - e(2)**2], [2, 2])
    end subroutine polyline_gap
+
+   !> The inner vertex of the polyline `vertices` (2, n; free side on the left of 1 → n) that is a
+   !> concave corner of the free side (the polyline turns left there: the free side is the inside of
+   !> the corner, a trench or the inside of an L) and lies within `reach` of the point x; 0 if none.
+   !> There the gap of polyline_gap is the distance to the nearer of the two faces: it is continuous
+   !> but not differentiable on the corner's bisector (its gradient jumps from one face's normal to the
+   !> other's), so a node in contact at the corner has no Newton iteration that settles.
+   pure integer function polyline_concave_corner(vertices, x, reach) result(corner)
+      real(dp), intent(in) :: vertices(:, :)
+      real(dp), intent(in) :: x(2), reach
+      real(dp) :: before(2), after(2), nearest
+      integer :: k
+      corner = 0
+      nearest = huge(1.0_dp)
+      do k = 2, size(vertices, 2) - 1
+         before = vertices(:, k) - vertices(:, k - 1)
+         after = vertices(:, k + 1) - vertices(:, k)
+         if (.not. before(1)*after(2) - before(2)*after(1) > 0.0_dp) cycle   ! a right turn: convex
+         if (norm2(x - vertices(:, k)) > min(reach, nearest)) cycle
+         nearest = norm2(x - vertices(:, k))
+         corner = k
+      end do
+   end function polyline_concave_corner
 
    !> Left unit normal of the segment p → q (its direction turned by +90°).
    pure function left_normal(p, q) result(n)

@@ -24,10 +24,13 @@ module uniarc_path_following
    use uniarc_error, only: error_t, make_error, error_analysis
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
-   use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits
+   use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
+                           dofs_per_node, gap_polyline
+   use uniarc_contact_law, only: candidate_gap
+   use uniarc_obstacle_shapes, only: polyline_concave_corner
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
-   use uniarc_assembly, only: assemble_reference_load
+   use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
                                 accept_trial
@@ -456,7 +459,9 @@ contains
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
-               if (options%control == control_load .and. state%point%neg_pivots == 0) then
+               call add_concave_corner_hint(model, state, error)
+               if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
+                   index(error%message, 'concave corner') == 0) then
                   ! Under load control the path cannot pass a limit point: past it there is no
                   ! equilibrium near the last one (docs/contracts.md, exit code 1).
                   error%message = error%message//'; under load control this is where the load reaches a '// &
@@ -701,6 +706,58 @@ contains
                       'collapse at lambda = '//real_to_string(state%lambda, message_edit)//')'
    end subroutine add_mechanism_hint
 
+
+   !> A step that does not converge with a node of a polyline obstacle at a concave corner of it
+   !> (within 1e-3 of the model's size, in contact or about to be: its gap below that too): the cause
+   !> is the corner, not a limit point. The node's gap is the distance to the nearer face, which is
+   !> not differentiable where the two faces are equally near (uniarc_obstacle_shapes,
+   !> polyline_concave_corner), so Newton's iterates switch faces and do not settle
+   !> (docs/input.md, *OBSTACLE). The message names the node, the obstacle and the corner, and the
+   !> workaround: the two faces as two obstacles.
+   subroutine add_concave_corner_hint(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(error_t), intent(inout) :: error
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: reach, x(2), gap, gradient(2), hessian(2, 2)
+      integer :: c, node, corner
+      if (.not. allocated(model%contacts) .or. .not. allocated(state%u)) return
+      if (.not. any(model%contacts%gap_kind == gap_polyline)) return
+      allocate (nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(state%map, state%u, nodal)
+      reach = 1.0e-3_dp*norm2(maxval(model%coordinates, dim=2) - minval(model%coordinates, dim=2))
+      do c = 1, size(model%contacts)
+         if (model%contacts(c)%gap_kind /= gap_polyline) cycle
+         node = model%contacts(c)%node
+         x = model%coordinates(:, node) + nodal(1:2, node)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         if (gap > reach) cycle
+         corner = polyline_concave_corner(model%contacts(c)%vertices, x, reach)
+         if (corner == 0) cycle
+         error%message = error%message//'; node '//integer_to_string(model%node_label(node))// &
+                         ' is in contact at a concave corner ('// &
+                         real_to_string(model%contacts(c)%vertices(1, corner), message_edit)//', '// &
+                         real_to_string(model%contacts(c)%vertices(2, corner), message_edit)// &
+                         ') of the polyline obstacle '''//group_name(model, c)//''': its gap there is the '// &
+                         'distance to the nearer face, which is not differentiable where the two faces are '// &
+                         'equally near, so the iterations switch faces and do not settle (a polyline does not '// &
+                         'hold a node in a concave corner): give the two faces as two obstacles on the node set '// &
+                         '(docs/input.md, *OBSTACLE)'
+         return
+      end do
+   end subroutine add_concave_corner_hint
+
+   !> The name of the contact group of candidate c.
+   function group_name(model, c) result(name)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: c
+      character(len=:), allocatable :: name
+      name = 'unnamed'
+      if (.not. allocated(model%contact_groups)) return
+      if (model%contacts(c)%group < 1 .or. model%contacts(c)%group > size(model%contact_groups)) return
+      if (allocated(model%contact_groups(model%contacts(c)%group)%name)) &
+         name = model%contact_groups(model%contacts(c)%group)%name
+   end function group_name
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)

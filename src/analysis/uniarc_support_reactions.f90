@@ -6,15 +6,17 @@
 !> forces of the elements and F_ext the loads, both assembled for every DOF, held or free (the model
 !> with its supports taken away numbers them all). The nonlinear analysis assembles them as its
 !> equilibrium does (uniarc_equilibrium: corotational elements, follower loads on the current
-!> geometry, the held patterns of earlier steps); the linear one as its stiffness does (K u − R on the
-!> initial geometry, uniarc_assembly). At a free DOF r is the residual, zero at a converged state.
+!> geometry, the held patterns of earlier steps); the linear one from the elements' forces of their
+!> small deformations on the initial geometry (B0ᵀ Kb B0 u_e − R, uniarc_element), which is K u − R. At a free DOF r is the residual, zero at a converged state.
 module uniarc_support_reactions
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map
-   use uniarc_band, only: band_matrix_t, band_allocate, band_multiply
-   use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal
+   use uniarc_band, only: band_matrix_t, band_allocate
+   use uniarc_assembly, only: assemble_reference_load, gather_nodal, scatter_add
+   use uniarc_dof_map, only: element_equations
+   use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_equilibrium, only: assemble_equilibrium
    implicit none
    private
@@ -26,13 +28,14 @@ contains
    !> (dofs_per_node, n_nodes; every DOF's, the prescribed ones included) and load factor λ: force
    !> (moment at θ) that the support applies to the structure at each held DOF, 0 at the free ones.
    !> `linear`: the linear analysis's equations (initial geometry) instead of the nonlinear ones.
-   !> Contact reactions at a node are not in it (they are the contact columns'). Its band matrix is
+   !> Contact reactions at a node are not in it (they are the contact columns'): at a held DOF the
+   !> support's value includes the contact force there. The nonlinear analysis's band matrix is
    !> that of the analysis with the held DOFs numbered and without the contact unknowns, a size the
    !> analysis has already allocated (the memory check, uniarc_check), so it is allocated without a
-   !> returned error.
+   !> returned error; the linear one needs none.
    !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
    !> moment limit (the path's state), passed to the equilibrium as the path following does.
-   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic, error)
+   subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic, error, loads)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
@@ -41,6 +44,10 @@ contains
       real(dp), intent(in), optional :: joint_plastic(:, :)
       !> an allocation of the numbering the system refused (error_analysis)
       type(error_t), allocatable, intent(out) :: error
+      !> (dofs_per_node, n_nodes) the loads λR at every DOF, held or free (the balance of the linear
+      !> analysis, uniarc_static_balance)
+      real(dp), allocatable, intent(out), optional :: loads(:, :)
+      type(element_response_t) :: response
       type(model_t) :: unsupported
       type(dof_map_t) :: map
       type(band_matrix_t) :: stiffness
@@ -62,7 +69,6 @@ contains
       end if
       call build_dof_map(unsupported, map, error, error_analysis)
       if (allocated(error)) return
-      call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
       allocate (x(map%n_equations), source=0.0_dp)
       allocate (internal(map%n_equations), reference(map%n_equations), fixed_load(map%n_equations))
       do i = 1, model%n_nodes
@@ -71,10 +77,18 @@ contains
          end do
       end do
       if (linear) then
-         call assemble_linear_stiffness(unsupported, map, stiffness)
-         internal = band_multiply(stiffness, x)
+         ! The elements' forces of their deformations, B0ᵀ Kb (B0 u_e), not K u: a member that moves
+         ! nearly as a rigid body has forces far smaller than the terms of K u that cancel in them
+         ! (uniarc_linear_static, refine_solution), and each element's forces balance to the last bit.
+         internal = 0.0_dp
+         do j = 1, model%n_elements
+            call element_response(unsupported, j, element_displacements(unsupported, j, displacement), &
+                                  transformation_linear, response)
+            call scatter_add(element_equations(unsupported, map, j), response%internal_force, internal)
+         end do
          call assemble_reference_load(unsupported, map, .true., reference)
       else
+         call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
          call assemble_reference_load(unsupported, map, .false., fixed_load)
          if (present(joint_plastic)) then
             call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
@@ -86,6 +100,10 @@ contains
       end if
       allocate (reactions(dofs_per_node, model%n_nodes))
       call gather_nodal(map, internal - lambda*reference, reactions)
+      if (present(loads)) then
+         allocate (loads(dofs_per_node, model%n_nodes))
+         call gather_nodal(map, lambda*reference, loads)
+      end if
       where (.not. model%fixed) reactions = 0.0_dp
    end subroutine support_reactions
 

@@ -12,6 +12,7 @@ module uniarc_run
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
    use uniarc_support_reactions, only: support_reactions, prescribed_force
+   use uniarc_static_balance, only: check_static_balance
    use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
    use uniarc_contact_plastic, only: has_plastic
    use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
@@ -237,6 +238,15 @@ contains
                                       reactions, error=error)
                if (allocated(error)) return
                record%prescribed_force = prescribed_force(step_model(model, k, end_lambda), reactions)
+            end if
+            if (finite_record(record)) then
+               ! Nothing is written unless the structure is in equilibrium as a whole (uniarc_static_balance).
+               call check_static_balance(step_model(model, k, end_lambda), record%displacement, record%reactions, &
+                                         active, error)
+               if (allocated(error)) then
+                  call name_analysis_step(model, k, error)
+                  return
+               end if
             end if
             if (.not. finite_record(record)) then
                call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large '// &

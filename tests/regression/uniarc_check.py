@@ -17,7 +17,10 @@ Usage (one CTest per call):
                   [--expect-all COLUMN<=VALUE]...                   # every row of a column bounded
                   [--expect-all COLUMN>=VALUE]...                   # (from above or from below)
                   [--expect-all-ratio NUM/DEN=VALUE:RTOL]...        # NUM/DEN on every row (DEN != 0)
+                  [--expect-proportional COLUMN=F:RTOL]...          # every row: COLUMN = F lambda, within
+                                                                    # RTOL of the largest |F lambda| (equilibrium)
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
+                  [--reject-stderr TEXT]...                         # text it must not write there
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
 EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
@@ -253,6 +256,20 @@ def check_path_features(args, names, rows):
               f'{worst_step}, tolerance {tolerance:.1e})')
         if not ok:
             failures.append(f'{ratio}: relative error {worst:.3e} > {tolerance:.1e} at step {worst_step}')
+    for expectation in args.expect_proportional:
+        column, rest = expectation.split('=')
+        factor, rtol = (float(v) for v in rest.split(':'))
+        if column not in names or 'lambda' not in names:
+            failures.append(f'no column {column} or lambda in {names}')
+            continue
+        expected = [factor*row[names.index('lambda')] for row in rows]
+        unit = max(abs(v) for v in expected) or 1.0
+        worst = max(abs(row[names.index(column)] - v) for row, v in zip(rows, expected))/unit
+        ok = worst <= rtol
+        print(f'{"ok" if ok else "FAIL"}: every {column} = {factor} lambda, largest difference {worst:.3e} of '
+              f'{unit:.6e} (tolerance {rtol})')
+        if not ok:
+            failures.append(f'{column} differs from {factor} lambda by {worst:.3e} (relative)')
     for column in args.expect_snap_back:
         if column not in names:
             failures.append(f'no column {column} in {names}')
@@ -374,7 +391,9 @@ def main():
     parser.add_argument('--expect-crit-path', action='append', default=[])
     parser.add_argument('--expect-all', action='append', default=[])
     parser.add_argument('--expect-all-ratio', action='append', default=[])
+    parser.add_argument('--expect-proportional', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
+    parser.add_argument('--reject-stderr', action='append', default=[])
     args = parser.parse_args()
 
     command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
@@ -387,6 +406,9 @@ def main():
     for text in args.expect_stderr:
         if text not in run.stderr:
             failures.append(f'stderr does not contain {text!r}')
+    for text in args.reject_stderr:
+        if text in run.stderr:
+            failures.append(f'stderr contains {text!r}, which is not the cause')
     if args.reference:
         failures += numeric_diff(path_file, args.reference, args.rtol, args.atol)
     if args.expect:
@@ -407,7 +429,7 @@ def main():
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
     if (args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all
-            or args.expect_all_ratio):
+            or args.expect_all_ratio or args.expect_proportional):
         names, rows = read_table(path_file)
         if len(rows) < 2:
             failures.append('path file has fewer than two rows')

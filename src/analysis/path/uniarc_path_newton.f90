@@ -91,9 +91,31 @@ contains
       test%previous_residual = residual_norm
       in_equilibrium = iterations > 0 .and. (test%small_correction .or. at_floor) .and. &
                        residual_norm <= max(test%force_tolerance*force_scale, lin%roundoff) .and. &
+                       floating_resultant(map, lin%rhs(:, 1)) <= test%force_tolerance*force_scale .and. &
                        constraint_residual(map, lin%rhs(:, 1)) <= test%displacement_tolerance* &
                        max(maxval(abs(map%metric*lin%x)), 1.0e-12_dp*test%length_scale)
    end subroutine check_equilibrium
+
+   !> The resultant of the residual in the global directions (x, y) in which no DOF of any node is
+   !> held: there the structure floats on its media (a footing on its bed, a pipe on soil springs), and
+   !> the loads, the contact forces and nothing else must balance — the largest |Σ_i g_i| over those
+   !> directions (0 if every direction has a support). The elements' forces cancel in it to the last
+   !> bit (each element's end forces Bᵀq are opposite), so it is free of the round-off floor of the
+   !> residual's components (lin%roundoff, which for a member far stiffer than its bed is above the
+   !> loads themselves): a state that passes the floor with its bed carrying more or less than the load
+   !> (an eccentric footing on a yielding bed past its bearing capacity) is not in equilibrium.
+   pure real(dp) function floating_resultant(map, residual) result(resultant)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: residual(:)
+      integer :: i
+      resultant = 0.0_dp
+      if (.not. allocated(map%equation)) return
+      if (size(map%equation, 2) == 0) return
+      do i = 1, 2
+         if (any(map%equation(i, :) <= 0)) cycle
+         resultant = max(resultant, abs(sum(residual(map%equation(i, :)))))
+      end do
+   end function floating_resultant
 
    !> Record whether the correction (n) just added to the increment (n) was small: relative to the
    !> increment; a step cut very short meets the round-off of the solve first, which is some 1e3 ε of
