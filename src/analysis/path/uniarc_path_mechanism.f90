@@ -194,7 +194,7 @@ contains
       integer, intent(out) :: row
       character(len=:), allocatable, intent(out) :: what
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
-      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force
       integer :: below, node, dof, status
       what = ''
       ratio = huge(1.0_dp)
@@ -217,6 +217,12 @@ contains
       do dof = 1, 3
          forces(:, dof) = band_multiply(stiffness, modes(:, dof))
       end do
+      ! One common scale for the three force vectors: the angle and the shift below are ratios of
+      ! their products (invariant under it), and stiffnesses up to the accepted 1e150 per element
+      ! would overflow the Gram determinant's fourth powers unscaled. A power of two: the scaling is
+      ! exact, the results those of the unscaled vectors wherever these did not overflow.
+      largest_force = maxval(abs(forces))
+      if (largest_force > 0.0_dp) forces = forces/set_exponent(1.0_dp, exponent(largest_force))
       ! The translation least held: the eigenvector of the least eigenvalue of the 2×2 Gram matrix of
       ! the translations' forces (its angle in closed form).
       gram(1, 1) = dot_product(forces(:, 1), forces(:, 1))
