@@ -173,6 +173,7 @@ contains
       type(step_record_t), allocatable :: records(:)
       type(error_t), allocatable :: io_error
       type(contact_summary_t) :: summary
+      type(model_t) :: stepped
       logical, allocatable :: active(:)
       real(dp), allocatable :: end_lambda(:), reactions(:, :)
       integer :: k, n_steps
@@ -180,8 +181,13 @@ contains
       allocate (records(n_steps))
       allocate (end_lambda(n_steps), source=1.0_dp)
       do k = 1, n_steps
+         call step_model(model, k, end_lambda, stepped, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k, error)
+            return
+         end if
          associate (record => records(k))
-            call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
+            call solve_linear_static(stepped, record%displacement, record%neg_pivots, &
                                      error, record%reactions, active, record%lcp_pivots, record%lcp_residual, &
                                      record%bed_deflections)
             if (allocated(error)) then
@@ -196,10 +202,10 @@ contains
             record%reaction_max = summary%reaction_max
             record%reaction_sum = summary%reaction_sum
             if (has_prescribed(model)) then
-               call support_reactions(step_model(model, k, end_lambda), record%displacement, 1.0_dp, .true., &
+               call support_reactions(stepped, record%displacement, 1.0_dp, .true., &
                                       reactions, error=error)
                if (allocated(error)) return
-               record%prescribed_force = prescribed_force(step_model(model, k, end_lambda), reactions)
+               record%prescribed_force = prescribed_force(stepped, reactions)
             end if
             if (.not. finite_record(record)) then
                call make_error(error, 'the linear solution is not finite (NaN or overflow): the loads are too large '// &
@@ -219,12 +225,13 @@ contains
       do k = 1, n_steps
          if (.not. allocated(io_error)) call write_path_row(files, model, records(k), io_error)
          if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
-         if (.not. allocated(io_error)) call write_forces(files, step_model(model, k, end_lambda), records(k), io_error)
+         if (.not. allocated(io_error)) call step_model(model, k, end_lambda, stepped, io_error)
+         if (.not. allocated(io_error)) call write_forces(files, stepped, records(k), io_error)
          if (k < n_steps .and. .not. allocated(io_error)) &
-            call write_vtk_snapshot(vtk, results, step_model(model, k, end_lambda), records(k), io_error)
+            call write_vtk_snapshot(vtk, results, stepped, records(k), io_error)
       end do
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, step_model(model, n_steps, end_lambda), &
-                                                            records(n_steps), io_error)
+      ! `stepped` is the model of the last step here
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
@@ -264,8 +271,8 @@ contains
       n_steps = n_analysis_steps(model)
       allocate (end_lambda(n_steps), source=0.0_dp)
       k_step = 1
-      stepped = step_model(model, k_step, end_lambda)
-      call driver_start(stepped, driver, error)
+      call step_model(model, k_step, end_lambda, stepped, error)
+      if (.not. allocated(error)) call driver_start(stepped, driver, error)
       if (allocated(error)) then
          call name_analysis_step(model, k_step, error)
          return
@@ -370,11 +377,11 @@ contains
                call name_analysis_step(model, k_step, error)
                exit
             end if
-            stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
+            call step_model(model, k_step, end_lambda, stepped, error, driver%displacement, reactions)
          else
-            stepped = step_model(model, k_step, end_lambda)
+            call step_model(model, k_step, end_lambda, stepped, error)
          end if
-         call driver_next_analysis_step(stepped, driver, error)
+         if (.not. allocated(error)) call driver_next_analysis_step(stepped, driver, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
