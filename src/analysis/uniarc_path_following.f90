@@ -40,6 +40,7 @@ module uniarc_path_following
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
+   use uniarc_path_state_copy, only: copy_state, move_state
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -381,7 +382,12 @@ contains
             end if
             ! The state at the start of the step, for the critical-point locator and a rejection (no
             ! system: moved out).
-            before = state
+            call copy_state(state, before, 'the state at the start of the step', error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             ! Commit the converged trial.
             committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
@@ -432,21 +438,31 @@ contains
                         0.5_dp*length >= options%min_increment*state%first_length) then
                   jump = 'the count of negative pivots changed by more than one critical point can change it'
                else
-                  call find_hidden_pair(model, before, state, system, length, hidden)
+                  call find_hidden_pair(model, before, state, system, length, hidden, error)
+                  if (allocated(error)) then
+                     call move_alloc(system, state%system)
+                     call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
+                     return
+                  end if
                   if (hidden) jump = 'the state half-way along the step is not between its ends: a loop of '// &
                                      'the path, two critical points, passed in one step'
                end if
             end if
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
-               call locate_critical_points(model, before, state, system, length)
+               call locate_critical_points(model, before, state, system, length, error)
+               if (allocated(error)) then
+                  call move_alloc(system, state%system)
+                  call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
+                  return
+               end if
                if (allocated(state%bifurcation)) then
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
                exit steps
             end if
-            state = before
+            call move_state(before, state)   ! the step rejected: back to its start
             system%holds_committed = .false.
             system%holds_converged = .false.
             trial%reason = 'the converged state is off the branch the step followed ('//jump//')'

@@ -13,13 +13,10 @@ module uniarc_model_copy
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, track_t, contact_candidate_t, &
                            contact_group_t, foundation_t, load_pattern_t, output_options_t
+   use uniarc_copy, only: copy_array, copy_text, move_text
    implicit none
    private
    public :: copy_model, copy_pattern
-
-   interface copy_array
-      module procedure copy_reals_2, copy_integers_1, copy_integers_2, copy_logicals_2
-   end interface copy_array
 
 contains
 
@@ -260,77 +257,5 @@ contains
       real(dp), intent(inout) :: bytes
       call copy_array(src%forces_steps, dst%forces_steps, status, bytes)
    end subroutine copy_output
-
-   !> A deferred-length text moved (an unallocated `from` leaves `to` unallocated).
-   subroutine move_text(from, to)
-      character(len=:), allocatable, intent(inout) :: from, to
-      if (allocated(to)) deallocate (to)
-      if (allocated(from)) call move_alloc(from, to)
-   end subroutine move_text
-
-   subroutine copy_text(src, dst, status, bytes)
-      character(len=:), allocatable, intent(in) :: src
-      character(len=:), allocatable, intent(inout) :: dst
-      integer, intent(out) :: status
-      real(dp), intent(inout) :: bytes
-      status = 0
-      if (allocated(dst)) deallocate (dst)
-      if (.not. allocated(src)) return
-      bytes = real(len(src), dp)
-      allocate (character(len=len(src)) :: dst, stat=status)
-      if (status == 0) dst = src
-   end subroutine copy_text
-
-   subroutine copy_reals_2(src, dst, status, bytes)
-      real(dp), allocatable, intent(in) :: src(:, :)
-      real(dp), allocatable, intent(inout) :: dst(:, :)
-      integer, intent(out) :: status
-      real(dp), intent(inout) :: bytes
-      status = 0
-      if (allocated(dst)) deallocate (dst)
-      if (.not. allocated(src)) return
-      bytes = 8.0_dp*size(src)
-      allocate (dst(lbound(src, 1):ubound(src, 1), lbound(src, 2):ubound(src, 2)), stat=status)
-      if (status == 0) dst(:, :) = src
-   end subroutine copy_reals_2
-
-   subroutine copy_integers_1(src, dst, status, bytes)
-      integer, allocatable, intent(in) :: src(:)
-      integer, allocatable, intent(inout) :: dst(:)
-      integer, intent(out) :: status
-      real(dp), intent(inout) :: bytes
-      status = 0
-      if (allocated(dst)) deallocate (dst)
-      if (.not. allocated(src)) return
-      bytes = 4.0_dp*size(src)
-      allocate (dst(lbound(src, 1):ubound(src, 1)), stat=status)
-      if (status == 0) dst(:) = src
-   end subroutine copy_integers_1
-
-   subroutine copy_integers_2(src, dst, status, bytes)
-      integer, allocatable, intent(in) :: src(:, :)
-      integer, allocatable, intent(inout) :: dst(:, :)
-      integer, intent(out) :: status
-      real(dp), intent(inout) :: bytes
-      status = 0
-      if (allocated(dst)) deallocate (dst)
-      if (.not. allocated(src)) return
-      bytes = 4.0_dp*size(src)
-      allocate (dst(lbound(src, 1):ubound(src, 1), lbound(src, 2):ubound(src, 2)), stat=status)
-      if (status == 0) dst(:, :) = src
-   end subroutine copy_integers_2
-
-   subroutine copy_logicals_2(src, dst, status, bytes)
-      logical, allocatable, intent(in) :: src(:, :)
-      logical, allocatable, intent(inout) :: dst(:, :)
-      integer, intent(out) :: status
-      real(dp), intent(inout) :: bytes
-      status = 0
-      if (allocated(dst)) deallocate (dst)
-      if (.not. allocated(src)) return
-      bytes = 4.0_dp*size(src)
-      allocate (dst(lbound(src, 1):ubound(src, 1), lbound(src, 2):ubound(src, 2)), stat=status)
-      if (status == 0) dst(:, :) = src
-   end subroutine copy_logicals_2
 
 end module uniarc_model_copy
