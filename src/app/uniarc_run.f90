@@ -515,7 +515,8 @@ contains
    !> The committed state of the path as a row of the result files (`stepped`: the model of the
    !> analysis step traced, uniarc_model_steps; it has the prescribed displacements of the step).
    subroutine record_state(model, stepped, driver, record, error)
-      type(model_t), intent(in) :: model, stepped
+      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: stepped   !< unchanged (inout for support_reactions' copy_model)
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
       !> the support reactions' numbering refused by the system (out of memory, error_analysis)
