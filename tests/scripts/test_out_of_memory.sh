@@ -23,7 +23,7 @@
 # of a derived type, which gfortran 12 does not check), never the runtime's text. Which of the three a
 # limit gives depends on the build (Debug and Release differ in their address space by a few MB), so
 # the sweep asserts the contract only; the outcomes asserted exactly are chosen far from the edges.
-# Two models: a beam of 10,000 elements on a tensionless Winkler bed (10,001 contact candidates, 4
+# Three models: a beam of 10,000 elements on a tensionless Winkler bed (10,001 contact candidates, 4
 # path steps; peak resident 35 MB, Release), limits 30 to 110 MB every 8 MB; and a cantilever of
 # 10,000 nodes with 300 analysis steps (*STEP, a tip load each; the deck holds 360 kB per step), limits
 # 50 to 140 MB every 10 MB, all of which end while the deck is read or at the estimate — the range where
@@ -127,6 +127,15 @@ DECK
       "*END STEP"
   done
 } > steps.inp
+# paths: 120 path steps of the same cantilever, whose deck fits in about 60 MB; under 103 and 108 MB the
+# analysis starts and runs out of memory after some 50 to 70 steps (each step's model holds the earlier
+# steps' load patterns: 240 kB more per step), the exit-1 case with rows kept (Release: at the support
+# reactions of steps 57 and 67, measured; SIGSEGV there before they were checked).
+head -n 8 steps.inp > paths.inp
+for ((k = 1; k <= 120; k++)); do
+  printf '%s\n' "*STEP" "*CLOAD" "beam_end, FY, -1e-6" "*PATH, CONTROL=LOAD" "increment = 1" "lambda_max = 1" \
+    "*END STEP" >> paths.inp
+done
 
 # contract BINARY DECK LIMIT_MB: the run's outcome is one the contract allows; prints it
 contract() {
@@ -165,6 +174,7 @@ for bin in "$uniarc" "${others[@]}"; do
   if ldd "$bin" 2>/dev/null | grep -q libasan; then continue; fi
   for ((limit = 30; limit <= 110; limit += 8)); do contract "$bin" bed $limit; done
   for ((limit = 50; limit <= 140; limit += 10)); do contract "$bin" steps $limit; done
+  for limit in 103 108; do contract "$bin" paths $limit; done
   # far from the edges: the outcome itself
   contract "$bin" bed 30 > /dev/null
   grep -q "expected a number of elements whose analysis fits in memory" bed.err \
