@@ -35,11 +35,13 @@ contains
    !> Allocate an n×n band matrix with half-bandwidths kl, ku and set it to zero: (2 kl + ku + 1) n reals.
    !> With `error` present, an allocation the system refuses is returned (error_input, exit code 2:
    !> the model does not fit in memory) with the matrix's size, instead of ending the program.
-   subroutine band_allocate(matrix, n, kl, ku, error)
+   subroutine band_allocate(matrix, n, kl, ku, error, category)
       type(band_matrix_t), intent(out) :: matrix
       integer, intent(in) :: n, kl, ku
       type(error_t), allocatable, intent(out), optional :: error
-      integer :: status
+      !> error_input (default: exit code 2) or error_analysis (exit code 1), as band_copy
+      integer, intent(in), optional :: category
+      integer :: status, error_category
       matrix%n = n
       matrix%kl = kl
       matrix%ku = ku
@@ -49,10 +51,12 @@ contains
          allocate (matrix%pivots(max(n, 1)), source=0)
          return
       end if
+      error_category = error_input
+      if (present(category)) error_category = category
       allocate (matrix%ab(matrix%ldab, max(n, 1)), matrix%pivots(max(n, 1)), stat=status)
       call allocation_failure(status, 'the band matrix of '//integer_to_string(n)//' equations and half bandwidth '// &
                               integer_to_string(max(kl, ku)), 8.0_dp*real(matrix%ldab, dp)*real(max(n, 1), dp), &
-                              error_input, error)
+                              error_category, error)
       if (allocated(error)) return
       matrix%ab = 0.0_dp
       matrix%pivots = 0

@@ -43,11 +43,40 @@ contains
    !> is a floor of the convergence test (it matters for rings of many short elements far from the origin).
    !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
    !> moment limit (uniarc_joint_plasticity), the history the elements' return mapping starts from.
+   !> Without prescribed displacements `displacement` is used as it is (no copy: nothing allocated of
+   !> the model's length, docs/contracts.md, "Memory"); with them, the total displacements are formed in
+   !> a work array first.
    subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
                                    force_scale, roundoff, joint_plastic)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in) :: lambda
+      real(dp), intent(in) :: fixed_load(:)
+      type(band_matrix_t), intent(inout) :: tangent
+      real(dp), intent(out) :: internal(:)
+      real(dp), intent(out) :: reference(:)
+      real(dp), intent(out) :: force_scale
+      real(dp), intent(out), optional :: roundoff
+      real(dp), intent(in), optional :: joint_plastic(:, :)
+      real(dp), allocatable :: total(:, :)
+      ! The displacements of every DOF: the free ones given, the held ones prescribed (module header).
+      if (.not. has_prescribed(model)) then
+         call assemble_at(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
+                          force_scale, roundoff, joint_plastic)
+         return
+      end if
+      total = displacement + prescribed_at(model, lambda)
+      call assemble_at(model, map, total, lambda, fixed_load, tangent, internal, reference, &
+                       force_scale, roundoff, joint_plastic)
+   end subroutine assemble_equilibrium
+
+   !> assemble_equilibrium at the displacements `total` of every DOF.
+   subroutine assemble_at(model, map, total, lambda, fixed_load, tangent, internal, reference, &
+                          force_scale, roundoff, joint_plastic)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: total(:, :)
       real(dp), intent(in) :: lambda
       real(dp), intent(in) :: fixed_load(:)     !< the u-independent part of R (assemble_reference_load)
       type(band_matrix_t), intent(inout) :: tangent
@@ -61,12 +90,8 @@ contains
       real(dp) :: f0(2*dofs_per_node), df(2*dofs_per_node), dk(2*dofs_per_node, 2*dofs_per_node)
       type(element_response_t) :: response
       integer :: e, i
-      real(dp), allocatable :: total(:, :)
       logical :: moving
-      ! The displacements of every DOF: the free ones given, the held ones prescribed (module header).
       moving = has_prescribed(model)
-      total = displacement
-      if (moving) total = total + prescribed_at(model, lambda)
       call band_zero(tangent)
       internal = 0.0_dp
       reference = fixed_load
@@ -126,7 +151,7 @@ contains
             call band_add_element(tangent, element_equations(model, map, e), lambda*(k + dk))
          end associate
       end do
-   end subroutine assemble_equilibrium
+   end subroutine assemble_at
 
    !> internal −= c R_p(u) and tangent += c (load stiffness of R_p), c = pattern%factor: a load pattern
    !> held at fixed value (an earlier analysis step's loads at the λ where that step ended), assembled

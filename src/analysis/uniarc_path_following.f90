@@ -46,6 +46,7 @@ module uniarc_path_following
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
+   use uniarc_path_state_copy, only: copy_state, move_state
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -473,7 +474,12 @@ contains
             end if
             ! The state at the start of the step, for the critical-point locator and a rejection (no
             ! system: moved out).
-            before = state
+            call copy_state(state, before, 'the state at the start of the step', error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             ! Commit the converged trial.
             committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
@@ -534,7 +540,12 @@ contains
                         0.5_dp*length >= options%min_increment*state%first_length) then
                   jump = 'the count of negative pivots changed by more than one critical point can change it'
                else
-                  call find_hidden_pair(model, before, state, system, length, hidden)
+                  call find_hidden_pair(model, before, state, system, length, hidden, error)
+                  if (allocated(error)) then
+                     call move_alloc(system, state%system)
+                     call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
+                     return
+                  end if
                   if (hidden) jump = 'the state half-way along the step is not between its ends: a loop of '// &
                                      'the path, two critical points, passed in one step'
                end if
@@ -542,7 +553,12 @@ contains
             if (len(jump) == 0) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
-                                           switching=state%bifurcations + 1 == options%switch_bifurcation)
+                                           error, switching=state%bifurcations + 1 == options%switch_bifurcation)
+               if (allocated(error)) then
+                  call move_alloc(system, state%system)
+                  call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
+                  return
+               end if
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
                ! A critical point that the re-solutions could not bracket is located again in a
                ! shorter step (while the step may be cut: else the interpolation is kept).
@@ -556,7 +572,7 @@ contains
                end if
                exit steps
             end if
-            state = before
+            call move_state(before, state)   ! the step rejected: back to its start
             system%holds_committed = .false.
             system%holds_converged = .false.
             trial%reason = 'the converged state is off the branch the step followed ('//jump//')'

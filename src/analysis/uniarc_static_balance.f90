@@ -33,7 +33,7 @@ contains
    !> displacements) and contact `reactions` (one per candidate) with the working set `active` of the
    !> linear analysis of `model` at λ = 1 leave an imbalance above balance_tolerance (static_imbalance).
    subroutine check_static_balance(model, displacement, reactions, active, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model   !< unchanged (inout for support_reactions' copy_model)
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: reactions(:)
       logical, intent(in) :: active(:)
@@ -54,7 +54,7 @@ contains
    !> over Σ|F| + Σ|m|/ℓ (the magnitudes of the forces' components and couples), ℓ the largest distance of a node from the
    !> nodes' centroid (the moments' point). Errors: an allocation of the supports' reactions.
    subroutine static_imbalance(model, displacement, reactions, active, imbalance, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model   !< unchanged (inout for support_reactions' copy_model)
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: reactions(:)
       logical, intent(in) :: active(:)

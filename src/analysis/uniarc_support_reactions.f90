@@ -11,7 +11,9 @@
 module uniarc_support_reactions
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
-   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_model, only: model_t, dofs_per_node, analysis_step_t
+   use uniarc_model_copy, only: copy_model
+   use uniarc_memory, only: allocation_failure
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_matrix_t, band_allocate
    use uniarc_assembly, only: assemble_reference_load, gather_nodal, scatter_add
@@ -36,7 +38,7 @@ contains
    !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
    !> moment limit (the path's state), passed to the equilibrium as the path following does.
    subroutine support_reactions(model, displacement, lambda, linear, reactions, joint_plastic, error, loads)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model   !< unchanged (inout for copy_model)
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
       logical, intent(in) :: linear
@@ -52,11 +54,17 @@ contains
       type(dof_map_t) :: map
       type(band_matrix_t) :: stiffness
       real(dp), allocatable :: x(:), internal(:), reference(:), fixed_load(:)
-      real(dp) :: force_scale
-      integer :: i, k, j
+      real(dp) :: force_scale, bytes
+      integer :: i, k, j, status
+      type(analysis_step_t), allocatable :: steps(:)
       ! Every DOF free; the displacements given are already the total ones, so the model's prescribed
       ! patterns must not be added again by the equilibrium.
-      unsupported = model
+      call move_alloc(model%steps, steps)
+      call copy_model(model, unsupported, status, bytes)
+      call move_alloc(steps, model%steps)
+      call allocation_failure(status, 'an array of the copy of the model for the support reactions', bytes, &
+                              error_analysis, error)
+      if (allocated(error)) return
       unsupported%fixed = .false.
       if (allocated(unsupported%prescribed)) deallocate (unsupported%prescribed)
       if (allocated(unsupported%steps)) deallocate (unsupported%steps)
@@ -69,8 +77,12 @@ contains
       end if
       call build_dof_map(unsupported, map, error, error_analysis)
       if (allocated(error)) return
-      allocate (x(map%n_equations), source=0.0_dp)
-      allocate (internal(map%n_equations), reference(map%n_equations), fixed_load(map%n_equations))
+      allocate (x(map%n_equations), internal(map%n_equations), reference(map%n_equations), &
+                fixed_load(map%n_equations), reactions(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the vectors of the support reactions', &
+                              8.0_dp*(4*map%n_equations + dofs_per_node*model%n_nodes), error_analysis, error)
+      if (allocated(error)) return
+      x = 0.0_dp
       do i = 1, model%n_nodes
          do k = 1, dofs_per_node
             x(map%equation(k, i)) = displacement(k, i)
@@ -88,7 +100,9 @@ contains
          end do
          call assemble_reference_load(unsupported, map, .true., reference)
       else
-         call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth)
+         call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error, &
+                            error_analysis)
+         if (allocated(error)) return
          call assemble_reference_load(unsupported, map, .false., fixed_load)
          if (present(joint_plastic)) then
             call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
@@ -98,10 +112,13 @@ contains
                                       reference, force_scale)
          end if
       end if
-      allocate (reactions(dofs_per_node, model%n_nodes))
-      call gather_nodal(map, internal - lambda*reference, reactions)
+      internal = internal - lambda*reference   ! in place: no temporary (unchecked in the Release build)
+      call gather_nodal(map, internal, reactions)
       if (present(loads)) then
-         allocate (loads(dofs_per_node, model%n_nodes))
+         allocate (loads(dofs_per_node, model%n_nodes), stat=status)
+         call allocation_failure(status, 'the loads of the balance check', 8.0_dp*dofs_per_node*model%n_nodes, &
+                                 error_analysis, error)
+         if (allocated(error)) return
          call gather_nodal(map, lambda*reference, loads)
       end if
       where (.not. model%fixed) reactions = 0.0_dp

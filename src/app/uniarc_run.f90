@@ -129,8 +129,8 @@ contains
             cycle
          end if
          before = model%steps(k)%fixed
-         stepped = step_model(model, k, end_lambda)
-         call build_dof_map(stepped, map, error)
+         call step_model(model, k, end_lambda, stepped, error)
+         if (.not. allocated(error)) call build_dof_map(stepped, map, error)
          if (.not. allocated(error)) call check_model_mechanism(stepped, map, error)
          if (allocated(error)) then
             call name_analysis_step(model, k, error)
@@ -211,6 +211,7 @@ contains
       type(step_record_t), allocatable :: records(:)
       type(error_t), allocatable :: io_error
       type(contact_summary_t) :: summary
+      type(model_t) :: stepped
       logical, allocatable :: active(:)
       real(dp), allocatable :: end_lambda(:), reactions(:, :)
       integer :: k, n_steps
@@ -218,8 +219,13 @@ contains
       allocate (records(n_steps))
       allocate (end_lambda(n_steps), source=1.0_dp)
       do k = 1, n_steps
+         call step_model(model, k, end_lambda, stepped, error)
+         if (allocated(error)) then
+            call name_analysis_step(model, k, error)
+            return
+         end if
          associate (record => records(k))
-            call solve_linear_static(step_model(model, k, end_lambda), record%displacement, record%neg_pivots, &
+            call solve_linear_static(stepped, record%displacement, record%neg_pivots, &
                                      error, record%reactions, active, record%lcp_pivots, record%lcp_residual, &
                                      record%bed_deflections)
             if (allocated(error)) then
@@ -234,15 +240,14 @@ contains
             record%reaction_max = summary%reaction_max
             record%reaction_sum = summary%reaction_sum
             if (has_prescribed(model)) then
-               call support_reactions(step_model(model, k, end_lambda), record%displacement, 1.0_dp, .true., &
+               call support_reactions(stepped, record%displacement, 1.0_dp, .true., &
                                       reactions, error=error)
                if (allocated(error)) return
-               record%prescribed_force = prescribed_force(step_model(model, k, end_lambda), reactions)
+               record%prescribed_force = prescribed_force(stepped, reactions)
             end if
             if (finite_record(record)) then
                ! Nothing is written unless the structure is in equilibrium as a whole (uniarc_static_balance).
-               call check_static_balance(step_model(model, k, end_lambda), record%displacement, record%reactions, &
-                                         active, error)
+               call check_static_balance(stepped, record%displacement, record%reactions, active, error)
                if (allocated(error)) then
                   call name_analysis_step(model, k, error)
                   return
@@ -266,12 +271,13 @@ contains
       do k = 1, n_steps
          if (.not. allocated(io_error)) call write_path_row(files, model, records(k), io_error)
          if (.not. allocated(io_error)) call write_shape(files, model, records(k), io_error)
-         if (.not. allocated(io_error)) call write_forces(files, step_model(model, k, end_lambda), records(k), io_error)
+         if (.not. allocated(io_error)) call step_model(model, k, end_lambda, stepped, io_error)
+         if (.not. allocated(io_error)) call write_forces(files, stepped, records(k), io_error)
          if (k < n_steps .and. .not. allocated(io_error)) &
-            call write_vtk_snapshot(vtk, results, step_model(model, k, end_lambda), records(k), io_error)
+            call write_vtk_snapshot(vtk, results, stepped, records(k), io_error)
       end do
-      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, step_model(model, n_steps, end_lambda), &
-                                                            records(n_steps), io_error)
+      ! `stepped` is the model of the last step here
+      if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
       if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
@@ -311,8 +317,8 @@ contains
       n_steps = n_analysis_steps(model)
       allocate (end_lambda(n_steps), source=0.0_dp)
       k_step = 1
-      stepped = step_model(model, k_step, end_lambda)
-      call driver_start(stepped, driver, error)
+      call step_model(model, k_step, end_lambda, stepped, error)
+      if (.not. allocated(error)) call driver_start(stepped, driver, error)
       if (allocated(error)) then
          call name_analysis_step(model, k_step, error)
          return
@@ -421,11 +427,11 @@ contains
                call name_analysis_step(model, k_step, error)
                exit
             end if
-            stepped = step_model(model, k_step, end_lambda, driver%displacement, reactions)
+            call step_model(model, k_step, end_lambda, stepped, error, driver%displacement, reactions)
          else
-            stepped = step_model(model, k_step, end_lambda)
+            call step_model(model, k_step, end_lambda, stepped, error)
          end if
-         call driver_next_analysis_step(stepped, driver, error)
+         if (.not. allocated(error)) call driver_next_analysis_step(stepped, driver, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
@@ -559,7 +565,8 @@ contains
    !> The committed state of the path as a row of the result files (`stepped`: the model of the
    !> analysis step traced, uniarc_model_steps; it has the prescribed displacements of the step).
    subroutine record_state(model, stepped, driver, record, error)
-      type(model_t), intent(in) :: model, stepped
+      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: stepped   !< unchanged (inout for support_reactions' copy_model)
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
       !> the support reactions' numbering refused by the system (out of memory, error_analysis)

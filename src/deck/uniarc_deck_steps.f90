@@ -18,7 +18,7 @@ module uniarc_deck_steps
    use uniarc_strings, only: integer_to_string, same_text
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index
    use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
-   use uniarc_model_builder, only: take_loads, supports
+   use uniarc_model_builder, only: take_loads, copy_supports
    use uniarc_deck_state, only: deck_t
    implicit none
    private
@@ -76,7 +76,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: k, j
+      integer :: k, j, status
       call check_options(source, card, [character(len=5) :: 'NAME='], error)
       if (allocated(error)) return
       if (deck%in_step) then
@@ -138,7 +138,10 @@ contains
       deck%in_step = .true.
       deck%step_line = card%line
       deck%step_column = card%column
-      deck%step_start_fixed = supports(deck%model)
+      call copy_supports(deck%model, deck%step_start_fixed, status)
+      call allocation_failure(status, 'the supports at the start of analysis step '// &
+                              integer_to_string(deck%n_steps + 1), 12.0_dp*deck%model%n_nodes, error_input, error)
+      if (allocated(error)) return
       deck%step_boundary_line = 0
       deck%step_boundary_column = 0
       ! Each step has its own analysis card (none: linear static) and stop track.
@@ -172,7 +175,10 @@ contains
          call allocation_failure(status, 'the load pattern of analysis step '//integer_to_string(deck%n_steps + 1), &
                                  24.0_dp*deck%model%n_nodes, error_input, error)
          if (allocated(error)) return
-         step%fixed = supports(deck%model)
+         call copy_supports(deck%model, step%fixed, status)
+         call allocation_failure(status, 'the supports of analysis step '//integer_to_string(deck%n_steps + 1), &
+                                 12.0_dp*deck%model%n_nodes, error_input, error)
+         if (allocated(error)) return
          released = any(deck%step_start_fixed .and. .not. step%fixed)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
              size(step%loads%thermal_loads) == 0 .and. .not. allocated(step%loads%prescribed) .and. &

@@ -41,7 +41,7 @@ module uniarc_model_builder
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
    public :: set_section_weight, set_section_alpha
-   public :: remove_support, supports
+   public :: remove_support, copy_supports
 
    !> Slots of an element's distributed-load records: one fixed-direction, one pressure, one follower.
    integer, parameter :: slot_fixed = 1, slot_pressure = 2, slot_follower = 3
@@ -324,12 +324,16 @@ contains
       builder%fixed(:, node) = builder%fixed(:, node) .and. .not. held
    end subroutine remove_support
 
-   !> The DOFs held so far (dofs_per_node, n_nodes; none before the first node).
-   pure function supports(builder) result(fixed)
+   !> The DOFs held so far in `fixed` (dofs_per_node, n_nodes; none before the first node); `status`:
+   !> the stat= of its allocation (nonzero: refused, `fixed` unallocated). A subroutine, not a function:
+   !> gfortran -O2 does not check the allocation of an array function result and crashes when refused.
+   pure subroutine copy_supports(builder, fixed, status)
       type(model_builder_t), intent(in) :: builder
-      logical :: fixed(dofs_per_node, builder%n_nodes)
-      if (builder%n_nodes > 0) fixed = builder%fixed(:, 1:builder%n_nodes)
-   end function supports
+      logical, allocatable, intent(out) :: fixed(:, :)
+      integer, intent(out) :: status
+      allocate (fixed(dofs_per_node, builder%n_nodes), stat=status)
+      if (status == 0 .and. builder%n_nodes > 0) fixed = builder%fixed(:, 1:builder%n_nodes)
+   end subroutine copy_supports
 
    !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
    pure subroutine add_nodal_load(builder, node, dof, value)

@@ -16,6 +16,10 @@
 module uniarc_model_steps
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, load_pattern_t, analysis_step_t, analysis_linear, dofs_per_node, move_obstacles
+   use uniarc_model_copy, only: copy_model, copy_pattern
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_strings, only: integer_to_string
    implicit none
    private
    public :: n_analysis_steps, step_model
@@ -52,49 +56,65 @@ contains
    !> The stepped model has no steps of its own (`stepped%steps` unallocated): `model%steps` is moved
    !> out for the copy and back, so that a deck of many steps does not copy every step's patterns for
    !> every step (`model` is unchanged on return).
-   function step_model(model, k, end_lambda, start_displacement, start_reactions) result(stepped)
+   subroutine step_model(model, k, end_lambda, stepped, error, start_displacement, start_reactions)
       type(model_t), intent(inout) :: model
       integer, intent(in) :: k
       real(dp), intent(in) :: end_lambda(:)
+      type(model_t), intent(out) :: stepped
+      type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in), optional :: start_displacement(:, :), start_reactions(:, :)
-      type(model_t) :: stepped
       type(load_pattern_t), allocatable :: patterns(:)
       type(analysis_step_t), allocatable :: steps(:)
-      integer :: j
+      type(load_pattern_t) :: own
+      integer :: j, status
+      real(dp) :: bytes
       call move_alloc(model%steps, steps)
-      stepped = model
+      call copy_model(model, stepped, status, bytes)
       call move_alloc(steps, model%steps)
+      call allocation_failure(status, 'an array of the model of analysis step '//integer_to_string(k), bytes, &
+                              error_analysis, error)
+      if (allocated(error)) return
       if (.not. allocated(model%steps)) return
       stepped%analysis = model%steps(k)%analysis
-      if (allocated(model%steps(k)%fixed)) stepped%fixed = model%steps(k)%fixed
+      if (allocated(model%steps(k)%fixed)) then
+         call copy_logicals(model%steps(k)%fixed, stepped%fixed, status)
+         call allocation_failure(status, 'the supports of analysis step '//integer_to_string(k), &
+                                 4.0_dp*size(model%steps(k)%fixed), error_analysis, error)
+         if (allocated(error)) return
+      end if
       if (model%steps(k)%analysis%kind == analysis_linear) then
-         allocate (patterns(k))
-         do j = 1, k - 1
-            patterns(j) = model%steps(j)%loads
-            patterns(j)%factor = end_lambda(j)
-         end do
-         patterns(k) = model%steps(k)%loads
-         patterns(k)%factor = 1.0_dp
-         call merge_patterns(patterns, stepped)
-         call merge_prescribed(patterns, stepped)
-         ! moved obstacles: every step's translation at its factor, in the gaps' offsets (superposition)
+         allocate (patterns(k), stat=status)
          do j = 1, k
-            if (allocated(patterns(j)%moves)) call move_obstacles(stepped, patterns(j)%moves, patterns(j)%factor, &
-                                                                  own=.false.)
+            if (status == 0) call copy_pattern(model%steps(j)%loads, patterns(j), status, bytes)
+            if (j < k) patterns(j)%factor = end_lambda(j)
          end do
-         allocate (stepped%held(0))
-      else
-         stepped%nodal_load = model%steps(k)%loads%nodal_load
-         stepped%distributed_loads = model%steps(k)%loads%distributed_loads
-         stepped%thermal_loads = model%steps(k)%loads%thermal_loads
-         if (allocated(stepped%prescribed)) deallocate (stepped%prescribed)
-         if (allocated(model%steps(k)%loads%prescribed)) then
-            stepped%prescribed = model%steps(k)%loads%prescribed
-            where (.not. stepped%fixed) stepped%prescribed = 0.0_dp   ! released in the step
+         if (status == 0) patterns(k)%factor = 1.0_dp
+         if (status == 0) call merge_patterns(patterns, stepped, status, bytes)
+         if (status == 0) call merge_prescribed(patterns, stepped, status, bytes)
+         ! moved obstacles: every step's translation at its factor, in the gaps' offsets (superposition)
+         if (status == 0) then
+            do j = 1, k
+               if (allocated(patterns(j)%moves)) call move_obstacles(stepped, patterns(j)%moves, patterns(j)%factor, &
+                                                                     own=.false.)
+            end do
          end if
-         allocate (stepped%held(k - 1))
+         if (status == 0) allocate (stepped%held(0), stat=status)
+      else
+         if (allocated(stepped%prescribed)) deallocate (stepped%prescribed)
+         call copy_pattern(model%steps(k)%loads, own, status, bytes)
+         if (status == 0) then
+            call move_alloc(own%nodal_load, stepped%nodal_load)
+            call move_alloc(own%distributed_loads, stepped%distributed_loads)
+            call move_alloc(own%thermal_loads, stepped%thermal_loads)
+            if (allocated(own%prescribed)) then
+               call move_alloc(own%prescribed, stepped%prescribed)
+               where (.not. stepped%fixed) stepped%prescribed = 0.0_dp   ! released in the step
+            end if
+            allocate (stepped%held(k - 1), stat=status)
+         end if
          do j = 1, k - 1
-            stepped%held(j) = model%steps(j)%loads
+            if (status /= 0) exit
+            call copy_pattern(model%steps(j)%loads, stepped%held(j), status, bytes)
             stepped%held(j)%factor = end_lambda(j)
             if (allocated(stepped%held(j)%prescribed)) &
                where (.not. stepped%fixed) stepped%held(j)%prescribed = 0.0_dp
@@ -102,43 +122,87 @@ contains
             if (allocated(model%steps(j)%loads%moves)) &
                call move_obstacles(stepped, model%steps(j)%loads%moves, end_lambda(j), own=.false.)
          end do
-         if (allocated(model%steps(k)%loads%moves)) &
+         if (status == 0 .and. allocated(model%steps(k)%loads%moves)) &
             call move_obstacles(stepped, model%steps(k)%loads%moves, 1.0_dp, own=.true.)
-         if (k > 1 .and. present(start_displacement) .and. present(start_reactions)) &
-            call change_supports(model%steps(k - 1)%fixed, start_displacement, start_reactions, stepped)
+         if (status == 0 .and. k > 1 .and. present(start_displacement) .and. present(start_reactions)) &
+            call change_supports(model%steps(k - 1)%fixed, start_displacement, start_reactions, stepped, status, bytes)
       end if
-   end function step_model
+      call allocation_failure(status, 'a load pattern of the model of analysis step '//integer_to_string(k), bytes, &
+                              error_analysis, error)
+   end subroutine step_model
 
    !> The supports of `stepped` against those of the step before, `before`: the held pattern of the
    !> DOFs added (held where they are, `start_displacement`) and of the DOFs released (their supports'
    !> forces `start_reactions`, held), and those forces reversed in the step's own loads (step_model).
-   pure subroutine change_supports(before, start_displacement, start_reactions, stepped)
+   subroutine change_supports(before, start_displacement, start_reactions, stepped, status, bytes)
       logical, intent(in) :: before(:, :)
       real(dp), intent(in) :: start_displacement(:, :), start_reactions(:, :)
       type(model_t), intent(inout) :: stepped
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
       type(load_pattern_t) :: change
-      logical :: added(dofs_per_node, stepped%n_nodes), released(dofs_per_node, stepped%n_nodes)
+      type(load_pattern_t), allocatable :: held(:)
+      logical, allocatable :: added(:, :), released(:, :)
+      integer :: j
+      bytes = 4.0_dp*size(before)
+      allocate (added(dofs_per_node, stepped%n_nodes), released(dofs_per_node, stepped%n_nodes), stat=status)
+      if (status /= 0) return
       added = stepped%fixed .and. .not. before
       released = before .and. .not. stepped%fixed
       if (.not. (any(added) .or. any(released))) return
       change%factor = 1.0_dp
-      allocate (change%nodal_load(dofs_per_node, stepped%n_nodes), source=0.0_dp)
-      allocate (change%distributed_loads(0), change%thermal_loads(0))
+      bytes = 8.0_dp*size(before)
+      allocate (change%nodal_load(dofs_per_node, stepped%n_nodes), change%distributed_loads(0), &
+                change%thermal_loads(0), stat=status)
+      if (status /= 0) return
+      change%nodal_load = 0.0_dp
       where (released) change%nodal_load = start_reactions
       stepped%nodal_load = stepped%nodal_load - change%nodal_load
       if (any(added)) then
-         allocate (change%prescribed(dofs_per_node, stepped%n_nodes), source=0.0_dp)
+         allocate (change%prescribed(dofs_per_node, stepped%n_nodes), stat=status)
+         if (status /= 0) return
+         change%prescribed = 0.0_dp
          where (added) change%prescribed = start_displacement
       end if
-      stepped%held = [stepped%held, change]
+      ! stepped%held extended by `change`, the patterns moved, not copied
+      bytes = real(storage_size(change)/8, dp)*(size(stepped%held) + 1)
+      allocate (held(size(stepped%held) + 1), stat=status)
+      if (status /= 0) return
+      do j = 1, size(stepped%held)
+         call move_pattern(stepped%held(j), held(j))
+      end do
+      call move_pattern(change, held(size(held)))
+      call move_alloc(held, stepped%held)
    end subroutine change_supports
+
+   !> Pattern `from` moved into `to` (its arrays handed over, not copied).
+   subroutine move_pattern(from, to)
+      type(load_pattern_t), intent(inout) :: from, to
+      to%factor = from%factor
+      call move_alloc(from%nodal_load, to%nodal_load)
+      call move_alloc(from%distributed_loads, to%distributed_loads)
+      call move_alloc(from%thermal_loads, to%thermal_loads)
+      call move_alloc(from%prescribed, to%prescribed)
+   end subroutine move_pattern
+
+   !> `dst` a copy of `src` (status: the stat= of its allocation).
+   subroutine copy_logicals(src, dst, status)
+      logical, intent(in) :: src(:, :)
+      logical, allocatable, intent(inout) :: dst(:, :)
+      integer, intent(out) :: status
+      if (allocated(dst)) deallocate (dst)
+      allocate (dst(size(src, 1), size(src, 2)), stat=status)
+      if (status == 0) dst = src
+   end subroutine copy_logicals
 
    !> The loads of `patterns`, each times its factor, as the reference loads of `stepped`: nodal loads
    !> summed, distributed loads and temperature changes listed one after another (the assembly sums
    !> the records of one element).
-   subroutine merge_patterns(patterns, stepped)
+   subroutine merge_patterns(patterns, stepped, status, bytes)
       type(load_pattern_t), intent(in) :: patterns(:)
       type(model_t), intent(inout) :: stepped
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
       integer :: j, i, n_dloads, n_thermal
       stepped%nodal_load = 0.0_dp*stepped%nodal_load
       n_dloads = 0
@@ -150,7 +214,10 @@ contains
       end do
       if (allocated(stepped%distributed_loads)) deallocate (stepped%distributed_loads)
       if (allocated(stepped%thermal_loads)) deallocate (stepped%thermal_loads)
-      allocate (stepped%distributed_loads(n_dloads), stepped%thermal_loads(n_thermal))
+      bytes = real(storage_size(patterns(1)%distributed_loads)/8, dp)*n_dloads + &
+              real(storage_size(patterns(1)%thermal_loads)/8, dp)*n_thermal
+      allocate (stepped%distributed_loads(n_dloads), stepped%thermal_loads(n_thermal), stat=status)
+      if (status /= 0) return
       n_dloads = 0
       n_thermal = 0
       do j = 1, size(patterns)
@@ -174,14 +241,21 @@ contains
 
    !> The prescribed displacements of the patterns, each times its factor, added to those of `stepped`
    !> (a linear static step: the settlements of every step so far, with those given before the steps).
-   pure subroutine merge_prescribed(patterns, stepped)
+   pure subroutine merge_prescribed(patterns, stepped, status, bytes)
       type(load_pattern_t), intent(in) :: patterns(:)
       type(model_t), intent(inout) :: stepped
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
       integer :: j
+      status = 0
       do j = 1, size(patterns)
          if (.not. allocated(patterns(j)%prescribed)) cycle
-         if (.not. allocated(stepped%prescribed)) allocate (stepped%prescribed(dofs_per_node, stepped%n_nodes), &
-                                                            source=0.0_dp)
+         if (.not. allocated(stepped%prescribed)) then
+            bytes = 8.0_dp*dofs_per_node*stepped%n_nodes
+            allocate (stepped%prescribed(dofs_per_node, stepped%n_nodes), stat=status)
+            if (status /= 0) return
+            stepped%prescribed = 0.0_dp
+         end if
          stepped%prescribed = stepped%prescribed + patterns(j)%factor*patterns(j)%prescribed
       end do
    end subroutine merge_prescribed

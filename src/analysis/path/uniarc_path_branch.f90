@@ -22,6 +22,7 @@ module uniarc_path_branch
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
                                 masked_norm, nodal_displacements, accept_trial
    use uniarc_path_newton, only: attempt_step
+   use uniarc_path_state_copy, only: copy_state
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    implicit none
@@ -83,7 +84,11 @@ contains
       ! The step starts from the state at the bifurcation. Its tangent K⁻¹R is not used: K_T is
       ! singular there to the located precision, and K⁻¹R is dominated by the mode (noise / μ). The
       ! primary path's direction is the chord of the step that passed the bifurcation.
-      critical = state
+      call copy_state(state, critical, 'the state at the bifurcation', error)
+      if (allocated(error)) then
+         call move_alloc(system, state%system)
+         return
+      end if
       critical%u = state%bifurcation%u
       critical%active = state%bifurcation%active
       critical%lambda = state%bifurcation%lambda

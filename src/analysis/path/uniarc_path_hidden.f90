@@ -11,6 +11,7 @@ module uniarc_path_hidden
    use uniarc_model, only: model_t
    use uniarc_path_state, only: path_state_t, path_system_t, masked_dot, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
+   use uniarc_error, only: error_t
    use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
@@ -39,12 +40,13 @@ contains
    !> the path's tangent at `after` makes more than 25° with the chord. `system` holds after's
    !> committed tangent on entry and on return. A half step that does not converge proves nothing
    !> (false).
-   subroutine find_hidden_pair(model, before, after, system, length, hides)
+   subroutine find_hidden_pair(model, before, after, system, length, hides, error)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: before, after
+      type(path_state_t), intent(inout) :: before, after   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
       logical, intent(out) :: hides
+      type(error_t), allocatable, intent(out) :: error
       type(path_state_t) :: half
       real(dp), allocatable :: chord(:)
       real(dp) :: size_chord, size_tangent, first, second
@@ -83,7 +85,8 @@ contains
          ! bifurcation it lies between the ends, with their slope.
          if (abs(before%point%neg_pivots - after%point%neg_pivots) /= 1) return
          if (before%point%liftoff .or. after%point%liftoff) return
-         call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
+         call re_solve_step(model, before, system, 0.5_dp*length, half, ok, error)
+         if (allocated(error)) return
          if (ok) then
             first = masked_norm(after%map, half%u - before%u)
             second = masked_norm(after%map, after%u - half%u)
@@ -91,7 +94,7 @@ contains
                     (half%lambda - before%lambda)*(after%lambda - half%lambda) < 0.0_dp .or. &
                     second > halves_ratio*first .or. first > halves_ratio*second
          end if
-         call restore_tangent(model, after, system)
+         call restore_tangent(model, after, system, error)
          return
       end if
       ! A degenerate landing tangent (round-off of a load the contacts carry) has no direction.
@@ -101,14 +104,15 @@ contains
       size_tangent = masked_norm(after%map, after%tangent_displacement)
       if (.not. (size_chord > 0.0_dp .and. size_tangent > 0.0_dp)) return
       if (abs(masked_dot(after%map, chord, after%tangent_displacement)) >= turning_cosine*size_chord*size_tangent) return
-      call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
+      call re_solve_step(model, before, system, 0.5_dp*length, half, ok, error)
+      if (allocated(error)) return
       if (ok) then
          first = masked_norm(after%map, half%u - before%u)
          second = masked_norm(after%map, after%u - half%u)
          hides = half%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp .or. &
                  half%point%neg_pivots /= after%point%neg_pivots .or. second > halves_ratio*first
       end if
-      call restore_tangent(model, after, system)
+      call restore_tangent(model, after, system, error)
    end subroutine find_hidden_pair
 
 end module uniarc_path_hidden

@@ -18,6 +18,9 @@ module uniarc_path_locate
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
                                 bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
+   use uniarc_path_state_copy, only: copy_state, move_state, copy_point_record
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_critical_points, only: critical_event_t, find_critical_events
    implicit none
    private
@@ -59,7 +62,8 @@ contains
    !> On return after%point%limit_fraction/limit_lambda or bifurcation_fraction/bifurcation_lambda
    !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
    !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
-   !> return (re-assembled if a probe used it). No errors: a failure leaves the fields at −1.
+   !> return (re-assembled if a probe used it). A failure leaves the fields at −1; the only errors are
+   !> out of memory (error_analysis, flagged out_of_memory: the run ends).
    !> A located bifurcation also sets after%bifurcation: the converged state at the located point (one
    !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
    !> magnitude) and its least eigenvector,
@@ -71,9 +75,11 @@ contains
    !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
    !> tolerance (the point is interpolated across the bracket so far; the caller may cut the step and
    !> locate it again).
-   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, switching)
+   !> Errors: out of memory in a re-solution (error_analysis; the run ends).
+   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, error, &
+                                     switching)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: before
+      type(path_state_t), intent(inout) :: before   !< unchanged (inout for copy_state)
       type(path_state_t), intent(inout) :: after
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
@@ -82,13 +88,14 @@ contains
       logical, intent(out) :: unresolved
       !> the path switches branches at the bifurcation if the step passed one: a finer bracket
       logical, intent(in), optional :: switching
+      type(error_t), allocatable, intent(out) :: error
       real(dp) :: tolerance
       integer :: probes
       type(path_point_t) :: pa, pb, probe
       type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
       real(dp) :: ha, hb, h, fa, fb, fp, width, t
-      integer :: k, same_side, last_side, side
+      integer :: k, same_side, last_side, side, status
       logical :: limit, bifurcation, probed, converged
       logical, allocatable :: set_a(:), set_b(:)
       after%point%limit_fraction = -1.0_dp
@@ -111,15 +118,17 @@ contains
       if (.not. (length > 0.0_dp)) return
       ha = 0.0_dp
       hb = length
-      pa = before%point
-      pb = after%point
+      call copy_point_record(before%point, pa, 'the point at the start of the step', error)
+      if (.not. allocated(error)) call copy_point_record(after%point, pb, 'the point at the end of the step', error)
+      if (allocated(error)) return
       fa = indicator(pa)
       fb = indicator(pb)
       set_a = before%active
       set_b = after%active
       if (bifurcation) then
-         state_a = before
-         state_b = after
+         call copy_state(before, state_a, 'the state at the start of the step', error)
+         if (.not. allocated(error)) call copy_state(after, state_b, 'the state at the end of the step', error)
+         if (allocated(error)) return
       end if
       probed = .false.
       last_side = 0
@@ -136,6 +145,7 @@ contains
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
          call re_solve(h, probe, probe_state, converged)
+         if (allocated(error)) return
          if (.not. converged) then
             ! The bracket cannot be narrowed: the interpolation across it may place the point far
             ! from the path's (ex. 3 as a whole arch: a limit_min at 130.81 across a step whose
@@ -150,18 +160,18 @@ contains
          fp = indicator(probe)
          if (passed(probe)) then
             hb = h
-            pb = probe
+            call move_point(probe, pb)
             fb = fp
             set_b = probe_state%active
             side = 1
-            if (bifurcation) state_b = probe_state
+            if (bifurcation) call move_state(probe_state, state_b)
          else
             ha = h
-            pa = probe
+            call move_point(probe, pa)
             fa = fp
             set_a = probe_state%active
             side = -1
-            if (bifurcation) state_a = probe_state
+            if (bifurcation) call move_state(probe_state, state_a)
          end if
          if (side == last_side) then
             same_side = same_side + 1
@@ -233,6 +243,7 @@ contains
          ! The state at the located point itself, re-solved, for its mode and branch switching
          ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
          call re_solve(ha + t*(hb - ha), probe, probe_state, converged)
+         if (allocated(error)) return
          if (converged) then
             probed = .true.
             call keep_bifurcation(probe_state)
@@ -243,7 +254,8 @@ contains
          end if
       end if
       ! The system holds the last probe's tangent: the committed one again for the next step.
-      if (probed) call restore_tangent(model, after, system)
+      if (allocated(error)) return
+      if (probed) call restore_tangent(model, after, system, error)
 
    contains
 
@@ -282,21 +294,25 @@ contains
       end function passed
 
       !> The bifurcation's nearest converged state `near` and its mode into after%bifurcation.
+      !> (`near`'s arrays are moved, not copied: it is not used after.)
       subroutine keep_bifurcation(near)
-         type(path_state_t), intent(in) :: near
-         allocate (after%bifurcation)
-         after%bifurcation%u = near%u
-         after%bifurcation%active = near%active
+         type(path_state_t), intent(inout) :: near
+         allocate (after%bifurcation, stat=status)
+         call allocation_failure(status, 'the state at the bifurcation', &
+                                 real(storage_size(after%bifurcation)/8, dp), error_analysis, error)
+         if (allocated(error)) return
+         call move_alloc(near%u, after%bifurcation%u)
+         call move_alloc(near%active, after%bifurcation%active)
          after%bifurcation%lambda = near%lambda
          after%bifurcation%located_lambda = after%point%bifurcation_lambda
          after%bifurcation%position = before%point%step + after%point%bifurcation_fraction
          after%bifurcation%s = near%point%s
          after%bifurcation%liftoff = near%point%liftoff
-         if (allocated(near%joint_plastic)) after%bifurcation%joint_plastic = near%joint_plastic
+         if (allocated(near%joint_plastic)) call move_alloc(near%joint_plastic, after%bifurcation%joint_plastic)
          if (near%point%liftoff .and. allocated(near%liftoff_mode)) then
-            after%bifurcation%mode = near%liftoff_mode
+            call move_alloc(near%liftoff_mode, after%bifurcation%mode)
          else if (allocated(near%eigenvector)) then
-            after%bifurcation%mode = near%eigenvector
+            call move_alloc(near%eigenvector, after%bifurcation%mode)
          else
             deallocate (after%bifurcation)
          end if
@@ -308,10 +324,26 @@ contains
          type(path_point_t), intent(out) :: point
          type(path_state_t), intent(out) :: state
          logical, intent(out) :: ok
-         call re_solve_step(model, before, system, step_h, state, ok)
-         if (ok) point = state%point
+         call re_solve_step(model, before, system, step_h, state, ok, error)
+         if (ok) call copy_point_record(state%point, point, 'the point of a probe of the step', error)
+         if (allocated(error)) ok = .false.
       end subroutine re_solve
 
    end subroutine locate_critical_points
+
+   !> Point record `from` moved into `to` (arrays handed over; `from` is overwritten by the next probe).
+   subroutine move_point(from, to)
+      type(path_point_t), intent(inout) :: from, to
+      type(path_point_t) :: aside
+      call move_alloc(from%rate, aside%rate)
+      call move_alloc(from%in_contact, aside%in_contact)
+      call move_alloc(from%contact_value, aside%contact_value)
+      call move_alloc(from%contact_rate, aside%contact_rate)
+      to = from
+      call move_alloc(aside%rate, to%rate)
+      call move_alloc(aside%in_contact, to%in_contact)
+      call move_alloc(aside%contact_value, to%contact_value)
+      call move_alloc(aside%contact_rate, to%contact_rate)
+   end subroutine move_point
 
 end module uniarc_path_locate
