@@ -14,11 +14,12 @@
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, control_displacement
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
                                 bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_critical_points, only: critical_event_t, find_critical_events
+   use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
    public :: locate_critical_points
@@ -214,7 +215,8 @@ contains
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
-      else if (hb - ha <= tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
+      else if (hb - ha <= tolerance*length .and. .not. in_lambda_alone() .and. &
+               load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
                gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
          ! The ends of the final bracket are far apart for their distance in h: the re-solved states
@@ -261,15 +263,34 @@ contains
       !> Whether the reference load has a component along the least eigenvector of `near`'s tangent
       !> above round-off (|φᵀR| > mode_load_cosine |φ||R|): the critical point there is a limit
       !> point (φᵀR ≠ 0), not a bifurcation (φᵀR = 0), docs/theory.md §2.2.
+      !> |R| is the larger of R's norm on the free DOFs and the force scale of the step's loads per
+      !> unit λ (state%load_norm, which counts the element loads' equivalent forces on held DOFs too):
+      !> a heated bar whose supports take every thermal force (steps_bed_heated_bar.inp) has R of
+      !> round-off on the free DOFs (|R| 8.1e-14 against 136 = √2 EA α ΔT, the two ends' forces), and
+      !> the cosine of φ with that round-off vector is 0.94 (it rejected the step past the bar's
+      !> bifurcation as `left_branch`, and the cut step's round-off tangent turned the path back onto
+      !> the buckled branch at 2.0846); against the loads' own size |φᵀR| is 5.6e-16 |φ||R|.
       logical function load_sees_mode(near)
          type(path_state_t), intent(in) :: near
-         real(dp) :: size_mode, size_load
+         real(dp) :: size_mode, size_load, unit_load
          load_sees_mode = .false.
          if (.not. (allocated(near%eigenvector) .and. allocated(near%reference))) return
          size_mode = norm2(near%eigenvector)
-         size_load = norm2(near%reference)
+         unit_load = near%load_norm
+         if (model%analysis%control /= control_displacement .and. abs(model%analysis%first_increment) > 0.0_dp) &
+            unit_load = unit_load/abs(model%analysis%first_increment)
+         size_load = max(norm2(near%reference), unit_load)
          load_sees_mode = abs(dot_product(near%eigenvector, near%reference)) > mode_load_cosine*size_mode*size_load
       end function load_sees_mode
+
+      !> Whether the step went in λ alone (its displacement round-off: a load step where the supports
+      !> or the contacts take the whole reference load, docs/theory.md §2.7): its chord ||Δu|| is
+      !> round-off, no measure of the distance between the bracket's ends.
+      logical function in_lambda_alone()
+         in_lambda_alone = .true.
+         if (.not. (abs(after%lambda - before%lambda) > 0.0_dp)) return
+         in_lambda_alone = degenerate_tangent(before, (after%u - before%u)/abs(after%lambda - before%lambda))
+      end function in_lambda_alone
 
       !> Whether the point lies beyond the critical point (on the side of `after`).
       pure logical function passed(point)
