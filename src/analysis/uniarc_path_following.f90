@@ -561,8 +561,14 @@ contains
                end if
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
                ! A critical point that the re-solutions could not bracket is located again in a
-               ! shorter step (while the step may be cut: else the interpolation is kept).
-               if (unresolved .and. 0.5_dp*length >= options%min_increment*state%first_length) &
+               ! shorter step (while the step may be cut: else the interpolation is kept). Not a step
+               ! past a corner: the locator re-solves from the step's start along the old piece, whose
+               ! every length failed (what made it a corner), so no shorter step is bracketed either;
+               ! the sign change of dλ/ds is at the corner, the step's start, a contact_corner row
+               ! (ex. 2 whole arch on its bed, SWITCH=1: the corner at 117.768 was cut for this and
+               ! the run stopped there, docs/theory.md §2.12).
+               if (unresolved .and. .not. corner_passed .and. &
+                   0.5_dp*length >= options%min_increment*state%first_length) &
                   jump = 'the critical point it passed could not be bracketed by re-solving it'
             end if
             if (len(jump) == 0) then

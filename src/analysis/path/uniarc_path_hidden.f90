@@ -66,7 +66,27 @@ contains
          if (allocated(before%yielding) .and. allocated(after%yielding)) then
             if (any(before%yielding .neqv. after%yielding)) return
          end if
+         ! The state half-way tells the two apart. The second point changes the count between the
+         ! ends, or the step left its branch: the half-way state has another count or the halves are
+         ! unequal (Walker's arch at 1e-4: count 0 half-way, 1 at both ends, λ −23.19 between −35.699
+         ! and −35.714). But a symmetric structure's bifurcation point passed along its bifurcated
+         ! branch, λ(−a) = λ(a) with a the mode's amplitude, is a turning point of λ with the same
+         ! count on both sides (mirror images share their spectrum): the limit and the bifurcation
+         ! coincide by symmetry and no cut separates them. Its halves are alike and the half-way
+         ! state has the ends' count (ex. 2 whole arch on its bed, SWITCH=1, at 146.969 and where
+         ! the branch returns to 118.2746: halves 0.86 to 1.16 of each other, counts 0, 0, 0; rejected,
+         ! every cut down to 2.5e-3 of the first step turned the slope again and the shorter ones
+         ! landed on the primary path, until the run stopped). A half step that does not converge
+         ! proves nothing: the step is cut.
+         call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
          hides = .true.
+         if (ok) then
+            first = masked_norm(after%map, half%u - before%u)
+            second = masked_norm(after%map, after%u - half%u)
+            hides = half%point%neg_pivots /= after%point%neg_pivots .or. &
+                    second > halves_ratio*first .or. first > halves_ratio*second
+         end if
+         call restore_tangent(model, after, system)
          return
       end if
       ! λ went against the slope of both ends: with no limit point between them λ is monotone along

@@ -14,7 +14,7 @@
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, control_displacement
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
                                 bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
@@ -22,6 +22,7 @@ module uniarc_path_locate
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
    use uniarc_critical_points, only: critical_event_t, find_critical_events
+   use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
    public :: locate_critical_points
@@ -209,13 +210,21 @@ contains
          ! step's change of dλ/ds happens across that bracket (on a smooth piece the change across it
          ! is its width's share, 1e-3; arch_pressure_flat where the crown touches: -0.067 to +3.2
          ! across 2.6e-3 of the step, 108 % of the step's change). A corner of the path, where λ turns
-         ! without a smooth extremum — a contact event, not a limit point (docs/theory.md §2.12). λ
-         ! there is that of the bracket's end on the piece that leads to it.
+         ! without a smooth extremum — a contact event, not a limit point (docs/theory.md §2.12).
          if (any(set_a .neqv. set_b) .and. abs(fb - fa) >= &
              0.5_dp*abs(after%point%dlambda_ds - before%point%dlambda_ds)) then
             after%point%limit_by_contact = .true.
             after%point%limit_fraction = min(1.0_dp, max(0.0_dp, ha/length))
             after%point%limit_lambda = pa%lambda
+            ! Each piece is smooth up to the corner: λ there is where the two pieces' tangent lines
+            ! meet, λ_a + (dλ/ds)_a (s − s_a) = λ_b + (dλ/ds)_b (s − s_b), with s between s_a and s_b
+            ! (error O(curvature × bracket²) against O(slope × bracket) for pa's own λ: ex. 3 as a
+            ! whole arch, arch_above_full.inp, maxima where contacts close 1.1e-4 to 3.7e-4 below a
+            ! trace with steps 25 times smaller at pa, within 2e-7 of it here). Else pa's λ.
+            if (pb%s > pa%s .and. fa*fb < 0.0_dp) then
+               t = (pb%lambda - pa%lambda - fb*(pb%s - pa%s))/((fa - fb)*(pb%s - pa%s))
+               if (t >= 0.0_dp .and. t <= 1.0_dp) after%point%limit_lambda = pa%lambda + fa*t*(pb%s - pa%s)
+            end if
          end if
       else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
          ! The count changes where the working set does (within 1e-3 of the step): a contact closing
@@ -224,7 +233,8 @@ contains
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2).
          after%point%stability_by_contact = .true.
-      else if (hb - ha <= tolerance*length .and. load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
+      else if (hb - ha <= tolerance*length .and. .not. in_lambda_alone() .and. &
+               load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
                gap_ratio*(hb - ha)*masked_norm(after%map, after%u - before%u)) then
          ! The ends of the final bracket are far apart for their distance in h: the re-solved states
@@ -273,15 +283,34 @@ contains
       !> Whether the reference load has a component along the least eigenvector of `near`'s tangent
       !> above round-off (|φᵀR| > mode_load_cosine |φ||R|): the critical point there is a limit
       !> point (φᵀR ≠ 0), not a bifurcation (φᵀR = 0), docs/theory.md §2.2.
+      !> |R| is the larger of R's norm on the free DOFs and the force scale of the step's loads per
+      !> unit λ (state%load_norm, which counts the element loads' equivalent forces on held DOFs too):
+      !> a heated bar whose supports take every thermal force (steps_bed_heated_bar.inp) has R of
+      !> round-off on the free DOFs (|R| 8.1e-14 against 136 = √2 EA α ΔT, the two ends' forces), and
+      !> the cosine of φ with that round-off vector is 0.94 (it rejected the step past the bar's
+      !> bifurcation as `left_branch`, and the cut step's round-off tangent turned the path back onto
+      !> the buckled branch at 2.0846); against the loads' own size |φᵀR| is 5.6e-16 |φ||R|.
       logical function load_sees_mode(near)
          type(path_state_t), intent(in) :: near
-         real(dp) :: size_mode, size_load
+         real(dp) :: size_mode, size_load, unit_load
          load_sees_mode = .false.
          if (.not. (allocated(near%eigenvector) .and. allocated(near%reference))) return
          size_mode = norm2(near%eigenvector)
-         size_load = norm2(near%reference)
+         unit_load = near%load_norm
+         if (model%analysis%control /= control_displacement .and. abs(model%analysis%first_increment) > 0.0_dp) &
+            unit_load = unit_load/abs(model%analysis%first_increment)
+         size_load = max(norm2(near%reference), unit_load)
          load_sees_mode = abs(dot_product(near%eigenvector, near%reference)) > mode_load_cosine*size_mode*size_load
       end function load_sees_mode
+
+      !> Whether the step went in λ alone (its displacement round-off: a load step where the supports
+      !> or the contacts take the whole reference load, docs/theory.md §2.7): its chord ||Δu|| is
+      !> round-off, no measure of the distance between the bracket's ends.
+      logical function in_lambda_alone()
+         in_lambda_alone = .true.
+         if (.not. (abs(after%lambda - before%lambda) > 0.0_dp)) return
+         in_lambda_alone = degenerate_tangent(before, (after%u - before%u)/abs(after%lambda - before%lambda))
+      end function in_lambda_alone
 
       !> Whether the point lies beyond the critical point (on the side of `after`).
       pure logical function passed(point)
