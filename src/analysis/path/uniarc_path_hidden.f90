@@ -78,7 +78,8 @@ contains
          ! every cut down to 2.5e-3 of the first step turned the slope again and the shorter ones
          ! landed on the primary path, until the run stopped). A half step that does not converge
          ! proves nothing: the step is cut.
-         call re_solve_step(model, before, system, 0.5_dp*length, half, ok)
+         call re_solve_step(model, before, system, 0.5_dp*length, half, ok, error)
+         if (allocated(error)) return
          hides = .true.
          if (ok) then
             first = masked_norm(after%map, half%u - before%u)
@@ -86,7 +87,7 @@ contains
             hides = half%point%neg_pivots /= after%point%neg_pivots .or. &
                     second > halves_ratio*first .or. first > halves_ratio*second
          end if
-         call restore_tangent(model, after, system)
+         call restore_tangent(model, after, system, error)
          return
       end if
       ! λ went against the slope of both ends: with no limit point between them λ is monotone along
