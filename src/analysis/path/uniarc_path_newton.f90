@@ -20,7 +20,7 @@ module uniarc_path_newton
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, fail_attempt, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
-                                has_contacts, new_linearization, candidate_values
+                                has_contacts, new_linearization, candidate_values, floating_touched
    use uniarc_contact, only: toggle_contacts, bed_values
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
                                      degenerate_tangent
@@ -529,6 +529,12 @@ contains
                   trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
                   trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
                end if
+               ! A floating structure meets its first contact: the contact pushes it along its free
+               ! rigid motion with no force, a slide the arc length cannot measure (the tangent of
+               ! the set is that slide over the tilt of the contact's normal, and its sign decides
+               ! the direction): the step is taken in λ, a load step (docs/theory.md §2.8).
+               if (.not. trial%load_step .and. options%control == control_arclength) &
+                  trial%load_step = floating_touched(model, state, trial%active, lin%nodal)
             end if
          end if
          trial%increment = trial%dlambda*ut
