@@ -159,6 +159,9 @@ module uniarc_path_state
       !> the attempt is a load step (Δλ fixed, no arc-length constraint): the reference load moves
       !> no displacement with its working set (docs/theory.md §2.7)
       logical :: load_step = .false.
+      !> the load step is that of a floating structure meeting its first contact (docs/theory.md §2.8),
+      !> not of a degenerate tangent: it need not land where the contacts carry the load
+      logical :: floating_slide = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       logical, allocatable :: yielding(:)       !< (candidates) those of the set at their bearing limit
       integer :: yield_changes = 0              !< exchanges of the yield pairs within Newton
