@@ -489,6 +489,9 @@ contains
             ! A load step's displacement is round-off where the contacts carry the load: no direction
             ! for the next step's angle tests.
             if (degenerate_step(before, trial)) state%last_increment = 0.0_dp
+            ! Nor is the slide of a floating structure onto its first contact (docs/theory.md §2.8) a
+            ! direction of the path: a rigid motion at no force, as long as its contact's tilt allows.
+            if (trial%floating_slide) state%last_increment = 0.0_dp
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)
@@ -517,9 +520,10 @@ contains
             ! direction to compare with.)
             landing = state%tangent_displacement
             if (degenerate_tangent(state, landing)) landing = 0.0_dp
-            ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either.
+            ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either; nor
+            ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
-            if (.not. degenerate_step(before, trial)) then
+            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then

@@ -20,7 +20,7 @@ module uniarc_path_newton
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, fail_attempt, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
-                                has_contacts, new_linearization, candidate_values
+                                has_contacts, new_linearization, candidate_values, floating_touched
    use uniarc_contact, only: toggle_contacts, bed_values
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
                                      degenerate_tangent
@@ -178,6 +178,7 @@ contains
       trial%iterations = 0
       trial%dlambda = 0.0_dp
       trial%load_step = .false.
+      trial%floating_slide = .false.
       contacts = has_contacts(state)
       lin = new_linearization(model, state%map)
       allocate (new_active(size(trial%active)))
@@ -413,7 +414,9 @@ contains
    !> state (the arc-length LCP found a degenerate frame or no solution, docs/theory.md §2.7) must end
    !> where the contacts carry the whole reference load, K_S⁻¹R without displacement; one that ends
    !> elsewhere took another parametrisation of the path than the arc length asked for, and the attempt
-   !> is cut instead. Every other attempt may (true). `system%tangent` holds K_S at the state of `lin`,
+   !> is cut instead. Every other attempt may (true), and so may the load step of a floating structure
+   !> meeting its first contact (trial%floating_slide, docs/theory.md §2.8): it is taken in λ because the
+   !> slide along its free motion has no length for the arc length to measure, wherever it lands. `system%tangent` holds K_S at the state of `lin`,
    !> unfactorised, and is left so (a copy is factorised).
    logical function lands_degenerate(model, state, system, lin, trial) result(ok)
       type(model_t), intent(in) :: model
@@ -426,6 +429,7 @@ contains
       real(dp), allocatable :: response(:, :)
       ok = .true.
       if (.not. trial%load_step .or. model%analysis%control /= control_arclength) return
+      if (trial%floating_slide) return
       if (degenerate_tangent(state, state%tangent_displacement)) return
       ok = .false.
       call band_copy(system%tangent, factors)
@@ -554,6 +558,14 @@ contains
                if (.not. trial%load_step) then
                   trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
                   trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
+               end if
+               ! A floating structure meets its first contact: the contact pushes it along its free
+               ! rigid motion with no force, a slide the arc length cannot measure (the tangent of
+               ! the set is that slide over the tilt of the contact's normal, and its sign decides
+               ! the direction): the step is taken in λ, a load step (docs/theory.md §2.8).
+               if (.not. trial%load_step .and. options%control == control_arclength) then
+                  trial%floating_slide = floating_touched(model, state, trial%active, lin%nodal)
+                  trial%load_step = trial%floating_slide
                end if
             end if
          end if

@@ -28,7 +28,7 @@ module uniarc_path_state
    public :: commit_joint_state, yielded_joints
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
              factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
-   public :: hold_floating
+   public :: hold_floating, floating_touched
    public :: commit_plastic, accept_trial
    public :: fail_attempt
 
@@ -159,6 +159,9 @@ module uniarc_path_state
       !> the attempt is a load step (Δλ fixed, no arc-length constraint): the reference load moves
       !> no displacement with its working set (docs/theory.md §2.7)
       logical :: load_step = .false.
+      !> the load step is that of a floating structure meeting its first contact (docs/theory.md §2.8),
+      !> not of a degenerate tangent: it need not land where the contacts carry the load
+      logical :: floating_slide = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       logical, allocatable :: yielding(:)       !< (candidates) those of the set at their bearing limit
       integer :: yield_changes = 0              !< exchanges of the yield pairs within Newton
@@ -308,34 +311,66 @@ contains
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       type(band_matrix_t), intent(inout) :: tangent
-      real(dp) :: g, gradient(2), hessian(2, 2), along, size_v, diagonal
-      integer :: i, c, node, k, j
-      logical :: held
+      real(dp) :: diagonal
+      integer :: i, j
       do i = 1, size(state%floating_equation)
-         held = .false.
-         size_v = maxval(abs(state%floating_motion(:, i)))
-         do c = 1, size(active)
-            if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
-            node = model%contacts(c)%node
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
-            along = 0.0_dp
-            do k = 1, 2
-               if (state%map%equation(k, node) > 0) along = along + &
-                  gradient(k)*state%floating_motion(state%map%equation(k, node), i)
-            end do
-            ! Held by a contact whose normal sees the motion (above round-off of a direction).
-            if (abs(along) > floating_tolerance*norm2(gradient)*size_v) then
-               held = .true.
-               exit
-            end if
-         end do
-         if (held) cycle
+         if (sees_floating(model, state, active, nodal, i)) cycle
          j = state%floating_equation(i)
          diagonal = abs(band_get(tangent, j, j))
          if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
          call band_add(tangent, j, j, diagonal)
       end do
    end subroutine hold_floating
+
+   !> A structure held only by its contacts that floats free at the committed state (no contact in
+   !> state%active) is touched by the working set `active` (nodal: the committed displacements): a
+   !> contact of the set sees one of its free rigid motions v. The closing contact pushes it along v
+   !> with no force (docs/theory.md §2.8), which the arc length cannot measure: the step is a load step.
+   logical function floating_touched(model, state, active, nodal) result(touched)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: active(:)
+      real(dp), intent(in) :: nodal(:, :)
+      integer :: i, c
+      touched = .false.
+      if (.not. allocated(state%floating_equation)) return
+      do c = 1, size(state%active)
+         if (state%active(c) .and. candidate_live(state%map, c)) return
+      end do
+      do i = 1, size(state%floating_equation)
+         if (sees_floating(model, state, active, nodal, i)) touched = .true.
+      end do
+   end function floating_touched
+
+   !> Whether a contact of the working set `active` sees the free rigid motion i (at nodal displacements
+   !> `nodal`): its normal moves the gap at first order along the motion, |a_cᵀv| above
+   !> floating_tolerance × |a_c| max|v|.
+   logical function sees_floating(model, state, active, nodal, i) result(sees)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: active(:)
+      real(dp), intent(in) :: nodal(:, :)
+      integer, intent(in) :: i
+      real(dp) :: g, gradient(2), hessian(2, 2), along, size_v
+      integer :: c, node, k
+      sees = .false.
+      size_v = maxval(abs(state%floating_motion(:, i)))
+      do c = 1, size(active)
+         if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         along = 0.0_dp
+         do k = 1, 2
+            if (state%map%equation(k, node) > 0) along = along + &
+               gradient(k)*state%floating_motion(state%map%equation(k, node), i)
+         end do
+         ! Held by a contact whose normal sees the motion (above round-off of a direction).
+         if (abs(along) > floating_tolerance*norm2(gradient)*size_v) then
+            sees = .true.
+            return
+         end if
+      end do
+   end function sees_floating
 
    !> Commit the joints' history at the state's unknowns `state%u` (the converged state of a step,
    !> just committed): the plastic rotations of the return mapping from the committed ones
