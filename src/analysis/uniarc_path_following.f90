@@ -224,6 +224,53 @@ contains
       end associate
    end subroutine size_first_step
 
+   !> The step at which the path passed a corner at the committed state of `state` before (the same
+   !> displacements to 1e-9 of their size: a loop comes back to the same converged state up to the
+   !> round-off of its corrections, 1e-11 measured on pipeline_hump_corner_200; distinct corners of
+   !> a path differ in their displacements by far more), or 0.
+   integer function corner_revisited(state) result(step)
+      type(path_state_t), intent(in) :: state
+      integer :: k
+      real(dp) :: size_u
+      step = 0
+      if (.not. allocated(state%corner_step)) return
+      size_u = norm2(state%u)
+      do k = 1, size(state%corner_step)
+         if (size(state%corner_u, 1) /= size(state%u)) cycle
+         if (norm2(state%u - state%corner_u(:, k)) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
+            step = state%corner_step(k)
+            return
+         end if
+      end do
+   end function corner_revisited
+
+   !> The committed state of `state` kept as a corner passed (the last 8: a loop of more corners
+   !> than that is not recognised). A failed allocation forgets the list (it only guards loops).
+   subroutine remember_corner(state)
+      type(path_state_t), intent(inout) :: state
+      real(dp), allocatable :: kept_u(:, :)
+      integer, allocatable :: kept_step(:)
+      integer :: n, status
+      n = 0
+      if (allocated(state%corner_step)) then
+         if (size(state%corner_u, 1) == size(state%u)) n = min(size(state%corner_step), 7)
+      end if
+      allocate (kept_u(size(state%u), n + 1), kept_step(n + 1), stat=status)
+      if (status /= 0) then
+         if (allocated(state%corner_u)) deallocate (state%corner_u)
+         if (allocated(state%corner_step)) deallocate (state%corner_step)
+         return
+      end if
+      if (n > 0) then
+         kept_u(:, 1:n) = state%corner_u(:, size(state%corner_step) - n + 1:)
+         kept_step(1:n) = state%corner_step(size(state%corner_step) - n + 1:)
+      end if
+      kept_u(:, n + 1) = state%u
+      kept_step(n + 1) = state%point%step
+      call move_alloc(kept_u, state%corner_u)
+      call move_alloc(kept_step, state%corner_step)
+   end subroutine remember_corner
+
    !> The model has an obstacle that moves with λ in its step (*MOVE, contact_candidate_t%gap_rate).
    pure logical function moving_obstacles(model)
       type(model_t), intent(in) :: model
@@ -372,6 +419,7 @@ contains
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
       logical :: to_limit, hidden, landed, cornered, corner_passed, left_branch, unresolved
+      integer :: revisited
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -447,12 +495,22 @@ contains
             ! next piece's working set and tangent are sought (uniarc_path_corner); once per step.
             if (.not. trial%converged .and. options%control == control_arclength .and. .not. cornered) then
                cornered = .true.
-               call step_past_corner(model, state, system, trial, length, corner_passed)
-               if (allocated(trial%fatal)) then
-                  call move_alloc(system, state%system)
-                  call move_alloc(trial%fatal, error)
-                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
-                  return
+               revisited = corner_revisited(state)
+               if (revisited > 0) then
+                  ! The path came back to a corner it passed already: around a closed loop of pieces
+                  ! (contacts opening and closing in turn), it would trace the same states for ever.
+                  ! Not an equilibrium path going on: the run stops (the rows so far are kept).
+                  trial%reason = 'the path returned to the corner it passed at step '// &
+                                 integer_to_string(revisited)//': a loop of corners, not traced further'
+               else
+                  call step_past_corner(model, state, system, trial, length, corner_passed)
+                  if (allocated(trial%fatal)) then
+                     call move_alloc(system, state%system)
+                     call move_alloc(trial%fatal, error)
+                     call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                     return
+                  end if
+                  if (corner_passed) call remember_corner(state)
                end if
             end if
             if (.not. trial%converged) then
@@ -589,6 +647,18 @@ contains
             trial%converged = .false.
             length = 0.5_dp*length
             halvings = halvings + 1
+            if (length < options%min_increment*state%first_length .and. &
+                options%control == control_arclength .and. .not. cornered) then
+               ! Every length converged but turned back or left the piece: at a corner whose next
+               ! piece folds back (a contact closing where the smooth piece would have turned), the
+               ! converged states of the old piece reverse the last step. The corner is sought as when
+               ! no length converges (uniarc_path_corner), from the step's full length; the attempts
+               ! are skipped (halvings past max_cuts). pipeline_hump_corner_100 at step 90 in the
+               ! Release build (the Debug build's round-off reached the corner by a failed length).
+               length = state%step_length
+               halvings = options%max_cuts + 1
+               cycle steps
+            end if
             if (length < options%min_increment*state%first_length) then
                call move_alloc(system, state%system)
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &

@@ -126,6 +126,10 @@ module uniarc_path_state
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
       real(dp), allocatable :: tangent_displacement(:)  !< K_T⁻¹ R at the committed state
       real(dp), allocatable :: last_increment(:)
+      !> (n, ≤ 8) the committed states at which the last corners of the path were passed, and
+      !> (≤ 8) their step numbers: a corner met again at one of them is a loop (docs/theory.md §2.12)
+      real(dp), allocatable :: corner_u(:, :)
+      integer, allocatable :: corner_step(:)
       real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
       real(dp) :: first_length = 0.0_dp
       !> ψ: the displacement norm one unit of λ moves (length per unit λ), ||K⁻¹R|| at the unloaded state
