@@ -34,10 +34,16 @@ element's midpoint and takes it uniform there (docs/input.md, `*DLOAD`), so both
 same loads and must agree to round-off.
 
     python3 bench/bedded_lining_peer.py --uniarc build/uniarc --dload
+
+With `--dload` uniarc runs the deck file input/segmental_lining_bedded.inp (the same model written as
+an engineer writes it: parameters, the ground pressure as an expression) after checking that it gives
+the same element forces as the deck generated here from the constants below (to FILE_TOLERANCE), so
+the file is the model that OpenSees is compared with; `--deck FILE` runs another such file.
 """
 import argparse
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -53,6 +59,11 @@ TOLERANCE = 1e-9
 # --dload: the same loads in both programs (midpoint values), so round-off: measured 1.4e-12 of the
 # largest M (before the released fixed-end forces, 0.24): 1e-9 as for the displacements.
 FORCE_TOLERANCE = 1e-9
+# the deck file against the generated deck: the same numbers and expressions, so the same arithmetic;
+# 1e-12 of the largest of each force leaves only the 13 digits of the forces file.
+FILE_TOLERANCE = 1e-12
+DECK_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, 'input',
+                         'segmental_lining_bedded.inp')
 
 CHORD = 2.0 * R * math.sin(math.pi / N_ELEMENTS)
 
@@ -116,12 +127,16 @@ def uniarc_solution(uniarc):
         return displacement, reaction
 
 
-def uniarc_forces(uniarc):
-    """Element end forces (N, V, M at start, N, V, M at end) by element label, the *DLOAD deck."""
+def uniarc_forces(uniarc, deck_file=None):
+    """Element end forces (N, V, M at start, N, V, M at end) by element label: the *DLOAD deck
+    generated here, or the deck file `deck_file` as it is."""
     with tempfile.TemporaryDirectory() as work:
         path = os.path.join(work, 'lining.inp')
-        with open(path, 'w') as f:
-            f.write(deck(element_loads=True))
+        if deck_file is None:
+            with open(path, 'w') as f:
+                f.write(deck(element_loads=True))
+        else:
+            shutil.copyfile(deck_file, path)
         subprocess.run([uniarc, path, '-o', os.path.join(work, 'out'), '-q'], check=True)
         forces = {}
         with open(os.path.join(work, 'out', 'lining.forces')) as f:
@@ -211,9 +226,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--uniarc', required=True)
     parser.add_argument('--dload', action='store_true', help='the pressure as element loads; compare N, V, M')
+    parser.add_argument('--deck', default=DECK_FILE,
+                        help='with --dload: the deck file uniarc runs (default input/segmental_lining_bedded.inp)')
     args = parser.parse_args()
     if args.dload:
-        return compare_forces(args.uniarc)
+        return compare_forces(args.uniarc, args.deck)
     ours, reaction = uniarc_solution(args.uniarc)
     peer, peer_contact = opensees_solution()
     our_contact = {i for i in reaction if reaction[i] > 0.0}
@@ -230,9 +247,21 @@ def main():
     return 0 if our_contact == peer_contact and max(worst) <= TOLERANCE else 1
 
 
-def compare_forces(uniarc):
-    """The --dload case: element end forces of uniarc's *DLOAD against OpenSees' beamUniform."""
-    ours = uniarc_forces(uniarc)
+def compare_forces(uniarc, deck_file):
+    """The --dload case: element end forces of uniarc's *DLOAD (the deck file, once it is checked to
+    be the generated model) against OpenSees' beamUniform."""
+    generated = uniarc_forces(uniarc)
+    ours = uniarc_forces(uniarc, deck_file)
+    if sorted(ours) != sorted(generated):
+        print(f'{deck_file}: elements {len(ours)}, the generated deck {len(generated)}: not the same model')
+        return 1
+    for k, name in [(0, 'N'), (1, 'V'), (2, 'M')]:
+        scale = max(abs(generated[i][c]) for i in generated for c in (k, k + 3))
+        difference = max(abs(ours[i][c] - generated[i][c]) for i in generated for c in (k, k + 3))
+        print(f'{name}: deck file against the generated deck: {difference:.3e}, relative {difference / scale:.2e}')
+        if difference > FILE_TOLERANCE * scale:
+            print(f'{deck_file} is not the model of this script (above {FILE_TOLERANCE:g})')
+            return 1
     opensees_solution(element_loads=True)
     peer = opensees_solve.forces
     status = 0

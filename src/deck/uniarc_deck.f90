@@ -273,6 +273,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: i, bad
       real(dp), allocatable :: loads(:, :)
+      integer, allocatable :: load_line(:), load_column(:)
 
       do i = 1, size(deck%overrides)
          if (.not. deck%override_used(i)) then
@@ -326,9 +327,17 @@ contains
          do i = 1, deck%n_steps
             loads = loads + abs(deck%steps(i)%loads%nodal_load)
          end do
+         ! A moment that such a node cannot carry is reported at its first *CLOAD line, else (no line
+         ! recorded) at the node's own line.
+         call grow_integers(deck%moment_line, model%n_nodes)
+         call grow_integers(deck%moment_column, model%n_nodes)
+         load_line = merge(deck%moment_line(1:model%n_nodes), deck%node_line(1:model%n_nodes), &
+                           deck%moment_line(1:model%n_nodes) > 0)
+         load_column = merge(deck%moment_column(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
+                             deck%moment_line(1:model%n_nodes) > 0)
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
                                    element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
-                                   deck%node_line(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
+                                   load_line, load_column, &
                                    model%fixed(:, 1:model%n_nodes), loads, error, &
                                    joints=model%end_joints)
       end associate

@@ -185,7 +185,7 @@ contains
    !>
    !> Such a node's rotation has no stiffness, a zero pivot: it is held (`fixed(dof_rz, node)` set;
    !> docs/input.md). A moment (`*CLOAD ..., MZ`) on such a node would then do no work and is an error at
-   !> the node's definition (`node_line`, `node_column`). (A distributed load on a truss is refused where
+   !> `node_line`, `node_column` (the caller gives the node's first moment line, uniarc_deck). (A distributed load on a truss is refused where
    !> `*DLOAD` is read, uniarc_deck_loads.) Arrays: connectivity (2, n_elements), kinds (n_elements),
    !> node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes); `joints` (optional,
    !> (2, ≥ 0)) the end joints of the first elements (the others rigid).

@@ -216,6 +216,14 @@ contains
          if (allocated(error)) return
          do j = 1, size(nodes)
             call add_nodal_load(deck%model, nodes(j), dof, value)
+            if (dof == dof_rz .and. value /= 0.0_dp) then
+               call grow_integers(deck%moment_line, nodes(j))
+               call grow_integers(deck%moment_column, nodes(j))
+               if (deck%moment_line(nodes(j)) == 0) then
+                  deck%moment_line(nodes(j)) = line
+                  deck%moment_column(nodes(j)) = fields(2)%column
+               end if
+            end if
          end do
       end do
    end subroutine read_concentrated_load

@@ -37,6 +37,10 @@ module uniarc_deck_state
       logical, allocatable :: override_used(:)
       integer :: analysis_line = 0                    !< line of the analysis card, 0 if none yet
       integer, allocatable :: node_line(:), node_column(:)   !< where each node was defined
+      !> where the first nonzero moment (*CLOAD MZ, of the model or of any step) on each node was given,
+      !> 0 if none or not yet (may be shorter than the nodes): the place to report a moment that a node
+      !> of trusses or hinged ends cannot carry
+      integer, allocatable :: moment_line(:), moment_column(:)
       character(len=:), allocatable :: stop_track     !< *PATH stop_track, resolved at the end
       integer :: stop_track_line = 0, stop_track_column = 0
       integer :: vtk_line = 0                         !< line of the *OUTPUT, VTK card, 0 if none yet
