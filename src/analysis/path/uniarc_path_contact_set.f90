@@ -165,11 +165,24 @@ contains
          r = 0.0_dp
          if (active(c)) r = reaction(c)
          w = gap(c) + model%contacts(c)%flexibility*r
-         worst = max(worst, -r/r_scale, -w/g_scale, abs(r*w)/(r_scale*g_scale))
+         worst = max(worst, -r/r_scale, -w/g_scale, complementarity(r, w, r_scale, g_scale))
       end do
       if (present(yielding)) worst = max(worst, plastic_violation(model, state%map, reaction, gap, active, &
                                                                   yielding, r_scale, g_scale))
    end function violation
+
+   !> |r w| / (r_scale g_scale), the products formed only where they cannot overflow (a fuzz mutant
+   !> with EI = 1e-150 had reactions and gaps near 1e200: SIGFPE in the Debug build); elsewhere the
+   !> ratios are multiplied, the same value but for the last bits.
+   pure real(dp) function complementarity(r, w, r_scale, g_scale) result(term)
+      real(dp), intent(in) :: r, w, r_scale, g_scale
+      real(dp), parameter :: safe = 1.0e150_dp
+      if (abs(r) < safe .and. abs(w) < safe .and. r_scale < safe .and. g_scale < safe) then
+         term = abs(r*w)/(r_scale*g_scale)
+      else
+         term = (abs(r)/r_scale)*(abs(w)/g_scale)
+      end if
+   end function complementarity
 
    !> Units of contact forces and gaps at unknowns x with working set `active`: the largest reaction in
    !> contact, at least the load scale (reactions of free candidates are round-off of zero and must not
