@@ -18,7 +18,7 @@ module uniarc_path_locate
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, &
                                 bifurcation_state_t, masked_norm
    use uniarc_path_probe, only: re_solve_step, restore_tangent
-   use uniarc_path_state_copy, only: copy_state, move_state, copy_point_record
+   use uniarc_path_state_copy, only: copy_state, move_state, copy_point_record, move_point
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
    use uniarc_critical_points, only: critical_event_t, find_critical_events
@@ -360,19 +360,5 @@ contains
 
    end subroutine locate_critical_points
 
-   !> Point record `from` moved into `to` (arrays handed over; `from` is overwritten by the next probe).
-   subroutine move_point(from, to)
-      type(path_point_t), intent(inout) :: from, to
-      type(path_point_t) :: aside
-      call move_alloc(from%rate, aside%rate)
-      call move_alloc(from%in_contact, aside%in_contact)
-      call move_alloc(from%contact_value, aside%contact_value)
-      call move_alloc(from%contact_rate, aside%contact_rate)
-      to = from
-      call move_alloc(aside%rate, to%rate)
-      call move_alloc(aside%in_contact, to%in_contact)
-      call move_alloc(aside%contact_value, to%contact_value)
-      call move_alloc(aside%contact_rate, to%contact_rate)
-   end subroutine move_point
 
 end module uniarc_path_locate

@@ -17,7 +17,7 @@ module uniarc_path_state_copy
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, bifurcation_state_t
    implicit none
    private
-   public :: copy_state, move_state, copy_point_record
+   public :: copy_state, move_state, copy_point_record, move_point
 
 contains
 
@@ -126,6 +126,15 @@ contains
       call copy_point(src, dst, status, bytes)
       call allocation_failure(status, 'an array of '//what, bytes, error_analysis, error)
    end subroutine copy_point_record
+
+   !> Point record `from` moved into `to` (its arrays handed over, not copied; `from` left without them).
+   subroutine move_point(from, to)
+      type(path_point_t), intent(inout) :: from, to
+      type(path_point_t) :: aside
+      call move_point_arrays(from, aside)
+      to = from
+      call move_point_arrays(aside, to)
+   end subroutine move_point
 
    subroutine move_point_arrays(from, to)
       type(path_point_t), intent(inout) :: from, to
