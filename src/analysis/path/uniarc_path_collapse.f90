@@ -25,7 +25,7 @@ module uniarc_path_collapse
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: candidate_live
-   use uniarc_contact, only: candidate_gap
+   use uniarc_contact, only: candidate_gap, in_set
    use uniarc_assembly, only: gather_nodal
    use uniarc_path_state, only: path_state_t
    implicit none
@@ -106,7 +106,7 @@ contains
       do c = 1, n_c
          if (.not. candidate_live(state%map, c)) cycle
          associate (candidate => model%contacts(c))
-            if (.not. state%active(c)) then
+            if (.not. in_set(model, state%active, c)) then
                if (.not. candidate%bilateral) kind(c) = 4
                cycle
             end if
