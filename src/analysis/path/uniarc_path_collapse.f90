@@ -10,7 +10,9 @@
 !>   with a_c·φ ≠ 0, so φ must lie in the null space of their rows a_c·v_j;
 !> - yielding ones (at a limit, or elastic within `near_yield` of it): φ must move them further the way
 !>   they yield (a_c·φ ≤ 0 in bearing, ≥ 0 in uplift), else they unload elastically and hold;
-!> - open unilateral ones: φ must not close them (a_c·φ ≥ 0).
+!> - open unilateral ones: φ must not close them (a_c·φ ≥ 0); so too one of the working set that touches
+!>   with a force within `near_yield` of nothing (the edge of a contact region): φ may lift it off, its
+!>   force then lost (r_lim = 0).
 !> For such a φ with R·φ > 0 (R the reference load), the incremental virtual work of the rigid motion
 !> (the elements do none: φ is rigid) gives the largest load increment the media can balance along φ,
 !>     Δλ(φ) = Σ_c (r_lim,c − r_c)(−a_c·φ) / (R·φ) ≥ 0,
@@ -70,7 +72,7 @@ contains
       real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
       real(dp), allocatable :: constraint(:, :), slack(:), load(:)
       integer, allocatable :: kind(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), margin
+      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), margin, force_scale
       integer :: n_c, m, c, j, node, d, n_con, a, b, k
       logical :: any_yield
       collapsed = .false.
@@ -101,6 +103,10 @@ contains
       end do
       margin = near_yield
       if (strict) margin = 0.0_dp
+      force_scale = 0.0_dp
+      do c = 1, n_c
+         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
+      end do
       if (strict .and. .not. any(state%yielding .and. state%active)) return
       any_yield = .false.
       do c = 1, n_c
@@ -124,6 +130,11 @@ contains
             if (kind(c) >= 2) then
                slack(c) = limit - reaction
                any_yield = .true.
+            else if (.not. candidate%bilateral .and. reaction <= margin*release_scale(c)) then
+               ! touching with (almost) no force, at the edge of the contact region: the mechanism
+               ! may lift it off (a·φ ≥ 0), its force r then lost to the media (r_lim = 0)
+               kind(c) = 5
+               slack(c) = -reaction
             end if
          end associate
       end do
@@ -193,6 +204,14 @@ contains
 
    contains
 
+      !> The force below whose near_yield share a unilateral candidate of the set counts as lifting
+      !> off: its bearing limit if it has one, else the largest reaction of the set.
+      real(dp) function release_scale(i)
+         integer, intent(in) :: i
+         release_scale = force_scale
+         if (model%contacts(i)%yield_force > 0.0_dp) release_scale = model%contacts(i)%yield_force
+      end function release_scale
+
       !> Keep Δλ(φ) of φ = basis·y if φ is admissible (every constraint row·y ≥ 0 to round-off) and
       !> the load drives it (R·φ > 0).
       subroutine try(direction)
@@ -209,7 +228,7 @@ contains
          end do
          dissipation = 0.0_dp
          do i = 1, n_c
-            if (kind(i) == 2 .or. kind(i) == 3) &
+            if (kind(i) == 2 .or. kind(i) == 3 .or. kind(i) == 5) &
                dissipation = dissipation + slack(i)*(-dot_product(matmul(rate(i, :), basis), direction))/norm
          end do
          best = min(best, max(0.0_dp, dissipation)/work_load)
