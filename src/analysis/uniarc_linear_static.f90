@@ -19,7 +19,7 @@ module uniarc_linear_static
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
-                          band_multiply, band_zero
+                          band_multiply, band_zero, band_add, band_get
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
@@ -74,7 +74,11 @@ contains
       type(band_matrix_t) :: assembled, factors
       type(contact_linearization_t) :: lin
       type(contact_selection_t) :: selection
-      real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), start_nodal(:, :), applied(:)
+      real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
+      !> the floating motions (n, k) of a structure held only by its contacts across a gap, and the
+      !> equations where each is held while no contact of the set sees it (unallocated: no approach)
+      real(dp), allocatable :: floating(:, :)
+      integer, allocatable :: held(:)
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst
@@ -84,13 +88,13 @@ contains
       if (allocated(error)) return
       n = map%n_equations
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
-      allocate (start_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &
                 set(size(map%candidate_equation)), stat=status)
       call allocation_failure(status, 'the load and residual vectors of the linear analysis', &
                               8.0_dp*(dofs_per_node*model%n_nodes + 4.0_dp*n) + 4.0_dp*size(map%candidate_equation), &
                               error_analysis, error)
       if (allocated(error)) return
-      start_nodal = 0.0_dp
+      zero_nodal = 0.0_dp
       call assemble_reference_load(model, map, .true., reference)
       applied = reference
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
@@ -101,20 +105,20 @@ contains
       ! (error_input, exit 2) before any solve, by the path following's start-up test
       ! (uniarc_path_mechanism: relative pivot test, then the rigid-body test).
       set = [(candidate_live(map, c), c=1, size(set))]
-      call assemble_set(model, map, start_nodal, set, assembled, residual, error)
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
       if (allocated(error)) return
       call find_mechanism(model, map, assembled, error)
       if (allocated(error)) return
+      call touching(model, map, length_scale, set)
       ! A structure held only by its contacts across a gap, that the load pushes along a free rigid
-      ! translation, is first translated to its first contact (docs/theory.md §2.8): the LCP then
-      ! starts from there, its gaps linearised at that position (start_nodal is then the translation).
-      call approach_first_contact(model, map, reference, length_scale, assembled, residual, start_nodal, error)
+      ! translation (docs/theory.md §2.8): the first working set is the contacts its linearised gaps
+      ! meet first along that translation, and the motions no contact of a set sees are held.
+      call approach_first_contact(model, map, reference, length_scale, assembled, residual, set, floating, held, error)
       if (allocated(error)) return
-      call touching(model, map, length_scale, start_nodal, set)
       pivots = 0
       worst = 0.0_dp
       do round = 1, max_rounds
-         call assemble_set(model, map, start_nodal, set, assembled, residual, error)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
          if (allocated(error)) return
          call band_copy(assembled, factors, error)
          if (allocated(error)) return
@@ -129,14 +133,13 @@ contains
          call band_solve(factors, rhs, error)
          if (allocated(error)) return
          x = rhs(:, 1) + rhs(:, 2)
-         call linear_contact_state(model, map, start_nodal, x, set, r, g)
+         call linear_contact_state(model, map, x, set, r, g)
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
-         call refine_solution(model, map, set, applied, start_nodal, factors, assembled, length_scale, x, r, g, worst, &
-                              error)
+         call refine_solution(model, map, set, applied, factors, assembled, length_scale, x, r, g, worst, error)
          if (allocated(error)) return
          if (worst <= complementarity_tolerance) exit
          ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
-         call assemble_set(model, map, start_nodal, set, assembled, residual, error)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
          if (allocated(error)) return
          if (round == max_rounds) then
             call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
@@ -146,7 +149,7 @@ contains
          ! The LCP of one load step δλ = 1 from the unloaded state: x = 0, λ = 0, residual = −F_aug(0).
          if (allocated(lin%x)) deallocate (lin%x)
          allocate (lin%x(n), source=0.0_dp)
-         lin%nodal = start_nodal
+         lin%nodal = zero_nodal
          lin%residual = residual
          lin%reference = reference
          lin%du_residual = rhs(:, 1)
@@ -164,7 +167,7 @@ contains
          set = selection%active
       end do
 
-      call assemble_set(model, map, start_nodal, set, assembled, residual, error)
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
       if (allocated(error)) return
       ! Inertia of the final K_S: each contact row of the set adds one negative pivot to the
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
@@ -178,7 +181,6 @@ contains
                               error)
       if (allocated(error)) return
       call gather_nodal(map, x, displacement)
-      displacement = displacement + start_nodal   ! the rigid approach, if any (else zero)
       if (allocated(model%prescribed)) displacement = displacement + model%prescribed
       if (present(reactions)) reactions = r
       if (present(active)) active = set
@@ -189,35 +191,52 @@ contains
 
    !> A structure held only by its contacts across a gap, that the reference load `reference` pushes
    !> along a rigid translation its supports leave free (docs/theory.md §2.8, uniarc_path_approach):
-   !> `start` (dofs_per_node, n_nodes, zero on entry) becomes that translation to its first contact.
-   !> The floating motions are those of the linear stiffness with the unilateral candidates open
-   !> (`matrix`, `residual` work space). Untouched without unilateral candidates or such a motion.
+   !> `set` gets the candidates that the translation brings first to their linearised gap
+   !> g(0) + a(0)·u = 0 (the gaps of the linear analysis stay linearised at u = 0: the solve with that
+   !> set closes them, the translation being part of its solution), and `floating` (n, k), `held` (k)
+   !> the structure's floating motions and the equations where assemble_set holds those no contact of
+   !> a set sees (allocated only then: every other model is solved as before). The floating motions
+   !> are those of the linear stiffness with the unilateral candidates open (`matrix`, `residual` work
+   !> space). Untouched without unilateral candidates or such a motion.
    !> Errors (error_input): the load carries the structure away from every contact (rigid_approach).
-   subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, start, error)
+   subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, set, floating, held, &
+                                     error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: reference(:), length_scale
       type(band_matrix_t), intent(inout) :: matrix
       real(dp), intent(inout) :: residual(:)
-      real(dp), intent(inout) :: start(:, :)
+      logical, intent(inout) :: set(:)
+      real(dp), allocatable, intent(out) :: floating(:, :)
+      integer, allocatable, intent(out) :: held(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: motions(:, :), shift(:)
+      real(dp), allocatable :: motions(:, :), shift(:), zero_nodal(:, :), moved(:, :)
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
-      integer :: c, contact
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, contact, node
       if (.not. any([(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
                       c=1, size(map%candidate_equation))])) return
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
       ! a spring with an uplift limit holds nothing once it yields: released, as in the path
       bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
                  .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
-      call assemble_set(model, map, start, bonded, matrix, residual, error)
+      call assemble_set(model, map, zero_nodal, bonded, matrix, residual, error)
       if (allocated(error)) return
       call floating_motions(model, map, matrix, motions, equations)
       if (.not. allocated(motions)) return
-      allocate (shift(map%n_equations))
-      call rigid_approach(model, map, motions, reference, start, length_scale, shift, contact, error)
+      allocate (shift(map%n_equations), moved(dofs_per_node, model%n_nodes))
+      call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
-      call gather_nodal(map, shift, start)
+      call gather_nodal(map, shift, moved)
+      do c = 1, size(set)
+         if (set(c) .or. .not. candidate_live(map, c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
+         set(c) = gap + dot_product(gradient, moved(1:2, node)) <= 1.0e-9_dp*length_scale
+      end do
+      call move_alloc(motions, floating)
+      call move_alloc(equations, held)
    end subroutine approach_first_contact
 
    !> Prescribed displacements ū of held DOFs (support settlements) as loads on the free DOFs:
@@ -239,19 +258,27 @@ contains
       end do
    end subroutine add_settlement_load
 
-   !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at the start
-   !> `start_nodal` (zero, or the rigid approach), r = 0: the gaps g_c there on the rows of the
-   !> candidates in the set, the force of condensed springs in it.
-   subroutine assemble_set(model, map, start_nodal, set, assembled, residual, error)
+   !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
+   !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
+   !> With `floating` (n, k) and `held` (k), the floating motions of a structure held only by its
+   !> contacts across a gap (approach_first_contact): each that no contact of the set sees is held at
+   !> its equation by a spring of the size of the diagonal there, in K_S only (the path's device,
+   !> docs/theory.md §2.8): a right-hand side with no component along the motion is then solved
+   !> exactly with that unknown zero and the spring's force zero; one with a component fails the
+   !> equilibrium check of the result (uniarc_static_balance).
+   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: start_nodal(:, :)
+      real(dp), intent(in) :: zero_nodal(:, :)
       logical, intent(in) :: set(:)
       type(band_matrix_t), intent(inout) :: assembled
       real(dp), intent(out) :: residual(:)
       type(error_t), allocatable, intent(out) :: error   !< a band matrix that cannot be allocated (band_allocate)
+      real(dp), allocatable, intent(in), optional :: floating(:, :)
+      integer, allocatable, intent(in), optional :: held(:)
       real(dp), allocatable :: internal(:), no_reactions(:)
-      integer :: status
+      real(dp) :: diagonal
+      integer :: status, i
       if (assembled%n /= map%n_equations) then
          call band_allocate(assembled, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
          if (allocated(error)) return
@@ -263,35 +290,66 @@ contains
       if (allocated(error)) return
       internal = 0.0_dp
       no_reactions = 0.0_dp
-      if (size(map%candidate_equation) > 0) call assemble_contact(model, map, start_nodal, no_reactions, set, &
+      if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, no_reactions, set, &
                                                                   assembled, internal)
       residual = -internal
+      if (.not. (present(floating) .and. present(held))) return
+      if (.not. (allocated(floating) .and. allocated(held))) return
+      do i = 1, size(held)
+         if (set_sees(model, map, set, floating(:, i))) cycle
+         diagonal = abs(band_get(assembled, held(i), held(i)))
+         if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
+         call band_add(assembled, held(i), held(i), diagonal)
+      end do
    end subroutine assemble_set
 
-   !> Candidates that touch at the start `start` (dofs_per_node, n_nodes: zero, or the rigid approach)
-   !> (|g| within 1e-9 of the model size) or are bonded.
-   subroutine touching(model, map, length_scale, start, set)
+   !> A contact of `set` sees the rigid motion v (n): |a_cᵀv| > 1e-6 |a_c| max|v|, a_c at u = 0 (the
+   !> path's test, uniarc_path_state sees_floating).
+   logical function set_sees(model, map, set, v) result(sees)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: length_scale, start(:, :)
+      logical, intent(in) :: set(:)
+      real(dp), intent(in) :: v(:)
+      real(dp), parameter :: floating_tolerance = 1.0e-6_dp
+      real(dp) :: gap, gradient(2), hessian(2, 2), along
+      integer :: c, node, k
+      sees = .false.
+      do c = 1, size(set)
+         if (.not. (set(c) .and. candidate_live(map, c))) cycle
+         if (model%contacts(c)%tangential) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
+         along = 0.0_dp
+         do k = 1, 2
+            if (map%equation(k, node) > 0) along = along + gradient(k)*v(map%equation(k, node))
+         end do
+         if (abs(along) > floating_tolerance*norm2(gradient)*maxval(abs(v))) then
+            sees = .true.
+            return
+         end if
+      end do
+   end function set_sees
+
+   !> Candidates that touch at u = 0 (|g| within 1e-9 of the model size) or are bonded.
+   subroutine touching(model, map, length_scale, set)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: length_scale
       logical, intent(out) :: set(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       integer :: c, node
       do c = 1, size(set)
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), start(1:2, node), gap, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
          set(c) = candidate_live(map, c) .and. (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*length_scale)
       end do
    end subroutine touching
 
    !> Reactions r and linearised gaps g = g(0) + a(0)ᵀu of every candidate at unknowns x for `set`:
-   !> a reaction unknown in the set, −g/t for a condensed spring in it, 0 out of it. The gaps are
-   !> linearised at the start `start` (dofs_per_node, n_nodes: zero, or the rigid approach; x is then
-   !> the displacement from it).
-   subroutine linear_contact_state(model, map, start, x, set, r, g)
+   !> a reaction unknown in the set, −g/t for a condensed spring in it, 0 out of it.
+   subroutine linear_contact_state(model, map, x, set, r, g)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: start(:, :)
       real(dp), intent(in) :: x(:)
       logical, intent(in) :: set(:)
       real(dp), allocatable, intent(out) :: r(:), g(:)
@@ -302,7 +360,7 @@ contains
       do c = 1, size(set)
          if (.not. candidate_live(map, c)) cycle
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), start(1:2, node), gap0, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap0, gradient, hessian)
          g(c) = gap0
          do i = 1, 2
             if (map%equation(i, node) > 0) g(c) = g(c) + gradient(i)*x(map%equation(i, node))
@@ -329,13 +387,11 @@ contains
    !> conditioned problems meet the target at once and are not touched.
    !> `matrix` is workspace (the contact part of K_S is assembled in it); r, g and worst (the reactions,
    !> gaps and complementarity violation of x, linear_contact_state) are updated with x.
-   subroutine refine_solution(model, map, set, applied, start, factors, matrix, length_scale, x, r, g, worst, error)
+   subroutine refine_solution(model, map, set, applied, factors, matrix, length_scale, x, r, g, worst, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       logical, intent(in) :: set(:)
       real(dp), intent(in) :: applied(:)          !< R without the settlements' load (they move the elements)
-      !> (dofs_per_node, n_nodes) where the gaps are linearised: zero, or the rigid approach
-      real(dp), intent(in) :: start(:, :)
       type(band_matrix_t), intent(in) :: factors  !< band LU of K_S
       type(band_matrix_t), intent(inout) :: matrix
       real(dp), intent(in) :: length_scale
@@ -359,7 +415,7 @@ contains
                ! linear_residual's element forces plus these.
                call band_zero(matrix)
                contact_force = 0.0_dp
-               if (size(map%candidate_equation) > 0) call assemble_contact(model, map, start, &
+               if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_displacement(model), &
                                                                           zero_reactions(map), set, matrix, contact_force)
                assembled = .true.
             end if
@@ -372,7 +428,7 @@ contains
          call band_solve(factors, correction, error)
          if (allocated(error)) return
          trial = x + correction(:, 1)
-         call linear_contact_state(model, map, start, trial, set, r_trial, g_trial)
+         call linear_contact_state(model, map, trial, set, r_trial, g_trial)
          worst_trial = complementarity_violation(model, map, length_scale, trial, applied, r_trial, g_trial, set)
          call linear_residual(model, map, applied, contact_force, matrix, trial, rho)
          balance_trial = resultant_imbalance(model, map, applied, r_trial, rho)
@@ -445,7 +501,13 @@ contains
       imbalance = max(abs(force(1)), abs(force(2)), abs(moment)/length)/max(scale, tiny(1.0_dp))
    end function resultant_imbalance
 
-   !> Zero reactions of the model's candidates, for the contact part at the start.
+   !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.
+   pure function zero_displacement(model) result(nodal)
+      type(model_t), intent(in) :: model
+      real(dp) :: nodal(dofs_per_node, model%n_nodes)
+      nodal = 0.0_dp
+   end function zero_displacement
+
    pure function zero_reactions(map) result(r)
       type(dof_map_t), intent(in) :: map
       real(dp) :: r(size(map%candidate_equation))

@@ -328,8 +328,8 @@ contains
       if (allocated(error)) return
       call equilibrium_at(model, state, system, state%u, 0.0_dp, state%active, nodal, internal, reference, &
                           element_scale)
-      call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, shift, &
-                          contact, error)
+      call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
+                          shift, contact, error)
       if (allocated(error) .or. contact == 0) return
       state%u = state%u + shift
       call nodal_displacements(model, state, nodal)

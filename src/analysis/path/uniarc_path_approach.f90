@@ -49,15 +49,16 @@ contains
    !> translation, a load with no resultant along the free translations, or a contact that touches
    !> and already holds that translation (bonded ones included).
    !> `motions` (n_equations, k ≤ 3): the floating motions; `reference` (n_equations) the reference
-   !> load R; `length_scale` the model's size. The gaps are the exact ones (a translation is exact in
-   !> the geometrically nonlinear path and the linear analysis alike). `contact` returns the candidate
-   !> met (0: none).
+   !> load R; `length_scale` the model's size. `linearised`: the gaps are g + a·u, linearised at
+   !> `nodal` (those of the linear analysis) instead of the exact ones (the path's: a translation is
+   !> exact in it). `contact` returns the candidate met (0: none).
    !> Errors (error_input): the load pushes the structure along a free translation on which no contact
    !> is ever met (a mechanism under its loads).
-   subroutine rigid_approach(model, map, motions, reference, nodal, length_scale, shift, contact, error)
+   subroutine rigid_approach(model, map, motions, reference, nodal, length_scale, linearised, shift, contact, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: motions(:, :), reference(:), nodal(:, :), length_scale
+      logical, intent(in) :: linearised
       real(dp), intent(out) :: shift(:)
       integer, intent(out) :: contact
       type(error_t), allocatable, intent(out) :: error
@@ -100,7 +101,7 @@ contains
             if (slope < -slope_tolerance) return   ! touching and closing: held at the start
             cycle
          end if
-         if (model%contacts(c)%gap_kind == gap_fixed_direction) then
+         if (linearised .or. model%contacts(c)%gap_kind == gap_fixed_direction) then
             if (slope < -slope_tolerance) then
                s = gap/(-slope)
             else
