@@ -46,6 +46,7 @@ module uniarc_path_following
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
+   use uniarc_path_approach, only: rigid_approach
    use uniarc_path_state_copy, only: copy_state, move_state
    implicit none
    private
@@ -115,6 +116,8 @@ contains
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
          call find_floating(model, state, system, nodal)
+         call approach_first_contact(model, state, system, nodal, error)
+         if (allocated(error)) return
          call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
@@ -301,6 +304,37 @@ contains
       call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
       call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
    end subroutine find_floating
+
+   !> A structure that floats across a gap and that the reference load pushes along a free rigid
+   !> translation starts where that translation brings it to its first contact (docs/theory.md §2.8,
+   !> uniarc_path_approach): state%u is translated, `nodal` updated and the first working set is that
+   !> of the translated state. Untouched when there is no such translation (no floating motion, a
+   !> self-equilibrated load, a contact holding it already). `system` is work space.
+   !> Errors (error_input): no contact is ever met along the translation (rigid_approach).
+   subroutine approach_first_contact(model, state, system, nodal, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), allocatable, intent(inout) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: internal(:), reference(:), shift(:)
+      real(dp) :: element_scale
+      integer :: contact, status
+      if (.not. allocated(state%floating_equation)) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), shift(state%map%n_equations), &
+                stat=status)
+      call allocation_failure(status, 'the force vectors of the rigid approach', 24.0_dp*state%map%n_equations, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, state%active, nodal, internal, reference, &
+                          element_scale)
+      call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
+                          shift, contact, error)
+      if (allocated(error) .or. contact == 0) return
+      state%u = state%u + shift
+      call nodal_displacements(model, state, nodal)
+      call touching_candidates(model, state, nodal, state%active)
+   end subroutine approach_first_contact
 
    !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
    !> where the contacts touching at the start carry the whole reference load (K⁻¹R has no
