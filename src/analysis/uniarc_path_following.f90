@@ -47,6 +47,7 @@ module uniarc_path_following
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_lift_off, only: describe_lift_off
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -514,7 +515,16 @@ contains
                end if
             end if
             if (.not. trial%converged) then
+               ! A load that lifts the structure off every contact that could hold it: no equilibrium
+               ! exists, whatever the step (docs/theory.md §3.12); said so instead of the solver's words.
+               ! Under load control the step's length is its Δλ; the smallest attempt was 2 × length.
+               if (options%control == control_load) &
+                  call lift_off_error(model, state, system, real(state%direction, dp)*2.0_dp*length, error)
                call move_alloc(system, state%system)
+               if (allocated(error)) then
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
@@ -802,6 +812,36 @@ contains
                       'collapse at lambda = '//real_to_string(state%lambda, message_edit)//')'
    end subroutine add_mechanism_hint
 
+
+   !> A step that no cut-back converges, tested for lift-off (uniarc_lift_off, docs/theory.md §3.12):
+   !> with the state's free rigid motions (those only the unilateral contacts hold, find_floating),
+   !> the unbalanced load at λ + dlambda (the load step's smallest attempt) with those contacts open, at
+   !> the step's starting displacements. `error` allocated (error_analysis): the load lifts the
+   !> structure off, at that λ. `system` is work space (its tangent is overwritten).
+   subroutine lift_off_error(model, state, system, dlambda, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: dlambda
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:)
+      logical, allocatable :: bonded(:)
+      character(len=:), allocatable :: text
+      real(dp) :: element_scale, lambda
+      integer :: c
+      if (.not. allocated(state%floating_motion) .or. dlambda == 0.0_dp) return
+      if (size(state%floating_motion, 2) == 0) return
+      allocate (nodal(dofs_per_node, model%n_nodes), internal(state%map%n_equations), &
+                reference(state%map%n_equations))
+      call gather_nodal(state%map, state%u, nodal)
+      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
+      lambda = state%lambda + dlambda
+      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale)
+      call describe_lift_off(model, state%map, state%floating_motion, nodal, lambda*reference - internal, text)
+      if (.not. allocated(text)) return
+      call make_error(error, text//' (at lambda = '//real_to_string(lambda, message_edit)//')', error_analysis)
+   end subroutine lift_off_error
 
    !> A step that does not converge with a node of a polyline obstacle at a concave corner of it
    !> (within 1e-3 of the model's size, in contact or about to be: its gap below that too): the cause
