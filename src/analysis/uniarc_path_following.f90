@@ -891,6 +891,9 @@ contains
                  .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
       lambda = state%lambda + dlambda
       call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale)
+      ! the tangent now holds this assembly, neither the committed nor a converged one
+      system%holds_committed = .false.
+      system%holds_converged = .false.
       call describe_lift_off(model, state%map, state%floating_motion, nodal, lambda*reference - internal, text)
       if (.not. allocated(text)) return
       call make_error(error, text//' (at lambda = '//real_to_string(lambda, message_edit)//')', error_analysis)
