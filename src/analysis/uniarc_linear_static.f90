@@ -25,6 +25,7 @@ module uniarc_linear_static
    use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
    use uniarc_path_mechanism, only: find_mechanism, floating_motions
    use uniarc_path_approach, only: rigid_approach
+   use uniarc_lift_off, only: describe_lift_off
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
    implicit none
@@ -161,6 +162,9 @@ contains
          call select_contact_set(model, map, lin, set, assembled, factors, selection, error)
          pivots = pivots + selection%report%pivots
          if (allocated(error)) then
+            ! a load that lifts the structure off every contact that could hold it: no equilibrium
+            ! exists (docs/theory.md §3.12), said so instead of the solver's words
+            call lift_off_error(model, map, zero_nodal, assembled, error)
             call add_context(error, 'linear static analysis')
             return
          end if
@@ -257,6 +261,38 @@ contains
          call scatter_add(element_equations(model, map, e), -matmul(response%tangent, settled), reference)
       end do
    end subroutine add_settlement_load
+
+   !> The lift-off test of a contact LCP that failed (uniarc_lift_off, docs/theory.md §3.12): the rigid
+   !> motions that only the unilateral candidates hold (the stiffness with the bonded ones, as the
+   !> path's find_floating) and the load with those candidates open. When the load lifts the
+   !> structure off, `error` is replaced by the message that says so (error_analysis); else kept.
+   !> `assembled` is work space.
+   subroutine lift_off_error(model, map, zero_nodal, assembled, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      type(band_matrix_t), intent(inout) :: assembled
+      type(error_t), allocatable, intent(inout) :: error
+      type(error_t), allocatable :: failure
+      real(dp), allocatable :: residual(:), reference(:), motions(:, :)
+      integer, allocatable :: equations(:)
+      logical, allocatable :: bonded(:)
+      character(len=:), allocatable :: text
+      integer :: c
+      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
+      allocate (residual(map%n_equations), reference(map%n_equations))
+      call assemble_set(model, map, zero_nodal, bonded, assembled, residual, failure)
+      if (allocated(failure)) return
+      call floating_motions(model, map, assembled, motions, equations)
+      if (.not. allocated(motions)) return
+      call assemble_reference_load(model, map, .true., reference)
+      if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
+      call describe_lift_off(model, map, motions, zero_nodal, residual + reference, text)
+      if (.not. allocated(text)) return
+      deallocate (error)
+      call make_error(error, text, error_analysis)
+   end subroutine lift_off_error
 
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
