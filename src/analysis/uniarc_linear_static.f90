@@ -30,7 +30,7 @@ module uniarc_linear_static
                                  constraint_load
    implicit none
    private
-   public :: solve_linear_static
+   public :: solve_linear_static, explain_static_imbalance
 
    !> Rounds of LCP and solve: the LCP of a linear problem is solved in one; a second round only
    !> confirms a set that round-off of the first left in doubt.
@@ -261,6 +261,32 @@ contains
          call scatter_add(element_equations(model, map, e), -matmul(response%tangent, settled), reference)
       end do
    end subroutine add_settlement_load
+
+   !> A linear result that failed the equilibrium check (uniarc_static_balance) of `model`: when the
+   !> load lifts the structure off every contact that could hold it (docs/theory.md §3.12: a couple on a
+   !> free beam resting on a tensionless bed has no resultant to push it along a translation, and the
+   !> contact LCP may end on a working set whose K_S the factorisation does not find singular), `error`
+   !> is replaced by the lift-off message (error_analysis); otherwise it is kept. Errors of the test
+   !> itself (its numbering or band matrix) leave `error` as it was.
+   subroutine explain_static_imbalance(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(inout) :: error
+      type(dof_map_t) :: map
+      type(band_matrix_t) :: assembled
+      type(error_t), allocatable :: failure
+      real(dp), allocatable :: zero_nodal(:, :)
+      character(len=:), allocatable :: imbalance
+      integer :: status
+      if (.not. allocated(error)) return
+      call build_dof_map(model, map, failure, error_analysis)
+      if (allocated(failure)) return
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), stat=status)
+      if (status /= 0) return
+      zero_nodal = 0.0_dp
+      imbalance = error%message
+      call lift_off_error(model, map, zero_nodal, assembled, error)
+      if (error%message /= imbalance) call add_context(error, 'linear static analysis')
+   end subroutine explain_static_imbalance
 
    !> The lift-off test of a contact LCP that failed (uniarc_lift_off, docs/theory.md §3.12): the rigid
    !> motions that only the unilateral candidates hold (the stiffness with the bonded ones, as the

@@ -5,7 +5,7 @@ module uniarc_run
    use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values, analysis_step_t
    use uniarc_deck_source, only: echo_window
-   use uniarc_linear_static, only: solve_linear_static
+   use uniarc_linear_static, only: solve_linear_static, explain_static_imbalance
    use uniarc_path_following, only: candidate_reactions
    use uniarc_contact, only: bed_values
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
@@ -270,6 +270,8 @@ contains
             if (finite_record(record)) then
                ! Nothing is written unless the structure is in equilibrium as a whole (uniarc_static_balance).
                call check_static_balance(stepped, record%displacement, record%reactions, active, error)
+               ! an imbalance left by a load that lifts the structure off its media is said so
+               call explain_static_imbalance(stepped, error)
                if (allocated(error)) then
                   call name_analysis_step(model, k, error)
                   return
