@@ -330,6 +330,9 @@ contains
          call band_solve(shifted, x, failure)
          if (allocated(failure)) return
          if (.not. all(abs(x) <= huge(1.0_dp))) return
+         ! a start that the diagonal annihilates (every row of the motion without stiffness of its own)
+         ! gives no direction to iterate on: no internal motion is found so
+         if (maxval(abs(x)) <= 0.0_dp) return
          x = x/maxval(abs(x))
       end do
       if (free_by_roundoff(stiffness, x(:, 1))) motion = x(:, 1)
