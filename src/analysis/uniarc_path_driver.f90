@@ -24,6 +24,7 @@ module uniarc_path_driver
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
+   use uniarc_path_collapse, only: bearing_collapse
    use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
    use uniarc_model_steps, only: prescribed_at, has_prescribed
@@ -33,7 +34,7 @@ module uniarc_path_driver
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
    public :: driver_next_analysis_step
-   public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure
+   public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse
 
    !> Why the path ended (`path_driver_t%stop`, `step_outcome_t%stop`).
    integer, parameter :: stop_none = 0         !< it has not: the next step may be taken
@@ -41,6 +42,9 @@ module uniarc_path_driver
    integer, parameter :: stop_track_limit = 2  !< |tracked value| of the stop track reached its limit
    integer, parameter :: stop_step_limit = 3   !< the step number reached max_steps
    integer, parameter :: stop_failure = 4      !< a step failed after every cut-back (error returned)
+   !> the next step failed at a bearing collapse of beds or springs at their limits (QU=, TU=), which
+   !> the committed state certifies (uniarc_path_collapse): a result, the path's last point
+   integer, parameter :: stop_collapse = 5
 
    !> When the path stops (docs/input.md, *PATH); driver_start copies them from `model%analysis`.
    type :: stop_rules_t
@@ -59,6 +63,11 @@ module uniarc_path_driver
       real(dp), allocatable :: displacement(:, :)  !< (dofs_per_node, n_nodes) nodal displacements at the committed state
       real(dp), allocatable :: tracked(:)          !< (size(model%tracks)) tracked values at the committed state
       integer :: stop = stop_none                  !< why the path ended; stop_none while it goes on
+      !> at stop_collapse: the upper bound of the collapse load (λ of the state the lower bound), the
+      !> contact points at their limits and their node labels (the first ones)
+      real(dp) :: collapse_upper = 0.0_dp
+      integer :: collapse_points = 0
+      character(len=:), allocatable :: collapse_nodes
       logical :: started = .false.                 !< driver_start succeeded
       !> Converged steps before the current analysis step (driver_next_analysis_step): the step
       !> numbers go on across analysis steps, and max_steps counts the steps of the current one.
@@ -81,6 +90,8 @@ module uniarc_path_driver
       !> vary slowly there).
       real(dp), allocatable :: event_tracked(:, :)
       integer :: stop = stop_none       !< the stop reason if the path ended with this step
+      !> a new converged step was taken (.false. at a bearing collapse: its event is at the last step)
+      logical :: advanced = .true.
    end type step_outcome_t
 
 contains
@@ -170,6 +181,7 @@ contains
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
       integer :: k
+      logical :: collapsed
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
          return
@@ -185,6 +197,23 @@ contains
       outcome%lambda = driver%state%lambda
       call path_advance(model, driver%state, error, outcome%cuts)
       if (allocated(error)) then
+         ! A step that fails from a state at a bearing collapse (docs/theory.md §3.9, "Collapse"): the
+         ! committed state is the collapse, a result and the end of the path (or of the analysis step).
+         if (.not. error%out_of_memory) then
+            call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
+                                  driver%collapse_points, driver%collapse_nodes)
+            if (collapsed) then
+               deallocate (error)
+               driver%stop = stop_collapse
+               outcome%stop = stop_collapse
+               outcome%advanced = .false.
+               outcome%iterations = 0
+               outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
+                                                  driver%state%lambda, 0.0_dp)]
+               outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+               return
+            end if
+         end if
          driver%stop = stop_failure
          outcome%stop = stop_failure
          return
@@ -223,6 +252,19 @@ contains
       ! the path stops at a load or track limit: the last row is in equilibrium without their forces
       ! (docs/theory.md §3.8).
       if (driver%state%release_due .and. driver%stop /= stop_step_limit) driver%stop = stop_none
+      ! A converged state at a bearing collapse (every motion the load drives held only by media at their
+      ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
+      if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then
+         call bearing_collapse(model, driver%state, .true., collapsed, driver%collapse_upper, &
+                               driver%collapse_points, driver%collapse_nodes)
+         if (collapsed) then
+            driver%stop = stop_collapse
+            outcome%events = [outcome%events, critical_event_t('bearing_collapse', real(outcome%step, dp), &
+                                                               outcome%lambda, 1.0_dp)]
+            outcome%event_tracked = reshape([outcome%event_tracked, driver%tracked], &
+                                            [size(driver%tracked), size(outcome%events)])
+         end if
+      end if
       outcome%stop = driver%stop
    end subroutine driver_step
 

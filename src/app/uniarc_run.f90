@@ -8,7 +8,7 @@ module uniarc_run
    use uniarc_path_following, only: candidate_reactions
    use uniarc_contact, only: bed_values
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
-                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, &
+                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
    use uniarc_support_reactions, only: support_reactions, prescribed_force
@@ -340,23 +340,26 @@ contains
          do while (.not. done)
             call driver_step(stepped, driver, outcome, error)
             if (allocated(error)) exit
-            last_written = record
-            call record_state(model, stepped, driver, record, error)
-            if (allocated(error)) then
-               record = last_written
-               exit
+            ! A bearing collapse (stop_collapse) takes no new step: its event is at the last row written.
+            if (outcome%advanced) then
+               last_written = record
+               call record_state(model, stepped, driver, record, error)
+               if (allocated(error)) then
+                  record = last_written
+                  exit
+               end if
+               record%analysis_step = k_step
+               if (.not. finite_record(record)) then
+                  call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
+                                  trim(format_number(outcome%lambda))//': the converged state is not finite (NaN '// &
+                                  'or overflow in lambda, the displacements or the reactions); it is not written, '// &
+                                  'the path ends at step '//integer_to_string(last_written%step), error_analysis)
+                  record = last_written
+                  exit
+               end if
+               call write_path_row(files, model, record, io_error)
+               if (allocated(io_error)) exit
             end if
-            record%analysis_step = k_step
-            if (.not. finite_record(record)) then
-               call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
-                               trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
-                               'overflow in lambda, the displacements or the reactions); it is not written, '// &
-                               'the path ends at step '//integer_to_string(last_written%step), error_analysis)
-               record = last_written
-               exit
-            end if
-            call write_path_row(files, model, record, io_error)
-            if (allocated(io_error)) exit
             do k = 1, size(outcome%events)
                if (allocated(model%steps)) then
                   call write_crit_row(files, outcome%events(k)%kind, outcome%events(k)%position, &
@@ -377,6 +380,7 @@ contains
                   short_number(outcome%events(k)%lambda)//step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
+            if (.not. outcome%advanced) exit
             if (model%output%modes) call keep_mode(model, driver, outcome%events, modes)
             if (mod(record%step, stepped%analysis%shape_every) == 0) then
                call write_shape(files, model, record, io_error)
@@ -627,6 +631,12 @@ contains
          message = 'stopped by the step limit: max_steps = '//integer_to_string(driver%rules%max_steps)//' reached'
       case (stop_failure)
          message = 'stopped by an error'
+      case (stop_collapse)
+         message = 'stopped by a bearing collapse: '//integer_to_string(driver%collapse_points)// &
+                   ' contact point(s) of beds or springs at their limit QU or TU (nodes '//driver%collapse_nodes// &
+                   ') and nothing else holding the motion the load drives; no higher load may be carried '// &
+                   '(collapse load between lambda = '//short_number(driver%state%lambda)//' and '// &
+                   short_number(driver%collapse_upper)//')'
       case default
          message = 'stopped by an interrupt'
       end select

@@ -15,7 +15,8 @@ block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic so
          parameter tu and no ku (decks/plastic_spring_shared_slip.inp) one spring with both limits
          (TU=) and one slip shared by them.
 limit:   a stiff beam on a plastic bed under a central load: the limit load is qu x (contact length);
-         the deck's own load qu L must be reached to 0.999 and not passed at 1.001 (exit code 1);
+         the deck's own load qu L must be reached to 0.999 and not passed at 1.001: the run ends at
+         the collapse with a bearing_collapse row of STEM.crit at lambda = 1 and exit code 0;
          with --limit tu the uplift limit tu L of a bed with TU= under an upward load.
 bed:     a beam on a tensionless plastic bed (decks/beam_plastic_bed.inp): the deflections, the
          slips and the yielding candidates of the last step against an independent small-displacement
@@ -190,14 +191,20 @@ def check_limit(args):
         fail(f'0.999 of qu L: exit code {below.returncode}, expected 0')
     above = run(args.uniarc, args.deck, args.out + '/above', ['lmax=1.001'])
     stem = os.path.splitext(os.path.basename(args.deck))[0]
-    if above.returncode != 1:
-        fail(f'1.001 of qu L: exit code {above.returncode}, expected 1 (no equilibrium beyond the limit load)')
+    if above.returncode != 0:
+        fail(f'1.001 of qu L: exit code {above.returncode}, expected 0 (the path ends at the bearing collapse, '
+             'a result: docs/contracts.md)')
     limit = args.limit
     # The load-controlled path stops where it cannot go on: at the limit load, from below, to the
     # step-length floor (min_increment) times the first increment.
     reached = table(os.path.join(args.out, 'above', stem + '.path'))['lambda'][-1]
     if not 1.0 - 1e-4 <= reached <= 1.0:
         fail(f'1.001 of qu L: the path stopped at lambda = {reached}, not at the limit lambda = 1')
+    # ... and says so: one bearing_collapse row, at the last converged step, at its lambda
+    crit = np.atleast_1d(table(os.path.join(args.out, 'above', stem + '.crit')))
+    collapse = crit[crit['kind'] == 'bearing_collapse']
+    if len(collapse) != 1 or collapse['lambda'][0] != reached:
+        fail(f'1.001 of qu L: expected one bearing_collapse row at lambda = {reached} in STEM.crit, found {collapse}')
     values = deck_parameters(args.deck, [])
     path = table(os.path.join(args.out, 'below', stem + '.path'))
     # Elastic rows: a rigid beam on the bed, w = P/(K L); the beam's own bending adds

@@ -1,0 +1,311 @@
+!> The bearing collapse of a structure on elastic–perfectly plastic beds and springs (`QU=`, `TU=`;
+!> docs/theory.md §3.9, "Collapse"): the certificate that a converged state is (within a bracket) the
+!> collapse load of limit analysis, so that a path whose next step cannot converge there ends with a
+!> result (a `bearing_collapse` row of STEM.crit, exit code 0) instead of a failure.
+!>
+!> At the committed state (λ_n, reactions r_c), let the floating motions v_j (j ≤ 3: the rigid motions
+!> that only contacts hold, docs/theory.md §2.8) span the candidate mechanisms φ = Σ y_j v_j. The
+!> candidates split into
+!> - holders: in the working set, elastic, and not within `near_yield` of a limit — they resist any φ
+!>   with a_c·φ ≠ 0, so φ must lie in the null space of their rows a_c·v_j;
+!> - yielding ones (at a limit, or elastic within `near_yield` of it): φ must move them further the way
+!>   they yield (a_c·φ ≤ 0 in bearing, ≥ 0 in uplift), else they unload elastically and hold;
+!> - open unilateral ones: φ must not close them (a_c·φ ≥ 0); so too one of the working set that touches
+!>   with a force within `near_yield` of nothing (the edge of a contact region): φ may lift it off, its
+!>   force then lost (r_lim = 0).
+!> For such a φ with R·φ > 0 (R the reference load), the incremental virtual work of the rigid motion
+!> (the elements do none: φ is rigid) gives the largest load increment the media can balance along φ,
+!>     Δλ(φ) = Σ_c (r_lim,c − r_c)(−a_c·φ) / (R·φ) ≥ 0,
+!> r_lim the limit force of each yielding candidate (q_c, or −t_c in uplift). By the upper-bound
+!> theorem of limit analysis (a kinematically admissible mechanism; Neal 1977, ch. 2; for Winkler-type
+!> plastic supports Maier 1968) the collapse load is at most λ_n + min_φ Δλ(φ); the committed state is
+!> statically admissible (lower bound), so the collapse load lies in [λ_n, λ_n + Δλ_min]. The minimum of
+!> the linear-fractional Δλ over the polyhedral cone of admissible φ is on one of its extreme rays,
+!> found by enumeration (d ≤ 3: the rays orthogonal to one constraint row in 2-D, to two in 3-D). To
+!> first order in the structure's rotation (the floating motions are those of the initial geometry).
+module uniarc_path_collapse
+   use uniarc_kinds, only: dp
+   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_dof_map, only: candidate_live
+   use uniarc_contact, only: candidate_gap, in_set
+   use uniarc_assembly, only: gather_nodal
+   use uniarc_path_state, only: path_state_t
+   implicit none
+   private
+   public :: bearing_collapse, near_yield, collapse_bracket
+
+   !> An elastic candidate whose reaction is within this fraction of its limit counts as yielding for
+   !> the mechanism: the step that failed was cut to 1e-6 of the first (docs/input.md, min_increment),
+   !> so the last one to yield may be short of its limit by the load of that sliver; its slack enters
+   !> the bracket Δλ, which the certificate bounds separately (collapse_bracket).
+   real(dp), parameter :: near_yield = 1.0e-3_dp
+   !> The collapse is certified when the bracket Δλ_min is at most this fraction of the upper bound
+   !> λ_n + Δλ_min (the load is then known to 0.1 %, the precision of near_yield).
+   real(dp), parameter :: collapse_bracket = 1.0e-3_dp
+   !> A row a_c·v with |a_c·v| at most this fraction of |a_c| max|v| sees no motion (as
+   !> uniarc_path_state's floating_tolerance: a contact across the motion to 1e-6 rad).
+   real(dp), parameter :: row_tolerance = 1.0e-6_dp
+   !> In 3-D (a structure held in no direction but by its media) the rays from pairs of the first
+   !> max_pairs constraint rows only: a mechanism missed so is a collapse not certified (the run then
+   !> ends as a failed step), never a false one.
+   integer, parameter :: max_pairs = 300
+
+contains
+
+   !> Whether the committed `state` of `model` is at a bearing collapse (module header). On .true.:
+   !> `upper` the upper bound λ_n + Δλ_min of the collapse load (λ_n = state%lambda the lower bound),
+   !> `count` the candidates at or within near_yield of their limits that the mechanism moves, and
+   !> `nodes` their node labels (comma-separated, the first ones). .false. when the model has no
+   !> floating motion, no candidate at a limit, no admissible mechanism that the load drives, or a
+   !> bracket wider than collapse_bracket.
+   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      !> .true.: only the candidates of the yielding set count as yielding (a converged state that is
+      !> itself a collapse, Δλ_min = 0); .false.: those within near_yield of a limit too (a state from
+      !> which the next step failed)
+      logical, intent(in) :: strict
+      logical, intent(out) :: collapsed
+      real(dp), intent(out) :: upper
+      integer, intent(out) :: count
+      character(len=:), allocatable, intent(out) :: nodes
+      real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
+      real(dp), allocatable :: constraint(:, :), slack(:), load(:)
+      integer, allocatable :: kind(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), margin, force_scale
+      integer :: n_c, m, c, j, node, d, n_con, a, b, k
+      logical :: any_yield
+      collapsed = .false.
+      upper = state%lambda
+      count = 0
+      nodes = ''
+      if (.not. (allocated(state%floating_motion) .and. allocated(state%yielding) .and. &
+                 allocated(state%reactions) .and. allocated(state%reference))) return
+      m = size(state%floating_motion, 2)
+      n_c = size(state%active)
+      if (m == 0 .or. n_c == 0) return
+      allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(state%map, state%u, nodal)
+      ! rate(c, j) = a_c·v_j, the first-order gap change of candidate c along floating motion j
+      allocate (rate(n_c, m), source=0.0_dp)
+      allocate (kind(n_c), source=0)   ! 0 none, 1 holder, 2 bearing yield, 3 uplift yield, 4 open
+      allocate (slack(n_c), source=0.0_dp)
+      do j = 1, m
+         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
+         scale = maxval(abs(motion_nodal(1:2, :)))
+         do c = 1, n_c
+            if (.not. candidate_live(state%map, c)) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+            rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
+            if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
+         end do
+      end do
+      margin = near_yield
+      if (strict) margin = 0.0_dp
+      force_scale = 0.0_dp
+      do c = 1, n_c
+         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
+      end do
+      if (strict .and. .not. any(state%yielding .and. state%active)) return
+      any_yield = .false.
+      do c = 1, n_c
+         if (.not. candidate_live(state%map, c)) cycle
+         associate (candidate => model%contacts(c))
+            if (.not. in_set(model, state%active, c)) then
+               if (.not. candidate%bilateral) kind(c) = 4
+               cycle
+            end if
+            reaction = state%reactions(c)
+            kind(c) = 1
+            if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
+                (.not. strict .and. reaction >= (1.0_dp - margin)*candidate%yield_force)) .and. reaction >= 0.0_dp) then
+               kind(c) = 2
+               limit = candidate%yield_force
+            else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
+                     (.not. strict .and. reaction <= -(1.0_dp - margin)*candidate%uplift_force)) .and. reaction < 0.0_dp) then
+               kind(c) = 3
+               limit = -candidate%uplift_force
+            end if
+            if (kind(c) >= 2) then
+               slack(c) = limit - reaction
+               any_yield = .true.
+            else if (.not. candidate%bilateral .and. reaction <= margin*release_scale(c)) then
+               ! touching with (almost) no force, at the edge of the contact region: the mechanism
+               ! may lift it off (a·φ ≥ 0), its force r then lost to the media (r_lim = 0)
+               kind(c) = 5
+               slack(c) = -reaction
+            end if
+         end associate
+      end do
+      if (.not. any_yield) return
+      ! The null space of the holders' rows (m ≤ 3 columns): the mechanisms they do not resist.
+      hold = reshape([((rate(c, j), c=1, n_c), j=1, m)], [n_c, m])
+      hold = hold(pack([(c, c=1, n_c)], kind == 1), :)
+      call null_space(hold, basis)
+      d = size(basis, 2)
+      if (d == 0) return
+      ! The load's work on each basis motion, and the constraint rows (one per yielding or open
+      ! candidate that the subspace moves), oriented so that an admissible φ = basis·y has row·y ≥ 0:
+      ! bearing a·φ ≤ 0 (the penetration grows), uplift and open a·φ ≥ 0 (an open one not closed).
+      allocate (load(d))
+      do k = 1, d
+         load(k) = dot_product(state%reference, matmul(state%floating_motion, basis(:, k)))
+      end do
+      if (maxval(abs(load)) <= 0.0_dp) return
+      allocate (constraint(d, 0))
+      do c = 1, n_c
+         if (kind(c) < 2) cycle
+         y(1:d) = matmul(rate(c, :), basis)
+         if (maxval(abs(y(1:d))) <= row_tolerance*maxval(abs(rate(c, :)))) cycle
+         if (kind(c) == 2) y(1:d) = -y(1:d)
+         constraint = reshape([constraint, y(1:d)], [d, size(constraint, 2) + 1])
+      end do
+      n_con = size(constraint, 2)
+      ! Extreme rays of {y : constraintᵀy ≥ 0}: in 1-D ±1; in 2-D the normals to one row; in 3-D the
+      ! cross products of two rows; with fewer rows than needed, the load's own direction too.
+      best = huge(1.0_dp)
+      select case (d)
+      case (1)
+         call try([1.0_dp])
+         call try([-1.0_dp])
+      case (2)
+         call try(load)
+         do a = 1, n_con
+            call try([-constraint(2, a), constraint(1, a)])
+            call try([constraint(2, a), -constraint(1, a)])
+         end do
+      case default
+         call try(load)
+         do a = 1, min(n_con, max_pairs)
+            ! the load's direction projected onto the plane of one row (a face of the cone)
+            call try(load - dot_product(load, constraint(:, a))/dot_product(constraint(:, a), constraint(:, a)) &
+                     *constraint(:, a))
+            do b = a + 1, min(n_con, max_pairs)
+               y = cross(constraint(:, a), constraint(:, b))
+               call try(y)
+               call try(-y)
+            end do
+         end do
+      end select
+      if (best == huge(1.0_dp)) return
+      upper = state%lambda + best
+      collapsed = best <= collapse_bracket*abs(upper)
+      if (.not. collapsed) return
+      ! the candidates at their limits (for the message)
+      do c = 1, n_c
+         if (kind(c) /= 2 .and. kind(c) /= 3) cycle
+         count = count + 1
+         if (len(nodes) > 60) cycle
+         if (len(nodes) > 0) nodes = nodes//', '
+         nodes = nodes//int_text(model%node_label(model%contacts(c)%node))
+         if (len(nodes) > 60) nodes = nodes//', ...'
+      end do
+
+   contains
+
+      !> The force below whose near_yield share a unilateral candidate of the set counts as lifting
+      !> off: its bearing limit if it has one, else the largest reaction of the set.
+      real(dp) function release_scale(i)
+         integer, intent(in) :: i
+         release_scale = force_scale
+         if (model%contacts(i)%yield_force > 0.0_dp) release_scale = model%contacts(i)%yield_force
+      end function release_scale
+
+      !> Keep Δλ(φ) of φ = basis·y if φ is admissible (every constraint row·y ≥ 0 to round-off) and
+      !> the load drives it (R·φ > 0).
+      subroutine try(direction)
+         real(dp), intent(in) :: direction(:)
+         real(dp) :: norm, work_load, dissipation, row
+         integer :: i
+         norm = norm2(direction)
+         if (.not. (norm > 0.0_dp)) return
+         work_load = dot_product(load, direction)/norm
+         if (.not. (work_load > row_tolerance*norm2(load))) return
+         do i = 1, n_con
+            row = dot_product(constraint(:, i), direction)/norm
+            if (row < -row_tolerance*norm2(constraint(:, i))) return
+         end do
+         dissipation = 0.0_dp
+         do i = 1, n_c
+            if (kind(i) == 2 .or. kind(i) == 3 .or. kind(i) == 5) &
+               dissipation = dissipation + slack(i)*(-dot_product(matmul(rate(i, :), basis), direction))/norm
+         end do
+         best = min(best, max(0.0_dp, dissipation)/work_load)
+      end subroutine try
+
+   end subroutine bearing_collapse
+
+   !> An orthonormal basis (m, d) of the null space of `rows` (n, m ≤ 3), each row scaled to unit
+   !> length, by the eigenvectors of rowsᵀrows (m × m, Jacobi rotations) whose eigenvalues are at most
+   !> (row_tolerance)² of the largest possible (n rows of unit length). No rows: the identity.
+   subroutine null_space(rows, basis)
+      real(dp), intent(in) :: rows(:, :)
+      real(dp), allocatable, intent(out) :: basis(:, :)
+      real(dp) :: gram(size(rows, 2), size(rows, 2)), vectors(size(rows, 2), size(rows, 2)), norm
+      real(dp) :: theta, t, cs, sn, g_pq, rotated(size(rows, 2), size(rows, 2)), threshold
+      integer :: m, i, p, q, sweep
+      logical :: keep(size(rows, 2))
+      m = size(rows, 2)
+      gram = 0.0_dp
+      do i = 1, size(rows, 1)
+         norm = norm2(rows(i, :))
+         if (norm > 0.0_dp) gram = gram + spread(rows(i, :)/norm, 2, m)*spread(rows(i, :)/norm, 1, m)
+      end do
+      vectors = 0.0_dp
+      do i = 1, m
+         vectors(i, i) = 1.0_dp
+      end do
+      ! cyclic Jacobi on the symmetric m × m Gram matrix (Golub & Van Loan, §8.5)
+      do sweep = 1, 50
+         if (sum([((gram(p, q)**2, p=1, q - 1), q=1, m)]) <= (epsilon(1.0_dp)*max(sum(abs(gram)), tiny(1.0_dp)))**2) &
+            exit
+         do p = 1, m - 1
+            do q = p + 1, m
+               g_pq = gram(p, q)
+               if (g_pq == 0.0_dp) cycle
+               theta = (gram(q, q) - gram(p, p))/(2.0_dp*g_pq)
+               t = sign(1.0_dp, theta)/(abs(theta) + sqrt(theta**2 + 1.0_dp))
+               cs = 1.0_dp/sqrt(t**2 + 1.0_dp)
+               sn = t*cs
+               rotated = identity_rotation(m, p, q, cs, sn)
+               gram = matmul(transpose(rotated), matmul(gram, rotated))
+               vectors = matmul(vectors, rotated)
+            end do
+         end do
+      end do
+      threshold = real(max(size(rows, 1), 1), dp)*row_tolerance**2
+      keep = [(gram(i, i) <= threshold, i=1, m)]
+      basis = vectors(:, pack([(i, i=1, m)], keep))
+   end subroutine null_space
+
+   pure function identity_rotation(m, p, q, cs, sn) result(r)
+      integer, intent(in) :: m, p, q
+      real(dp), intent(in) :: cs, sn
+      real(dp) :: r(m, m)
+      integer :: i
+      r = 0.0_dp
+      do i = 1, m
+         r(i, i) = 1.0_dp
+      end do
+      r(p, p) = cs
+      r(q, q) = cs
+      r(p, q) = sn
+      r(q, p) = -sn
+   end function identity_rotation
+
+   pure function cross(a, b) result(c)
+      real(dp), intent(in) :: a(3), b(3)
+      real(dp) :: c(3)
+      c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+   end function cross
+
+   pure function int_text(i) result(text)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: text
+      character(len=12) :: buffer
+      write (buffer, '(i0)') i
+      text = trim(buffer)
+   end function int_text
+
+end module uniarc_path_collapse
