@@ -19,11 +19,13 @@ module uniarc_linear_static
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
-                          band_multiply, band_zero
+                          band_multiply, band_zero, band_add, band_get
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
-   use uniarc_path_mechanism, only: find_mechanism
+   use uniarc_path_mechanism, only: find_mechanism, floating_motions
+   use uniarc_path_approach, only: rigid_approach
+   use uniarc_lift_off, only: describe_lift_off
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
    implicit none
@@ -74,6 +76,10 @@ contains
       type(contact_linearization_t) :: lin
       type(contact_selection_t) :: selection
       real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
+      !> the floating motions (n, k) of a structure held only by its contacts across a gap, and the
+      !> equations where each is held while no contact of the set sees it (unallocated: no approach)
+      real(dp), allocatable :: floating(:, :)
+      integer, allocatable :: held(:)
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst
@@ -105,10 +111,15 @@ contains
       call find_mechanism(model, map, assembled, error)
       if (allocated(error)) return
       call touching(model, map, length_scale, set)
+      ! A structure held only by its contacts across a gap, that the load pushes along a free rigid
+      ! translation (docs/theory.md §2.8): the first working set is the contacts its linearised gaps
+      ! meet first along that translation, and the motions no contact of a set sees are held.
+      call approach_first_contact(model, map, reference, length_scale, assembled, residual, set, floating, held, error)
+      if (allocated(error)) return
       pivots = 0
       worst = 0.0_dp
       do round = 1, max_rounds
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
          if (allocated(error)) return
          call band_copy(assembled, factors, error)
          if (allocated(error)) return
@@ -129,7 +140,7 @@ contains
          if (allocated(error)) return
          if (worst <= complementarity_tolerance) exit
          ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
          if (allocated(error)) return
          if (round == max_rounds) then
             call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
@@ -151,13 +162,16 @@ contains
          call select_contact_set(model, map, lin, set, assembled, factors, selection, error)
          pivots = pivots + selection%report%pivots
          if (allocated(error)) then
+            ! a load that lifts the structure off every contact that could hold it: no equilibrium
+            ! exists (docs/theory.md §3.12), said so instead of the solver's words
+            call lift_off_error(model, map, zero_nodal, assembled, error)
             call add_context(error, 'linear static analysis')
             return
          end if
          set = selection%active
       end do
 
-      call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
       if (allocated(error)) return
       ! Inertia of the final K_S: each contact row of the set adds one negative pivot to the
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
@@ -179,6 +193,56 @@ contains
       if (present(deflections)) deflections = bed_values(map, x)
    end subroutine solve_linear_static
 
+   !> A structure held only by its contacts across a gap, that the reference load `reference` pushes
+   !> along a rigid translation its supports leave free (docs/theory.md §2.8, uniarc_path_approach):
+   !> `set` gets the candidates that the translation brings first to their linearised gap
+   !> g(0) + a(0)·u = 0 (the gaps of the linear analysis stay linearised at u = 0: the solve with that
+   !> set closes them, the translation being part of its solution), and `floating` (n, k), `held` (k)
+   !> the structure's floating motions and the equations where assemble_set holds those no contact of
+   !> a set sees (allocated only then: every other model is solved as before). The floating motions
+   !> are those of the linear stiffness with the unilateral candidates open (`matrix`, `residual` work
+   !> space). Untouched without unilateral candidates or such a motion.
+   !> Errors (error_input): the load carries the structure away from every contact (rigid_approach).
+   subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, set, floating, held, &
+                                     error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: reference(:), length_scale
+      type(band_matrix_t), intent(inout) :: matrix
+      real(dp), intent(inout) :: residual(:)
+      logical, intent(inout) :: set(:)
+      real(dp), allocatable, intent(out) :: floating(:, :)
+      integer, allocatable, intent(out) :: held(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: motions(:, :), shift(:), zero_nodal(:, :), moved(:, :)
+      integer, allocatable :: equations(:)
+      logical, allocatable :: bonded(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, contact, node
+      if (.not. any([(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
+                      c=1, size(map%candidate_equation))])) return
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
+      ! a spring with an uplift limit holds nothing once it yields: released, as in the path
+      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
+      call assemble_set(model, map, zero_nodal, bonded, matrix, residual, error)
+      if (allocated(error)) return
+      call floating_motions(model, map, matrix, motions, equations)
+      if (.not. allocated(motions)) return
+      allocate (shift(map%n_equations), moved(dofs_per_node, model%n_nodes))
+      call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
+      if (allocated(error) .or. contact == 0) return
+      call gather_nodal(map, shift, moved)
+      do c = 1, size(set)
+         if (set(c) .or. .not. candidate_live(map, c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
+         set(c) = gap + dot_product(gradient, moved(1:2, node)) <= 1.0e-9_dp*length_scale
+      end do
+      call move_alloc(motions, floating)
+      call move_alloc(equations, held)
+   end subroutine approach_first_contact
+
    !> Prescribed displacements ū of held DOFs (support settlements) as loads on the free DOFs:
    !> K_ff u_f = R_f − K_fp ū, element by element (−k_e ū_e scattered to the free equations; the held
    !> ones have none). Equations of the direct stiffness method (Przemieniecki 1968, §6.7).
@@ -198,9 +262,47 @@ contains
       end do
    end subroutine add_settlement_load
 
+   !> The lift-off test of a contact LCP that failed (uniarc_lift_off, docs/theory.md §3.12): the rigid
+   !> motions that only the unilateral candidates hold (the stiffness with the bonded ones, as the
+   !> path's find_floating) and the load with those candidates open. When the load lifts the
+   !> structure off, `error` is replaced by the message that says so (error_analysis); else kept.
+   !> `assembled` is work space.
+   subroutine lift_off_error(model, map, zero_nodal, assembled, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      type(band_matrix_t), intent(inout) :: assembled
+      type(error_t), allocatable, intent(inout) :: error
+      type(error_t), allocatable :: failure
+      real(dp), allocatable :: residual(:), reference(:), motions(:, :)
+      integer, allocatable :: equations(:)
+      logical, allocatable :: bonded(:)
+      character(len=:), allocatable :: text
+      integer :: c
+      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
+      allocate (residual(map%n_equations), reference(map%n_equations))
+      call assemble_set(model, map, zero_nodal, bonded, assembled, residual, failure)
+      if (allocated(failure)) return
+      call floating_motions(model, map, assembled, motions, equations)
+      if (.not. allocated(motions)) return
+      call assemble_reference_load(model, map, .true., reference)
+      if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
+      call describe_lift_off(model, map, motions, zero_nodal, residual + reference, text)
+      if (.not. allocated(text)) return
+      deallocate (error)
+      call make_error(error, text, error_analysis)
+   end subroutine lift_off_error
+
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
-   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error)
+   !> With `floating` (n, k) and `held` (k), the floating motions of a structure held only by its
+   !> contacts across a gap (approach_first_contact): each that no contact of the set sees is held at
+   !> its equation by a spring of the size of the diagonal there, in K_S only (the path's device,
+   !> docs/theory.md §2.8): a right-hand side with no component along the motion is then solved
+   !> exactly with that unknown zero and the spring's force zero; one with a component fails the
+   !> equilibrium check of the result (uniarc_static_balance).
+   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: zero_nodal(:, :)
@@ -208,8 +310,11 @@ contains
       type(band_matrix_t), intent(inout) :: assembled
       real(dp), intent(out) :: residual(:)
       type(error_t), allocatable, intent(out) :: error   !< a band matrix that cannot be allocated (band_allocate)
+      real(dp), allocatable, intent(in), optional :: floating(:, :)
+      integer, allocatable, intent(in), optional :: held(:)
       real(dp), allocatable :: internal(:), no_reactions(:)
-      integer :: status
+      real(dp) :: diagonal
+      integer :: status, i
       if (assembled%n /= map%n_equations) then
          call band_allocate(assembled, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
          if (allocated(error)) return
@@ -224,7 +329,42 @@ contains
       if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, no_reactions, set, &
                                                                   assembled, internal)
       residual = -internal
+      if (.not. (present(floating) .and. present(held))) return
+      if (.not. (allocated(floating) .and. allocated(held))) return
+      do i = 1, size(held)
+         if (set_sees(model, map, set, floating(:, i))) cycle
+         diagonal = abs(band_get(assembled, held(i), held(i)))
+         if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
+         call band_add(assembled, held(i), held(i), diagonal)
+      end do
    end subroutine assemble_set
+
+   !> A contact of `set` sees the rigid motion v (n): |a_cᵀv| > 1e-6 |a_c| max|v|, a_c at u = 0 (the
+   !> path's test, uniarc_path_state sees_floating).
+   logical function set_sees(model, map, set, v) result(sees)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      logical, intent(in) :: set(:)
+      real(dp), intent(in) :: v(:)
+      real(dp), parameter :: floating_tolerance = 1.0e-6_dp
+      real(dp) :: gap, gradient(2), hessian(2, 2), along
+      integer :: c, node, k
+      sees = .false.
+      do c = 1, size(set)
+         if (.not. (set(c) .and. candidate_live(map, c))) cycle
+         if (model%contacts(c)%tangential) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
+         along = 0.0_dp
+         do k = 1, 2
+            if (map%equation(k, node) > 0) along = along + gradient(k)*v(map%equation(k, node))
+         end do
+         if (abs(along) > floating_tolerance*norm2(gradient)*maxval(abs(v))) then
+            sees = .true.
+            return
+         end if
+      end do
+   end function set_sees
 
    !> Candidates that touch at u = 0 (|g| within 1e-9 of the model size) or are bonded.
    subroutine touching(model, map, length_scale, set)

@@ -338,7 +338,9 @@ contains
       if (abs(lambda) >= rules%lambda_max) then
          reason = stop_load_limit
       else if (rules%track > 0) then
-         if (abs(tracked(rules%track)) >= rules%track_limit) reason = stop_track_limit
+         ! A step landed on the limit (docs/theory.md §2.11) reaches it to the round-off of u + Δu:
+         ! 1e-12 of it, far below any tolerance of a step, counts as reached.
+         if (abs(tracked(rules%track)) >= rules%track_limit*(1.0_dp - 1.0e-12_dp)) reason = stop_track_limit
       end if
       if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit
    end function stop_reason

@@ -46,7 +46,9 @@ module uniarc_path_following
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
+   use uniarc_path_approach, only: rigid_approach
    use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_lift_off, only: describe_lift_off
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -115,6 +117,8 @@ contains
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
          call find_floating(model, state, system, nodal)
+         call approach_first_contact(model, state, system, nodal, error)
+         if (allocated(error)) return
          call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
@@ -304,6 +308,37 @@ contains
       call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
    end subroutine find_floating
 
+   !> A structure that floats across a gap and that the reference load pushes along a free rigid
+   !> translation starts where that translation brings it to its first contact (docs/theory.md §2.8,
+   !> uniarc_path_approach): state%u is translated, `nodal` updated and the first working set is that
+   !> of the translated state. Untouched when there is no such translation (no floating motion, a
+   !> self-equilibrated load, a contact holding it already). `system` is work space.
+   !> Errors (error_input): no contact is ever met along the translation (rigid_approach).
+   subroutine approach_first_contact(model, state, system, nodal, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), allocatable, intent(inout) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: internal(:), reference(:), shift(:)
+      real(dp) :: element_scale
+      integer :: contact, status
+      if (.not. allocated(state%floating_equation)) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), shift(state%map%n_equations), &
+                stat=status)
+      call allocation_failure(status, 'the force vectors of the rigid approach', 24.0_dp*state%map%n_equations, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, state%active, nodal, internal, reference, &
+                          element_scale)
+      call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
+                          shift, contact, error)
+      if (allocated(error) .or. contact == 0) return
+      state%u = state%u + shift
+      call nodal_displacements(model, state, nodal)
+      call touching_candidates(model, state, nodal, state%active)
+   end subroutine approach_first_contact
+
    !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
    !> where the contacts touching at the start carry the whole reference load (K⁻¹R has no
    !> displacement: a heated bar against a rigid stop), the structure's own ||K⁻¹R|| with those contacts
@@ -421,7 +456,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed, cornered, corner_passed, left_branch, unresolved
+      logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved
       integer :: revisited
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
@@ -470,6 +505,13 @@ contains
                landed = .false.
                if (trial%converged .and. options%control /= control_load) &
                   call land_on_load_limit(model, state, system, trial, length, target, landed)
+               ! A step that takes the stop track through stop_value is re-solved under displacement
+               ! control of the tracked DOF to land on it (docs/theory.md §2.11).
+               ! (Not a release step: its jump is at constant λ, docs/theory.md §3.8.)
+               track_landed = .false.
+               if (trial%converged .and. .not. trial%release) &
+                  call land_on_track_limit(model, state, system, trial, length, track_landed)
+               if (track_landed) landed = .false.
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -518,7 +560,16 @@ contains
                end if
             end if
             if (.not. trial%converged) then
+               ! A load that lifts the structure off every contact that could hold it: no equilibrium
+               ! exists, whatever the step (docs/theory.md §3.12); said so instead of the solver's words.
+               ! Under load control the step's length is its Δλ; the smallest attempt was 2 × length.
+               if (options%control == control_load) &
+                  call lift_off_error(model, state, system, real(state%direction, dp)*2.0_dp*length, error)
                call move_alloc(system, state%system)
+               if (allocated(error)) then
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
@@ -545,7 +596,7 @@ contains
             ! Commit the converged trial.
             committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
-            if (to_limit .and. halvings == 0 .and. .not. trial%release) &
+            if (to_limit .and. halvings == 0 .and. .not. (track_landed .or. trial%release)) &
                committed_lambda = real(state%direction, dp)*options%lambda_max
             if (landed) committed_lambda = target
             call accept_trial(model, state, trial, committed_lambda)
@@ -739,6 +790,53 @@ contains
       landed = .true.
    end subroutine land_on_load_limit
 
+   !> The landing on stop_value of a step that takes the stop track's |value| from below stop_value to
+   !> stop_value or beyond (docs/theory.md §2.11): the step is solved again from the same committed
+   !> state under displacement control of the tracked DOF (value = scale × u there), its increment the
+   !> one that puts the value on sign(value) × stop_value; if that converges it replaces the trial
+   !> (`landed`) and `length` is scaled by the share of the tracked increment it covers. A tracked DOF
+   !> that is held, or a landing that does not converge (the contacts carry the load at the DOF, a
+   !> limit of the tracked value inside the step), keeps the trial.
+   subroutine land_on_track_limit(model, state, system, trial, length, landed)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      type(step_trial_t), intent(inout) :: trial
+      real(dp), intent(inout) :: length
+      logical, intent(out) :: landed
+      type(model_t), allocatable :: controlled
+      type(path_state_t), allocatable :: start
+      type(step_trial_t) :: landing
+      real(dp) :: before, after, goal, stop_value
+      integer :: k, equation
+      landed = .false.
+      k = model%analysis%stop_track
+      if (k <= 0) return
+      stop_value = model%analysis%stop_value
+      equation = state%map%equation(model%tracks(k)%dof, model%tracks(k)%node)
+      if (equation <= 0 .or. model%tracks(k)%scale == 0.0_dp) return
+      before = model%tracks(k)%scale*state%u(equation)
+      after = model%tracks(k)%scale*(state%u(equation) + trial%increment(equation))
+      if (.not. (abs(before) < stop_value .and. abs(after) >= stop_value)) return
+      ! the tracked DOF's increment to the goal, u_goal − u_n
+      goal = (sign(stop_value, after) - before)/model%tracks(k)%scale
+      if (.not. (abs(goal) > 0.0_dp)) return
+      allocate (controlled, source=model)
+      controlled%analysis%control = control_displacement
+      controlled%analysis%control_node = model%tracks(k)%node
+      controlled%analysis%control_dof = model%tracks(k)%dof
+      allocate (start, source=state)
+      start%control_equation = equation
+      start%direction = 1
+      if (goal < 0.0_dp) start%direction = -1
+      landing%length = abs(goal)
+      call attempt_step(controlled, start, system, landing)
+      if (.not. landing%converged) return
+      length = length*abs(goal)/max(abs(trial%increment(equation)), tiny(1.0_dp))
+      trial = landing
+      landed = .true.
+   end subroutine land_on_track_limit
+
    !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
    !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has
    !> no direction for the angle and distance tests of a step.
@@ -819,6 +917,39 @@ contains
                       'collapse at lambda = '//real_to_string(state%lambda, message_edit)//')'
    end subroutine add_mechanism_hint
 
+
+   !> A step that no cut-back converges, tested for lift-off (uniarc_lift_off, docs/theory.md §3.12):
+   !> with the state's free rigid motions (those only the unilateral contacts hold, find_floating),
+   !> the unbalanced load at λ + dlambda (the load step's smallest attempt) with those contacts open, at
+   !> the step's starting displacements. `error` allocated (error_analysis): the load lifts the
+   !> structure off, at that λ. `system` is work space (its tangent is overwritten).
+   subroutine lift_off_error(model, state, system, dlambda, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(path_system_t), intent(inout) :: system
+      real(dp), intent(in) :: dlambda
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), internal(:), reference(:)
+      logical, allocatable :: bonded(:)
+      character(len=:), allocatable :: text
+      real(dp) :: element_scale, lambda
+      integer :: c
+      if (.not. allocated(state%floating_motion) .or. dlambda == 0.0_dp) return
+      if (size(state%floating_motion, 2) == 0) return
+      allocate (nodal(dofs_per_node, model%n_nodes), internal(state%map%n_equations), &
+                reference(state%map%n_equations))
+      call gather_nodal(state%map, state%u, nodal)
+      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
+      lambda = state%lambda + dlambda
+      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale)
+      ! the tangent now holds this assembly, neither the committed nor a converged one
+      system%holds_committed = .false.
+      system%holds_converged = .false.
+      call describe_lift_off(model, state%map, state%floating_motion, nodal, lambda*reference - internal, text)
+      if (.not. allocated(text)) return
+      call make_error(error, text//' (at lambda = '//real_to_string(lambda, message_edit)//')', error_analysis)
+   end subroutine lift_off_error
 
    !> A step that does not converge with a node of a polyline obstacle at a concave corner of it
    !> (within 1e-3 of the model's size, in contact or about to be: its gap below that too): the cause

@@ -3,7 +3,8 @@ module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
-   use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
+   use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values, analysis_step_t
+   use uniarc_deck_source, only: echo_window
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_path_following, only: candidate_reactions
    use uniarc_contact, only: bed_values
@@ -135,10 +136,31 @@ contains
          if (allocated(error)) then
             call name_analysis_step(model, k, error)
             error%message = error%message//' (the supports of this step are those left after its *BOUNDARY, REMOVE)'
+            call point_at_remove(model%deck_path, model%steps(k), error)
             return
          end if
       end do
    end subroutine check_step_supports
+
+   !> The message of a step that its *BOUNDARY, REMOVE leaves a mechanism, as an input error's:
+   !> `DECK:LINE:COL: ...` at the step's first REMOVE, with that line and a caret under REMOVE
+   !> (docs/contracts.md, exit code 2). Unchanged when the step has no REMOVE or the message does
+   !> not start with the deck's name.
+   subroutine point_at_remove(deck_path, step, error)
+      character(len=*), intent(in) :: deck_path
+      type(analysis_step_t), intent(in) :: step
+      type(error_t), intent(inout) :: error
+      character(len=:), allocatable :: shown
+      integer :: n, caret
+      n = len(deck_path)
+      if (step%remove_line == 0 .or. .not. allocated(step%remove_text) .or. n == 0) return
+      if (len(error%message) <= n + 1) return
+      if (error%message(1:n + 1) /= deck_path//':') return
+      call echo_window(step%remove_text, step%remove_column, shown, caret)
+      error%message = deck_path//':'//integer_to_string(step%remove_line)//':'// &
+                      integer_to_string(step%remove_column)//':'//error%message(n + 2:)// &
+                      new_line('a')//shown//new_line('a')//repeat(' ', max(caret - 1, 0))//'^'
+   end subroutine point_at_remove
 
    !> A nearly singular model's warning on stderr (uniarc_check, nearly_mechanism_warning; also with
    !> -q, as errors are): the analysis goes on (docs/contracts.md, "Nearly singular models").

@@ -47,6 +47,16 @@ contains
                     error)
          return
       end if
+      if (remove) then
+         ! the step's first REMOVE card, for the message of a step that its removals leave a mechanism
+         associate (step => deck%steps(deck%n_steps + 1))
+            if (step%remove_line == 0) then
+               step%remove_line = card%line
+               step%remove_column = card%options(option_index(card, 'REMOVE'))%column
+               step%remove_text = source%lines(card%line)%text
+            end if
+         end associate
+      end if
       do i = 1, card%n_data
          line = card%data_lines(i)
          call data_fields(source, line, fields)

@@ -14,7 +14,7 @@ module uniarc_deck_source
    implicit none
    private
    public :: source_t, card_t, option_t
-   public :: read_source, next_card, raise, raise_plain, clip
+   public :: read_source, next_card, raise, raise_plain, clip, echo_window
    public :: check_options, option_index, require_option
    public :: data_fields, require_field_count, field_real, field_integer
    public :: max_line_length, max_deck_bytes, max_fields

@@ -275,6 +275,9 @@ contains
       if (allocated(from%name)) call move_alloc(from%name, to%name)
       to%analysis = from%analysis
       if (allocated(from%fixed)) call move_alloc(from%fixed, to%fixed)
+      to%remove_line = from%remove_line
+      to%remove_column = from%remove_column
+      if (allocated(from%remove_text)) call move_alloc(from%remove_text, to%remove_text)
       to%loads%factor = from%loads%factor
       if (allocated(from%loads%nodal_load)) call move_alloc(from%loads%nodal_load, to%loads%nodal_load)
       if (allocated(from%loads%distributed_loads)) &

@@ -377,8 +377,12 @@ contains
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
       tail = ''
       if (files%step_column) tail = ' '//integer_to_string(record%analysis_step)
-      if (allocated(record%joint_plastic)) then
+      if (allocated(record%joint_plastic) .and. allocated(record%reactions)) then
+         forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
+      else if (allocated(record%joint_plastic)) then
          forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic)
+      else if (allocated(record%reactions)) then
+         forces = element_end_forces(model, record%displacement, record%lambda, reactions=record%reactions)
       else
          forces = element_end_forces(model, record%displacement, record%lambda)
       end if

@@ -47,11 +47,15 @@ contains
    !> beam convention of the module header. A truss has V = M = 0 (no transverse load on its span).
    !> `joint_plastic` (optional, (2, n_elements)): the committed plastic rotations of the joints with a
    !> moment limit (the path's state; uniarc_joint_plasticity), which the end moments depend on.
-   pure function element_end_forces(model, displacement, lambda, joint_plastic) result(forces)
+   !> `reactions` (optional, (n_contacts)): the reaction of every contact candidate at the state; with
+   !> it, the elements of a foundation carry their share of the bed's distributed reaction (module
+   !> header, bed_span_loads).
+   pure function element_end_forces(model, displacement, lambda, joint_plastic, reactions) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
       real(dp), intent(in), optional :: joint_plastic(:, :)
+      real(dp), intent(in), optional :: reactions(:)
       real(dp) :: forces(6, model%n_elements)
       real(dp) :: thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements)
       real(dp) :: deformation(3), q(3), end_forces(4), t(2), n(2), f(2*dofs_per_node)
@@ -61,6 +65,7 @@ contains
       integer :: e, i, transformation
       logical :: loaded(model%n_elements), has_held
       real(dp) :: held_thermal(3, model%n_elements), held_span(2*dofs_per_node, model%n_elements)
+      real(dp) :: bed(2*dofs_per_node, model%n_elements)
 
       transformation = analysis_transformation(model%analysis%kind)
       thermal = 0.0_dp
@@ -100,6 +105,9 @@ contains
          end do
       end if
 
+      bed = 0.0_dp
+      if (present(reactions)) call bed_span_loads(model, displacement, reactions, bed, loaded)
+
       has_held = .false.
       if (allocated(model%held)) has_held = size(model%held) > 0
       if (has_held) then
@@ -127,7 +135,7 @@ contains
          ! f_e = f_int − λ f_load: the load's components along t and n at each end (module header).
          t = [chord%c, chord%s]
          n = [-chord%s, chord%c]
-         f = lambda*span(:, e)
+         f = lambda*span(:, e) + bed(:, e)
          if (has_held) f = f + held_span(:, e)
          forces(1, e) = forces(1, e) + dot_product(f(1:2), t)
          forces(2, e) = forces(2, e) - dot_product(f(1:2), n)
@@ -137,6 +145,76 @@ contains
          forces(6, e) = forces(6, e) - f(6)
       end do
    end function element_end_forces
+
+   !> The share of the foundations' distributed reactions that each element of a bed carries on its
+   !> span, as consistent nodal loads (6, global), added to `bed` (6, n_elements); those elements
+   !> marked `loaded`.
+   !>
+   !> A Winkler bed (and the beds of *FOUNDATION with the other laws) enters the equations lumped to the
+   !> nodes: candidate c, with tributary length L_c (candidate_lengths), carries the reaction r_c of
+   !> the pressure p_c = r_c/L_c over its length (docs/theory.md §3.1). In the structure the bed
+   !> pushes along the whole span, so the element's own equilibrium takes it as a load on the span:
+   !> along the element the pressure p_c a_c (a_c the direction in which candidate c's reaction acts on
+   !> its node, ∂g/∂u) interpolated linearly between its two nodes, per unit initial length, with the
+   !> consistent loads of a linearly varying load on a Hermite beam in the initial chord's frame (t, n):
+   !>     axial    F_1 = h (2 q_1 + q_2)/6,        F_2 = h (q_1 + 2 q_2)/6,
+   !>     normal   F_1 = h (7 q_1 + 3 q_2)/20,     F_2 = h (3 q_1 + 7 q_2)/20,
+   !>              M_1 = h² (3 q_1 + 2 q_2)/60,    M_2 = −h² (2 q_1 + 3 q_2)/60
+   !> (Przemieniecki 1968, Theory of Matrix Structural Analysis, §5.4; fixed-end forces of a
+   !> trapezoidal load), with the end releases' correction as for the other span loads. Uniform
+   !> pressure (a rigid sinking) cancels a uniform load exactly: M = 0. Only the radial candidates of
+   !> a foundation (not its tangential springs, not *SPRING or obstacles, which are point supports),
+   !> on the elements of its set whose two nodes are both its candidates.
+   pure subroutine bed_span_loads(model, displacement, reactions, bed, loaded)
+      type(model_t), intent(in) :: model
+      real(dp), intent(in) :: displacement(:, :), reactions(:)
+      real(dp), intent(inout) :: bed(:, :)
+      logical, intent(inout) :: loaded(:)
+      real(dp), allocatable :: lengths(:), line_load(:, :)
+      integer, allocatable :: candidate_of(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), x(2, 2), t(2), n(2), h, qt(2), qn(2), f(2*dofs_per_node)
+      integer :: i, j, e, c, group
+      if (.not. (allocated(model%foundations) .and. allocated(model%contacts))) return
+      if (size(reactions) < size(model%contacts)) return
+      lengths = candidate_lengths(model)
+      allocate (line_load(2, model%n_nodes), candidate_of(model%n_nodes))
+      do i = 1, size(model%foundations)
+         group = model%foundations(i)%group
+         line_load = 0.0_dp
+         candidate_of = 0
+         do c = 1, size(model%contacts)
+            if (model%contacts(c)%group /= group .or. model%contacts(c)%tangential) cycle
+            if (.not. lengths(c) > 0.0_dp) cycle
+            associate (node => model%contacts(c)%node)
+               call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
+                                  gradient, hessian)
+               line_load(:, node) = reactions(c)/lengths(c)*gradient
+               candidate_of(node) = c
+            end associate
+         end do
+         if (.not. allocated(model%foundations(i)%elements)) cycle
+         do j = 1, size(model%foundations(i)%elements)
+            e = model%foundations(i)%elements(j)
+            associate (ends => model%connectivity(:, e))
+               if (candidate_of(ends(1)) == 0 .or. candidate_of(ends(2)) == 0) cycle
+               x = element_coordinates(model, e)
+               h = norm2(x(:, 2) - x(:, 1))
+               if (.not. h > 0.0_dp) cycle
+               t = (x(:, 2) - x(:, 1))/h
+               n = [-t(2), t(1)]
+               qt = [dot_product(line_load(:, ends(1)), t), dot_product(line_load(:, ends(2)), t)]
+               qn = [dot_product(line_load(:, ends(1)), n), dot_product(line_load(:, ends(2)), n)]
+               f(1:2) = h*(2.0_dp*qt(1) + qt(2))/6.0_dp*t + h*(7.0_dp*qn(1) + 3.0_dp*qn(2))/20.0_dp*n
+               f(3) = h**2*(3.0_dp*qn(1) + 2.0_dp*qn(2))/60.0_dp
+               f(4:5) = h*(qt(1) + 2.0_dp*qt(2))/6.0_dp*t + h*(3.0_dp*qn(1) + 7.0_dp*qn(2))/20.0_dp*n
+               f(6) = -h**2*(2.0_dp*qn(1) + 3.0_dp*qn(2))/60.0_dp
+               f = f + span_release(model, e, .false., 0.0_dp, f, displacement)
+               bed(:, e) = bed(:, e) + f
+               loaded(e) = .true.
+            end associate
+         end do
+      end do
+   end subroutine bed_span_loads
 
    !> The basic thermal forces and the consistent span loads of a held load pattern, times its factor,
    !> added to `thermal` (3, n_elements) and `span` (6, n_elements); its elements marked `loaded`.

@@ -170,18 +170,17 @@ contains
    !> (see the module header).
    !> `joint_plastic` (optional, (2, n_elements); absent or an unallocated actual argument without joints
    !> with a moment limit): their committed plastic rotations.
-   pure function element_forces(model, displacement, lambda, joint_plastic) result(forces)
+   !> `reactions` (optional, (n_contacts); absent or unallocated: none): the contact reactions, whose
+   !> share on the span of a foundation's elements the forces include (element_end_forces).
+   pure function element_forces(model, displacement, lambda, joint_plastic, reactions) result(forces)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
       real(dp), intent(in), optional :: joint_plastic(:, :)
+      real(dp), intent(in), optional :: reactions(:)
       real(dp) :: forces(4, model%n_elements)
       real(dp) :: ends(6, model%n_elements)
-      if (present(joint_plastic)) then
-         ends = element_end_forces(model, displacement, lambda, joint_plastic)
-      else
-         ends = element_end_forces(model, displacement, lambda)
-      end if
+      ends = element_end_forces(model, displacement, lambda, joint_plastic, reactions)
       forces(1, :) = 0.5_dp*(ends(1, :) + ends(4, :))
       forces(2, :) = 0.5_dp*(ends(2, :) + ends(5, :))
       forces(3, :) = ends(3, :)
@@ -242,7 +241,7 @@ contains
          call put_line(file, integer_text(model%node_label(i)))
       end do
 
-      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic)
+      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
       call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
       call write_scalars(file, 'axial_force', forces(1, :))
       call write_scalars(file, 'shear_force', forces(2, :))
@@ -284,7 +283,7 @@ contains
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
 
-      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic)
+      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
       call put_line(file, '<CellData Scalars="bending_moment">')
       call write_xml_reals(file, 'axial_force', 1, forces(1, :))
       call write_xml_reals(file, 'shear_force', 1, forces(2, :))

@@ -19,6 +19,7 @@ Usage (one CTest per call):
                   [--expect-all-ratio NUM/DEN=VALUE:RTOL]...        # NUM/DEN on every row (DEN != 0)
                   [--expect-proportional COLUMN=F:RTOL]...          # every row: COLUMN = F lambda, within
                                                                     # RTOL of the largest |F lambda| (equilibrium)
+                  [--expect-affine COLUMN=A,B:ATOL]...              # every row: |COLUMN - (A + B lambda)| <= ATOL
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
                   [--reject-stderr TEXT]...                         # text it must not write there
 
@@ -270,6 +271,23 @@ def check_path_features(args, names, rows):
               f'{unit:.6e} (tolerance {rtol})')
         if not ok:
             failures.append(f'{column} differs from {factor} lambda by {worst:.3e} (relative)')
+    for expectation in args.expect_affine:
+        # e.g. w=-0.5,-0.01:1e-6: a closed form A + B lambda that every written row must satisfy
+        column, rest = expectation.split('=')
+        coefficients, atol = rest.split(':')
+        a, b = (float(v) for v in coefficients.split(','))
+        atol = float(atol)
+        if column not in names or 'lambda' not in names:
+            failures.append(f'no column {column} or lambda in {names}')
+            continue
+        errors = [(abs(row[names.index(column)] - (a + b*row[names.index('lambda')])), row[names.index('step')])
+                  for row in rows]
+        worst, worst_step = max(errors)
+        ok = worst <= atol
+        print(f'{"ok" if ok else "FAIL"}: every {column} = {a!r} + {b!r} lambda, largest difference {worst:.3e} '
+              f'at step {worst_step:g} (tolerance {atol:.1e})')
+        if not ok:
+            failures.append(f'{column} differs from {a} + {b} lambda by {worst:.3e} at step {worst_step:g}')
     for column in args.expect_snap_back:
         if column not in names:
             failures.append(f'no column {column} in {names}')
@@ -392,6 +410,7 @@ def main():
     parser.add_argument('--expect-all', action='append', default=[])
     parser.add_argument('--expect-all-ratio', action='append', default=[])
     parser.add_argument('--expect-proportional', action='append', default=[])
+    parser.add_argument('--expect-affine', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
     args = parser.parse_args()
@@ -429,7 +448,7 @@ def main():
             if error > tolerance:
                 failures.append(f'{column}: relative error {error:.3e} > {tolerance:.1e}')
     if (args.expect_row_where or args.expect_max or args.expect_min or args.expect_snap_back or args.expect_all
-            or args.expect_all_ratio or args.expect_proportional):
+            or args.expect_all_ratio or args.expect_proportional or args.expect_affine):
         names, rows = read_table(path_file)
         if len(rows) < 2:
             failures.append('path file has fewer than two rows')
