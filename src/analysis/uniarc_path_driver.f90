@@ -248,6 +248,10 @@ contains
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
+      ! A commit that switched tangential springs off is followed by its release step (Δλ = 0) before
+      ! the path stops at a load or track limit: the last row is in equilibrium without their forces
+      ! (docs/theory.md §3.8).
+      if (driver%state%release_due .and. driver%stop /= stop_step_limit) driver%stop = stop_none
       ! A converged state at a bearing collapse (every motion the load drives held only by media at their
       ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then

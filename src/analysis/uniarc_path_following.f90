@@ -297,8 +297,10 @@ contains
       integer :: c
       ! a spring with an uplift limit (TU=) is bonded while elastic but holds nothing once it yields,
       ! at either limit: it is released here as a unilateral candidate is (docs/theory.md §3.9)
+      ! a tangential spring that follows a radial partner is released with it (docs/theory.md §3.8)
       bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
+                 .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0, &
+                 c=1, size(state%active))]
       if (size(bonded) == 0) return
       if (.not. any([(candidate_live(state%map, c) .and. .not. bonded(c), c=1, size(state%active))])) return
       allocate (internal(state%map%n_equations), reference(state%map%n_equations))
@@ -361,7 +363,8 @@ contains
       end if
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
       ! the committed factors stay for the first predictor.
-      bonded = [(state%active(c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
+      bonded = [(state%active(c) .and. model%contacts(c)%bilateral .and. model%contacts(c)%partner == 0, &
+                 c=1, size(state%active))]
       if (all(bonded .eqv. state%active)) then
          call supports_carry_all(state, natural)
          return
@@ -504,8 +507,10 @@ contains
                   call land_on_load_limit(model, state, system, trial, length, target, landed)
                ! A step that takes the stop track through stop_value is re-solved under displacement
                ! control of the tracked DOF to land on it (docs/theory.md §2.11).
+               ! (Not a release step: its jump is at constant λ, docs/theory.md §3.8.)
                track_landed = .false.
-               if (trial%converged) call land_on_track_limit(model, state, system, trial, length, track_landed)
+               if (trial%converged .and. .not. trial%release) &
+                  call land_on_track_limit(model, state, system, trial, length, track_landed)
                if (track_landed) landed = .false.
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
@@ -517,8 +522,9 @@ contains
                   if (allocated(state%yielding)) then
                      if (any(trial%yielding .neqv. state%yielding)) exit
                   end if
-                  ! A load step of a degenerate tangent has no displacement predictor to be near.
-                  if (degenerate_step(state, trial)) exit
+                  ! A load step of a degenerate tangent has no displacement predictor to be near; nor has
+                  ! a release step (Δλ = 0, docs/theory.md §3.8).
+                  if (degenerate_step(state, trial) .or. trial%release) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
@@ -590,7 +596,7 @@ contains
             ! Commit the converged trial.
             committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
-            if (to_limit .and. halvings == 0 .and. .not. track_landed) &
+            if (to_limit .and. halvings == 0 .and. .not. (track_landed .or. trial%release)) &
                committed_lambda = real(state%direction, dp)*options%lambda_max
             if (landed) committed_lambda = target
             call accept_trial(model, state, trial, committed_lambda)
@@ -600,6 +606,9 @@ contains
             ! Nor is the slide of a floating structure onto its first contact (docs/theory.md §2.8) a
             ! direction of the path: a rigid motion at no force, as long as its contact's tilt allows.
             if (trial%floating_slide) state%last_increment = 0.0_dp
+            ! Nor is a release step's jump (docs/theory.md §3.8): the next step's angle tests compare
+            ! with the step before it.
+            if (trial%release) state%last_increment = before%last_increment
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)
@@ -610,7 +619,15 @@ contains
             select case (options%control)
             case (control_arclength)
                ! Keep travelling forward: positive angle between the new tangent and the last increment.
-               if (degenerate_tangent(state, state%tangent_displacement)) then
+               if (trial%release) then
+                  ! A release step went nowhere in λ: forward is the way the step before it went, by
+                  ! the angle of its increment with the new tangent (kept where it had none).
+                  if (masked_dot(state%map, before%last_increment, state%tangent_displacement) < 0.0_dp) then
+                     state%direction = -1
+                  else if (masked_dot(state%map, before%last_increment, state%tangent_displacement) > 0.0_dp) then
+                     state%direction = 1
+                  end if
+               else if (degenerate_tangent(state, state%tangent_displacement)) then
                   ! No displacement to take the angle with: forward is the way λ went (a load step).
                   state%direction = 1
                   if (trial%dlambda < 0.0_dp) state%direction = -1
@@ -631,7 +648,7 @@ contains
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either; nor
             ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
-            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide)) then
+            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then
@@ -662,7 +679,8 @@ contains
                                      'the path, two critical points, passed in one step'
                end if
             end if
-            if (len(jump) == 0) then
+            ! A release step (Δλ = 0) is a jump of the law, not a piece of the path to re-solve.
+            if (len(jump) == 0 .and. .not. trial%release) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
                                            error, switching=state%bifurcations + 1 == options%switch_bifurcation)

@@ -11,7 +11,7 @@ module uniarc_path_contact_set
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
-   use uniarc_contact_plastic, only: slip_shift, plastic_violation, limit_force
+   use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -237,7 +237,7 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian)
-         if (model%contacts(c)%plastic) gap(c) = gap(c) + slip_shift(model, c, slip)
+         if (shifts_gap(model, c, present(slip))) gap(c) = gap(c) + slip_shift(model, c, slip)
          gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) &
             gap(c) = gap(c) + lambda*model%contacts(c)%gap_rate
@@ -253,7 +253,9 @@ contains
       end do
    end subroutine candidate_state
 
-   !> Candidates that touch (|g| within round-off of the model size) or are bonded.
+   !> Candidates that touch (|g| within round-off of the model size) or are bonded; a tangential spring
+   !> that follows a radial partner acts where its partner touches (its status along the path,
+   !> docs/theory.md §3.8).
    pure subroutine touching_candidates(model, state, nodal, active)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -266,6 +268,10 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
          active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
+      end do
+      ! the partners come first (uniarc_contact_law: the radial candidates, then the tangential ones)
+      do c = 1, size(state%map%candidate_equation)
+         if (model%contacts(c)%partner > 0) active(c) = active(c) .and. active(model%contacts(c)%partner)
       end do
    end subroutine touching_candidates
 

@@ -179,6 +179,7 @@ contains
       trial%dlambda = 0.0_dp
       trial%load_step = .false.
       trial%floating_slide = .false.
+      trial%release = .false.
       contacts = has_contacts(state)
       lin = new_linearization(model, state%map)
       allocate (new_active(size(trial%active)))
@@ -429,7 +430,7 @@ contains
       real(dp), allocatable :: response(:, :)
       ok = .true.
       if (.not. trial%load_step .or. model%analysis%control /= control_arclength) return
-      if (trial%floating_slide) return
+      if (trial%floating_slide .or. trial%release) return
       if (degenerate_tangent(state, state%tangent_displacement)) return
       ok = .false.
       call band_copy(system%tangent, factors)
@@ -489,7 +490,14 @@ contains
          ! A degenerate tangent (the contacts carry the whole reference load) makes the step a load
          ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.7).
          trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
-         if (options%control == control_displacement) then
+         if (state%release_due) then
+            ! The last commit switched tangential springs off (docs/theory.md §3.8): their dropped forces
+            ! are balanced at the same λ before the path goes on, a load step of Δλ = 0.
+            trial%release = .true.
+            trial%load_step = .true.
+            trial%dlambda = 0.0_dp
+         end if
+         if (options%control == control_displacement .and. .not. trial%release) then
             if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
                ! The contacts carry the reference load at the controlled DOF: no Δλ moves it.
                trial%reason = 'the reference load does not move the controlled displacement with this contact '// &

@@ -151,6 +151,9 @@ module uniarc_path_state
       integer :: bifurcations = 0               !< bifurcations located so far
       !> The next step leaves the primary path along the mode of `bifurcation` (*PATH, SWITCH=n).
       logical :: switch_due = .false.
+      !> The last commit switched off a tangential spring that follows its radial partner (its force
+      !> is dropped, commit_tangential): the next step is a release step, Δλ = 0 (docs/theory.md §3.8).
+      logical :: release_due = .false.
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.
@@ -166,6 +169,10 @@ module uniarc_path_state
       !> the load step is that of a floating structure meeting its first contact (docs/theory.md §2.8),
       !> not of a degenerate tangent: it need not land where the contacts carry the load
       logical :: floating_slide = .false.
+      !> the attempt is a release step (path_state_t%release_due): a load step of Δλ = 0 that finds the
+      !> equilibrium without the tangential springs switched off by the last commit — the jump of a law
+      !> that drops a force (docs/theory.md §3.8); no direction of the path, no critical point located
+      logical :: release = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       logical, allocatable :: yielding(:)       !< (candidates) those of the set at their bearing limit
       integer :: yield_changes = 0              !< exchanges of the yield pairs within Newton
@@ -514,11 +521,45 @@ contains
       state%lambda = state%lambda + trial%dlambda
       if (present(lambda)) state%lambda = lambda
       state%active = trial%active
+      call commit_tangential(model, state)
       call commit_plastic(model, state, trial%yielding)
       state%last_increment = trial%increment
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
       call commit_joint_state(model, state)
    end subroutine accept_trial
+
+   !> The commit of the tangential springs that follow a radial partner (*FOUNDATION, KT=,
+   !> TANGENTIAL=CONTACT; docs/theory.md §3.8), after state%u and state%active have become the
+   !> converged state and working set of a trial: each spring's status for the next step is its
+   !> partner's membership of the committed set (the trial held it as committed before, never
+   !> switching it within the step), and a spring that comes on is anchored where its node is,
+   !> a_c = t·u (slip −a_c, uniarc_contact_plastic: slip_shift), so that it starts stress-free; one
+   !> that stays on keeps its anchor. A spring switched off drops its force: the next step is a
+   !> release step (state%release_due). Nothing without such springs.
+   subroutine commit_tangential(model, state)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      logical :: on
+      integer :: c, node
+      state%release_due = .false.
+      if (.not. allocated(model%contacts)) return
+      if (.not. any(model%contacts%partner > 0)) return
+      call nodal_displacements(model, state, nodal)
+      do c = 1, size(state%active)
+         if (model%contacts(c)%partner == 0) cycle
+         on = state%active(model%contacts(c)%partner)
+         if (on .and. .not. state%active(c)) then
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, &
+                               gradient, hessian)
+            state%slip(c) = -gap
+         end if
+         if (state%active(c) .and. .not. on) state%release_due = .true.
+         state%active(c) = on
+      end do
+   end subroutine commit_tangential
 
    !> The commit of plastic media (docs/theory.md §3.9), after state%u has become the converged state of
    !> a trial with the candidates `yielding` at their limit: the slip of each of them moves on by its
