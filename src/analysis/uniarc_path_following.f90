@@ -25,7 +25,7 @@ module uniarc_path_following
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
-                           dofs_per_node, gap_polyline
+                           dofs_per_node, gap_polyline, analysis_options_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_obstacle_shapes, only: polyline_concave_corner
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
@@ -33,7 +33,7 @@ module uniarc_path_following
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
-                                accept_trial
+                                accept_trial, fail_attempt
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -46,7 +46,7 @@ module uniarc_path_following
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
-   use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_path_state_copy, only: copy_state, move_state, move_trial
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -467,6 +467,14 @@ contains
                landed = .false.
                if (trial%converged .and. options%control /= control_load) &
                   call land_on_load_limit(model, state, system, trial, length, target, landed)
+               if (allocated(trial%fatal)) then
+                  ! Out of memory while it lands (land_on_load_limit): the run ends.
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  if (present(cuts)) cuts = halvings
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -690,15 +698,16 @@ contains
    !> ends past lambda_max as it reached it (docs/contracts.md). `system` is work space.
    subroutine land_on_load_limit(model, state, system, trial, length, target, landed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       real(dp), intent(out) :: target
       logical, intent(out) :: landed
-      type(model_t), allocatable :: load_controlled
-      type(path_state_t), allocatable :: start
+      type(analysis_options_t) :: load_controlled
+      type(path_state_t) :: start
       type(step_trial_t) :: landing
+      type(error_t), allocatable :: error
       real(dp) :: lambda_max, reached
       landed = .false.
       target = 0.0_dp
@@ -707,18 +716,28 @@ contains
       reached = state%lambda + trial%dlambda
       if (.not. (abs(state%lambda) < lambda_max .and. abs(reached) >= lambda_max)) return
       target = sign(lambda_max, reached)
-      ! The same model under load control, from the same committed state going towards the target.
-      allocate (load_controlled, source=model)
-      load_controlled%analysis%control = control_load
-      allocate (start, source=state)
+      ! The same model under load control (its options only: no copy of the model), from a copy of
+      ! the committed state going towards the target. A copy or a landing refused memory ends the
+      ! run (trial%fatal, as fail_attempt).
+      load_controlled = model%analysis
+      load_controlled%control = control_load
+      call copy_state(state, start, 'the state a step lands on lambda_max from', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', error)
+         return
+      end if
       start%direction = 1
       if (target < state%lambda) start%direction = -1
       landing%length = abs(target - state%lambda)
       ! (attempt_step leaves the system holding the landing's converged assembly, or none.)
-      call attempt_step(load_controlled, start, system, landing)
+      call attempt_step(model, start, system, landing, analysis=load_controlled)
+      if (allocated(landing%fatal)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', landing%fatal)
+         return
+      end if
       if (.not. landing%converged) return
       length = length*abs(target - state%lambda)/abs(trial%dlambda)
-      trial = landing
+      call move_trial(landing, trial)
       landed = .true.
    end subroutine land_on_load_limit
 

@@ -95,7 +95,12 @@ contains
          if (model%analysis%imperfection_bifurcation > 0) then
             ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
             call computed_imperfection(model, imperfect, error)
-            if (.not. allocated(error)) call run_path(imperfect, options, results, error)
+            if (.not. allocated(error)) then
+               ! The deck's analysis steps moved, not copied, into the imperfect model and back.
+               if (allocated(model%steps)) call move_alloc(model%steps, imperfect%steps)
+               call run_path(imperfect, options, results, error)
+               if (allocated(imperfect%steps)) call move_alloc(imperfect%steps, model%steps)
+            end if
          else
             call run_path(model, options, results, error)
          end if
@@ -377,7 +382,8 @@ contains
                   short_number(outcome%events(k)%lambda)//step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
-            if (model%output%modes) call keep_mode(model, driver, outcome%events, modes)
+            if (model%output%modes) call keep_mode(model, driver, outcome%events, modes, error)
+            if (allocated(error)) exit
             if (mod(record%step, stepped%analysis%shape_every) == 0) then
                call write_shape(files, model, record, io_error)
                if (allocated(io_error)) exit
@@ -500,17 +506,21 @@ contains
 
    !> The buckling mode of the bifurcation the last step located (driver%state%bifurcation), if any,
    !> into the modes table (*OUTPUT, MODES), with the kind and position of its event in STEM.crit.
-   subroutine keep_mode(model, driver, events, modes)
+   !> Errors: the mode or the grown table refused by the system (error_analysis, out of memory).
+   subroutine keep_mode(model, driver, events, modes, error)
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(in) :: driver
       type(critical_event_t), intent(in) :: events(:)
       type(modes_table_t), intent(inout) :: modes
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: mode(:, :)
       integer :: k
       if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
       do k = size(events), 1, -1
          if (index(events(k)%kind, 'bifurcation') == 0) cycle
-         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, &
-                       nodal_mode(model, driver%state%map, driver%state%bifurcation%mode))
+         call nodal_mode(model, driver%state%map, driver%state%bifurcation%mode, mode, error)
+         if (allocated(error)) return
+         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, mode, error)
          return
       end do
    end subroutine keep_mode

@@ -145,19 +145,39 @@ contains
    end subroutine set_section_alpha
 
    !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
-   !> and unloaded.
-   pure subroutine add_node(builder, label, point)
+   !> and unloaded. With `error` present, a growth of the node arrays that the system refuses is
+   !> returned (error_input: the model does not fit in memory, uniarc_memory) and no node is added;
+   !> without it (small models of the unit tests) the runtime stops the program.
+   subroutine add_node(builder, label, point, error)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: label
       real(dp), intent(in) :: point(2)
-      integer :: capacity
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: capacity, status
       call start_nodes(builder)
       capacity = size(builder%node_label)
       if (builder%n_nodes == capacity) then
-         call grow_reals_2(builder%coordinates, 2*capacity)
-         call grow_reals_2(builder%nodal_load, 2*capacity)
-         call grow_logicals_2(builder%fixed, 2*capacity)
-         call grow_integers(builder%node_label, 2*capacity)
+         if (present(error)) then
+            call grow_reals_2(builder%coordinates, 2*capacity, status)
+            if (status == 0) call grow_reals_2(builder%nodal_load, 2*capacity, status)
+            if (status == 0) call grow_logicals_2(builder%fixed, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%node_label, 2*capacity, status)
+            call allocation_failure(status, 'the nodes of the model', &
+                                    real(2*capacity, dp)*(8.0_dp*(2 + dofs_per_node) + 4.0_dp*(dofs_per_node + 1)), &
+                                    error_input, error)
+            if (allocated(error)) return
+         else
+            call grow_reals_2(builder%coordinates, 2*capacity)
+            call grow_reals_2(builder%nodal_load, 2*capacity)
+            call grow_logicals_2(builder%fixed, 2*capacity)
+            call grow_integers(builder%node_label, 2*capacity)
+         end if
+      end if
+      call record_label(builder%node_of_label, label, builder%n_nodes + 1, status)
+      if (present(error)) then
+         call allocation_failure(status, 'the table of node labels', 4.0_dp*max(label, 2*builder%n_nodes), &
+                                 error_input, error)
+         if (allocated(error)) return
       end if
       builder%n_nodes = builder%n_nodes + 1
       builder%coordinates(:, builder%n_nodes) = point
@@ -165,22 +185,40 @@ contains
       builder%fixed(:, builder%n_nodes) = .false.
       builder%nodal_load(:, builder%n_nodes) = 0.0_dp
       builder%largest_node_label = max(builder%largest_node_label, label)
-      call record_label(builder%node_of_label, label, builder%n_nodes)
    end subroutine add_node
 
    !> Add element `label` (positive, not used yet) from node `ends(1)` to node `ends(2)` (internal
    !> indices) with section `section` (an index; 0 leaves it without one, which `finish_model` rejects).
-   pure subroutine add_element(builder, label, ends, section)
+   !> `error`: as add_node's, for the element arrays.
+   subroutine add_element(builder, label, ends, section, error)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: label, ends(2), section
-      integer :: capacity
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: capacity, status
       call start_elements(builder)
       capacity = size(builder%element_label)
       if (builder%n_elements == capacity) then
-         call grow_integers_2(builder%connectivity, 2*capacity)
-         call grow_integers_2(builder%load_index, 2*capacity)
-         call grow_integers(builder%element_label, 2*capacity)
-         call grow_integers(builder%element_section, 2*capacity)
+         if (present(error)) then
+            call grow_integers_2(builder%connectivity, 2*capacity, status)
+            if (status == 0) call grow_integers_2(builder%load_index, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%element_label, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%element_section, 2*capacity, status)
+            call allocation_failure(status, 'the elements of the model', 4.0_dp*real(2*capacity, dp)* &
+                                    (size(builder%connectivity, 1) + size(builder%load_index, 1) + 2), &
+                                    error_input, error)
+            if (allocated(error)) return
+         else
+            call grow_integers_2(builder%connectivity, 2*capacity)
+            call grow_integers_2(builder%load_index, 2*capacity)
+            call grow_integers(builder%element_label, 2*capacity)
+            call grow_integers(builder%element_section, 2*capacity)
+         end if
+      end if
+      call record_label(builder%element_of_label, label, builder%n_elements + 1, status)
+      if (present(error)) then
+         call allocation_failure(status, 'the table of element labels', 4.0_dp*max(label, 2*builder%n_elements), &
+                                 error_input, error)
+         if (allocated(error)) return
       end if
       builder%n_elements = builder%n_elements + 1
       builder%connectivity(:, builder%n_elements) = ends
@@ -188,7 +226,6 @@ contains
       builder%element_section(builder%n_elements) = section
       builder%load_index(:, builder%n_elements) = 0
       builder%largest_element_label = max(builder%largest_element_label, label)
-      call record_label(builder%element_of_label, label, builder%n_elements)
    end subroutine add_element
 
    !> Make the elements `elements` (internal indices) of kind `kind` (element_beam_column or
@@ -755,11 +792,15 @@ contains
    !> Remember that `label` is entry `index`, so that label look-ups are O(1) instead of a scan.
    !> Labels are kept in a direct table while they stay below 4 × (entries) + 1000; a table that would
    !> grow larger than that (very sparse labels) is dropped and look-ups fall back to the scan.
-   pure subroutine record_label(table, label, index)
+   !> status: the stat= of a growth the system refused (0 otherwise); the table is then dropped, as a
+   !> sparse one is, so that look-ups stay right (by the scan).
+   pure subroutine record_label(table, label, index, status)
       integer, allocatable, intent(inout) :: table(:)
       integer, intent(in) :: label, index
+      integer, intent(out) :: status
       integer, allocatable :: grown(:)
       integer :: capacity
+      status = 0
       if (.not. allocated(table)) then
          if (index > 1) return                   ! the table was dropped: stay with the scan
          allocate (table(1024), source=0)
@@ -770,7 +811,12 @@ contains
             deallocate (table)
             return
          end if
-         allocate (grown(capacity), source=0)
+         allocate (grown(capacity), stat=status)
+         if (status /= 0) then
+            deallocate (table)
+            return
+         end if
+         grown = 0
          grown(1:size(table)) = table
          call move_alloc(grown, table)
       end if

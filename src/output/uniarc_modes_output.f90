@@ -18,7 +18,8 @@
 !> to their final names with the other files (uniarc_result_directory).
 module uniarc_modes_output
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t
    use uniarc_text_file, only: text_file_t, create_text_file, put_line, close_text_file, discard_text_file
@@ -48,14 +49,34 @@ module uniarc_modes_output
 contains
 
    !> Append the block of one bifurcation: its kind (as in STEM.crit), fractional step `position`, λ and
-   !> nodal mode `mode` (dofs_per_node, n_nodes), dimensionless.
-   subroutine add_mode(table, kind, position, lambda, mode)
+   !> nodal mode `mode` (dofs_per_node, n_nodes), dimensionless; `mode` is moved into the table (left
+   !> unallocated). The blocks kept are moved, not copied. Errors: the grown list refused by the system
+   !> (error_analysis, out of memory, uniarc_memory); the table is then as it was.
+   subroutine add_mode(table, kind, position, lambda, mode, error)
       type(modes_table_t), intent(inout) :: table
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position, lambda
-      real(dp), intent(in) :: mode(:, :)
-      if (.not. allocated(table%blocks)) allocate (table%blocks(0))
-      table%blocks = [table%blocks, mode_block_t(kind, position, lambda, mode)]
+      real(dp), allocatable, intent(inout) :: mode(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      type(mode_block_t), allocatable :: grown(:)
+      integer :: b, n, status
+      n = 0
+      if (allocated(table%blocks)) n = size(table%blocks)
+      allocate (grown(n + 1), stat=status)
+      call allocation_failure(status, 'the list of buckling modes', real(storage_size(grown)/8, dp)*(n + 1), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      do b = 1, n
+         call move_alloc(table%blocks(b)%kind, grown(b)%kind)
+         grown(b)%position = table%blocks(b)%position
+         grown(b)%lambda = table%blocks(b)%lambda
+         call move_alloc(table%blocks(b)%mode, grown(b)%mode)
+      end do
+      grown(n + 1)%kind = kind
+      grown(n + 1)%position = position
+      grown(n + 1)%lambda = lambda
+      call move_alloc(mode, grown(n + 1)%mode)
+      call move_alloc(grown, table%blocks)
    end subroutine add_mode
 
    !> Write `STEM.modes` (stem `stem`) in the run's work directory — header, provenance, the blocks —

@@ -25,9 +25,11 @@ module uniarc_path_corner
    use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, equilibrium_at, factorize_and_solve, candidate_reactions
+                                nodal_displacements, equilibrium_at, factorize_and_solve, candidate_reactions, &
+                                fail_attempt
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_newton, only: attempt_step
+   use uniarc_path_state_copy, only: copy_state, move_trial
    implicit none
    private
    public :: step_past_corner
@@ -52,13 +54,14 @@ contains
    !> `system` is overwritten (its committed factors are not kept).
    subroutine step_past_corner(model, state, system, trial, length, passed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       logical, intent(out) :: passed
       type(path_state_t) :: corner
       type(step_trial_t) :: attempt
+      type(error_t), allocatable :: error
       integer, allocatable :: chosen(:)
       logical, allocatable :: toggled(:, :)
       real(dp), allocatable :: ut(:), best_ut(:), nodal(:, :)
@@ -94,7 +97,11 @@ contains
          end if
       end do
       if (best == 0) return
-      corner = state
+      call copy_state(state, corner, 'the state at a corner of the path', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the corner''s state', error)
+         return
+      end if
       corner%active = state%active .neqv. toggled(:, best)
       size_ut = masked_norm(state%map, best_ut)
       dl = max(state%step_length, state%first_length)
@@ -105,14 +112,14 @@ contains
          if (attempt%converged) then
             ! the new piece: the converged set differs from the committed one (or it was the old corner)
             if (any(attempt%active .neqv. state%active)) then
-               trial = attempt
+               call move_trial(attempt, trial)
                length = dl
                passed = .true.
                return
             end if
          end if
          if (allocated(attempt%fatal)) then
-            trial = attempt
+            call move_trial(attempt, trial)
             return
          end if
          dl = 0.5_dp*dl

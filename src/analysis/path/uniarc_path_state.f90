@@ -12,7 +12,8 @@
 !> a later attempt assembles K_T at the committed state again.
 module uniarc_path_state
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
    use uniarc_strings, only: integer_to_string
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
@@ -203,15 +204,19 @@ contains
    !> Work arrays for a model and its equation numbering, all allocated (x and residual too: an
    !> assignment to an unallocated array makes gfortran 12 read its unset bounds first, GCC bug 77504,
    !> an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
-   function new_linearization(model, map) result(lin)
+   !> Errors: an array refused by the system (error_analysis, out of memory, uniarc_memory).
+   subroutine new_linearization(model, map, lin, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(linearization_t) :: lin
-      integer :: n
+      type(linearization_t), intent(out) :: lin
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n, status
       n = map%n_equations
       allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2), &
-                lin%x(n), lin%residual(n))
-   end function new_linearization
+                lin%x(n), lin%residual(n), stat=status)
+      call allocation_failure(status, 'the work vectors of a Newton attempt', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n), error_analysis, error)
+   end subroutine new_linearization
 
    !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
    pure logical function has_contacts(state)
