@@ -102,7 +102,7 @@ contains
       set = [(candidate_live(map, c), c=1, size(set))]
       call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
       if (allocated(error)) return
-      call find_mechanism(model, map, assembled, error)
+      call find_mechanism(model, map, assembled, error, error_analysis)
       if (allocated(error)) return
       call touching(model, map, length_scale, set)
       pivots = 0

@@ -114,8 +114,8 @@ contains
          ! A model that no contact can hold is refused before the path starts (exit code 2).
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
-         call find_floating(model, state, system, nodal)
-         call commit_tangent(model, state, system, .true., error)
+         call find_floating(model, state, system, nodal, error)
+         if (.not. allocated(error)) call commit_tangent(model, state, system, .true., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
             call add_where(error, 'unloaded state', state)
@@ -282,24 +282,36 @@ contains
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
    !> candidates and the springs with an uplift limit open (`system` is work space). Models without
    !> such candidates have none (a mechanism was refused before).
-   subroutine find_floating(model, state, system, nodal)
+   subroutine find_floating(model, state, system, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error   !< out of memory (error_analysis)
       real(dp), allocatable :: internal(:), reference(:)
       logical, allocatable :: bonded(:)
       real(dp) :: element_scale
-      integer :: c
+      logical :: unbonded
+      integer :: c, status
+      if (size(state%active) == 0) return
+      allocate (bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the bonded candidates', 4.0_dp*size(state%active), error_analysis, error)
+      if (allocated(error)) return
       ! a spring with an uplift limit (TU=) is bonded while elastic but holds nothing once it yields,
       ! at either limit: it is released here as a unilateral candidate is (docs/theory.md §3.9)
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
-      if (size(bonded) == 0) return
-      if (.not. any([(candidate_live(state%map, c) .and. .not. bonded(c), c=1, size(state%active))])) return
-      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
+      unbonded = .false.
+      do c = 1, size(state%active)
+         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp
+         if (candidate_live(state%map, c) .and. .not. bonded(c)) unbonded = .true.
+      end do
+      if (.not. unbonded) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), stat=status)
+      call allocation_failure(status, 'the force vectors of the floating test', 16.0_dp*state%map%n_equations, &
+                              error_analysis, error)
+      if (allocated(error)) return
       call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
-      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
+      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation, error)
    end subroutine find_floating
 
    !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
@@ -342,7 +354,13 @@ contains
       call nodal_displacements(model, state, nodal)
       call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
       scale = 0.0_dp
-      call find_mechanism(model, state%map, released%tangent, singular)
+      call find_mechanism(model, state%map, released%tangent, singular, error_analysis)
+      if (allocated(singular)) then
+         if (singular%out_of_memory) then
+            call move_alloc(singular, error)
+            return
+         end if
+      end if
       if (.not. allocated(singular)) call band_factorize(released%tangent, singular)
       if (.not. allocated(singular)) then
          rhs(:, 1) = reference
