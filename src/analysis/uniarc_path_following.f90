@@ -310,7 +310,9 @@ contains
       call allocation_failure(status, 'the force vectors of the floating test', 16.0_dp*state%map%n_equations, &
                               error_analysis, error)
       if (allocated(error)) return
-      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation, error)
    end subroutine find_floating
 
@@ -352,7 +354,9 @@ contains
                               24.0_dp*state%map%n_equations, error_analysis, error)
       if (allocated(error)) return
       call nodal_displacements(model, state, nodal)
-      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       scale = 0.0_dp
       call find_mechanism(model, state%map, released%tangent, singular, error_analysis)
       if (allocated(singular)) then

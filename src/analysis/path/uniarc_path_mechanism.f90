@@ -70,7 +70,9 @@ contains
       do c = 1, size(closed)
          closed(c) = candidate_live(state%map, c)
       end do
-      call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale)
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       call find_mechanism(model, state%map, system%tangent, error, error_analysis)
    end subroutine check_mechanism
 

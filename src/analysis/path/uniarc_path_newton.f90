@@ -233,7 +233,11 @@ contains
             lin%x = state%u + trial%increment
             call gather_nodal(state%map, lin%x, lin%nodal)
             call equilibrium_at(model, state, system, lin%x, lambda, trial%active, lin%nodal, lin%internal, &
-                                lin%reference, lin%element_scale, lin%roundoff, trial%yielding)
+                                lin%reference, lin%element_scale, error, lin%roundoff, trial%yielding)
+            if (allocated(error)) then
+               call fail_attempt(trial, 'no memory for the equilibrium', error)
+               exit
+            end if
             lin%lambda = lambda
             lin%rhs(:, 1) = lambda*lin%reference - lin%internal
             force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
@@ -500,7 +504,8 @@ contains
       logical, intent(in) :: active(:)
       type(error_t), allocatable, intent(out) :: error
       call equilibrium_at(model, state, system, state%u, state%lambda, active, lin%nodal, &
-                          lin%internal, lin%reference, lin%element_scale)
+                          lin%internal, lin%reference, lin%element_scale, error)
+      if (allocated(error)) return
       lin%lambda = state%lambda
       lin%residual = state%lambda*lin%reference - lin%internal
       call band_copy(system%tangent, system%assembled, error, error_analysis)
@@ -601,7 +606,11 @@ contains
                   ut = update%du_tangent
                else
                   call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
-                                      lin%internal, lin%reference, lin%element_scale)
+                                      lin%internal, lin%reference, lin%element_scale, error)
+                  if (allocated(error)) then
+                     call fail_attempt(trial, 'no memory for the equilibrium', error)
+                     return
+                  end if
                   lin%lambda = state%lambda
                   call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
                                            lin%reference, lin%rhs, error)

@@ -416,7 +416,8 @@ contains
       else
          call nodal_displacements(model, state, nodal)
          call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
-                             reference, element_scale)
+                             reference, element_scale, error)
+         if (allocated(error)) return
       end if
       state%reference = reference
       ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
