@@ -5,28 +5,27 @@ module uniarc_run
    use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
-   use uniarc_path_following, only: candidate_reactions
-   use uniarc_contact, only: bed_values
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, &
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
    use uniarc_support_reactions, only: support_reactions, prescribed_force
    use uniarc_static_balance, only: check_static_balance
-   use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
+   use uniarc_contact_summary, only: contact_summary_t, summarize_contacts
    use uniarc_contact_plastic, only: has_plastic
-   use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
+   use uniarc_output, only: output_files_t, step_record_t, move_record, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results
    use uniarc_foreign, only: interrupt_signal, signal_name
-   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, bed_deflection
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
                            nearly_mechanism_warning
-   use uniarc_memory, only: available_memory, memory_text
+   use uniarc_memory, only: available_memory, memory_text, allocation_failure
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
@@ -237,8 +236,11 @@ contains
                call name_analysis_step(model, k, error)
                return
             end if
-            summary = summarize_contact(model, record%reactions, active)
-            record%groups = summarize_groups(model, record%reactions, active)
+            call summarize_contacts(model, record%reactions, active, summary, record%groups, error)
+            if (allocated(error)) then
+               call name_analysis_step(model, k, error)
+               return
+            end if
             record%n_contact = summary%n_contact
             record%contact_regions = summary%regions
             record%s_contact = summary%s_contact
@@ -309,7 +311,7 @@ contains
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
-      type(step_record_t) :: record, last_written
+      type(step_record_t) :: record, next
       type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       type(model_t) :: stepped
@@ -345,21 +347,19 @@ contains
          do while (.not. done)
             call driver_step(stepped, driver, outcome, error)
             if (allocated(error)) exit
-            last_written = record
-            call record_state(model, stepped, driver, record, error)
-            if (allocated(error)) then
-               record = last_written
-               exit
-            end if
-            record%analysis_step = k_step
-            if (.not. finite_record(record)) then
-               call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
+            ! The new row in a record of its own, moved into `record` (the last written) once it is
+            ! known to be whole and finite: no copy of a record (docs/contracts.md, "Memory").
+            call record_state(model, stepped, driver, next, error)
+            if (allocated(error)) exit
+            next%analysis_step = k_step
+            if (.not. finite_record(next)) then
+               call make_error(error, 'step '//integer_to_string(next%step)//' from lambda = '// &
                                trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
                                'overflow in lambda, the displacements or the reactions); it is not written, '// &
-                               'the path ends at step '//integer_to_string(last_written%step), error_analysis)
-               record = last_written
+                               'the path ends at step '//integer_to_string(record%step), error_analysis)
                exit
             end if
+            call move_record(next, record)
             call write_path_row(files, model, record, io_error)
             if (allocated(io_error)) exit
             do k = 1, size(outcome%events)
@@ -442,12 +442,13 @@ contains
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         call record_state(model, stepped, driver, record, error)
+         call record_state(model, stepped, driver, next, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         record%analysis_step = k_step
+         next%analysis_step = k_step
+         call move_record(next, record)
          call write_path_row(files, model, record, io_error)
       end do
       if (.not. allocated(io_error) .and. mod(record%step, stepped%analysis%shape_every) /= 0) &
@@ -579,28 +580,50 @@ contains
       type(model_t), intent(inout) :: stepped   !< unchanged (inout for support_reactions' copy_model)
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
-      !> the support reactions' numbering refused by the system (out of memory, error_analysis)
+      !> an array of the record or the support reactions' numbering refused by the system (out of
+      !> memory, error_analysis); `record` is then to be discarded
       type(error_t), allocatable, intent(out) :: error
       type(contact_summary_t) :: summary
       real(dp), allocatable :: reactions(:, :)
+      real(dp) :: bytes
+      integer :: c, m, status
       associate (state => driver%state)
-         record%displacement = driver%displacement
+         ! The record's arrays allocated with stat= (an assignment would allocate them unchecked).
+         m = size(state%map%candidate_equation)
+         bytes = 0.0_dp
+         call copy_array(driver%displacement, record%displacement, status, bytes)
+         if (status == 0) call reserve(record%reactions, m, status, bytes)
+         if (status == 0) call reserve(record%bed_deflections, m, status, bytes)
+         if (status == 0 .and. has_plastic(model)) then
+            call copy_array(state%slip, record%slip, status, bytes)
+            if (status == 0) call reserve(record%yielding, size(state%yielding), status, bytes)
+         end if
+         if (status == 0 .and. allocated(state%joint_plastic)) &
+            call copy_array(state%joint_plastic, record%joint_plastic, status, bytes)
+         call allocation_failure(status, 'an array of the row of step '//integer_to_string(state%point%step), &
+                                 bytes, error_analysis, error)
+         if (allocated(error)) return
          record%step = state%point%step
          record%lambda = state%lambda
          record%iterations = state%point%iterations
          record%neg_pivots = state%point%neg_pivots
          record%lcp_pivots = state%point%lcp_pivots
          record%lcp_residual = state%point%lcp_residual
-         record%reactions = candidate_reactions(state)
-         if (has_plastic(model)) then
-            record%slip = state%slip
-            record%yielding = state%yielding .and. state%active
+         ! candidate_reactions and bed_values (uniarc_path_state, uniarc_contact) into the record
+         record%reactions = 0.0_dp
+         if (allocated(state%reactions)) then
+            ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
+            do c = 1, m
+               if (state%active(c)) record%reactions(c) = state%reactions(c)
+            end do
          end if
-         record%bed_deflections = bed_values(state%map, state%u)
-         summary = summarize_contact(model, record%reactions, state%active)
-         record%groups = summarize_groups(model, record%reactions, state%active)
-         if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic
+         if (has_plastic(model)) record%yielding(:) = state%yielding .and. state%active
+         do c = 1, m
+            record%bed_deflections(c) = bed_deflection(state%map, c, state%u)
+         end do
+         call summarize_contacts(model, record%reactions, state%active, summary, record%groups, error)
       end associate
+      if (allocated(error)) return
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
       record%s_contact = summary%s_contact

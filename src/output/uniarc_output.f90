@@ -28,7 +28,7 @@ module uniarc_output
    use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
    implicit none
    private
-   public :: step_record_t, output_files_t
+   public :: step_record_t, output_files_t, move_record
    public :: open_outputs, write_path_row, write_crit_row, write_shape, close_outputs, discard_outputs
    public :: path_header, format_number, nodal_reactions, surface_point
    public :: forces_due, write_forces, medium_name
@@ -87,6 +87,29 @@ module uniarc_output
    character(len=*), parameter :: number_format = '(es21.12e3)'
 
 contains
+
+   !> Record `from` moved into `to` (its arrays handed over, not copied; `from` left without them): what
+   !> `to = from` does without allocating, so without an allocation that could be refused
+   !> (docs/contracts.md, "Memory").
+   subroutine move_record(from, to)
+      type(step_record_t), intent(inout) :: from, to
+      type(step_record_t) :: aside
+      call move_record_arrays(from, aside)
+      to = from
+      call move_record_arrays(aside, to)
+   end subroutine move_record
+
+   !> Every allocatable component of a record moved from `from` to `to`; `to`'s are replaced.
+   subroutine move_record_arrays(from, to)
+      type(step_record_t), intent(inout) :: from, to
+      call move_alloc(from%displacement, to%displacement)
+      call move_alloc(from%reactions, to%reactions)
+      call move_alloc(from%bed_deflections, to%bed_deflections)
+      call move_alloc(from%groups, to%groups)
+      call move_alloc(from%joint_plastic, to%joint_plastic)
+      call move_alloc(from%slip, to%slip)
+      call move_alloc(from%yielding, to%yielding)
+   end subroutine move_record_arrays
 
    !> Start `STEM.path|crit|shape` in the run's work directory (and their `.csv` twins when `csv`)
    !> with their header and provenance lines, and write `STEM.surface` whole when the model has contact
