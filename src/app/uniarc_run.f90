@@ -2,7 +2,7 @@
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
+   use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input, add_context
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values
    use uniarc_linear_static, only: solve_linear_static
    use uniarc_copy, only: copy_array, reserve
@@ -76,13 +76,15 @@ contains
       call check_element_scales(model, error)
       if (allocated(error)) return
       call check_bed_ends(model, error)
-      if (allocated(error)) return
-      call build_dof_map(model, map, error)
-      if (allocated(error)) return
-      call check_model(model, map, error)
-      if (allocated(error)) return
-      call check_step_supports(model, error)
-      if (allocated(error)) return
+      if (.not. allocated(error)) call build_dof_map(model, map, error)
+      if (.not. allocated(error)) call check_model(model, map, error)
+      if (.not. allocated(error)) call check_step_supports(model, error)
+      if (allocated(error)) then
+         ! memory refused by the checks: the model does not fit, said of the deck (`DECK: the model ...`)
+         if (error%out_of_memory .and. error%category == error_input .and. allocated(model%deck_path)) &
+            call add_context(error, model%deck_path)
+         return
+      end if
       call warn_nearly_mechanism(model, map)
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
@@ -536,6 +538,18 @@ contains
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(inout) :: io_error
       type(error_t), allocatable, intent(inout) :: error
+      ! An array of a table the system refused (uniarc_output, uniarc_vtk: out of memory) is no I/O
+      ! error: the rows written so far are complete, the files are kept, the run ends with it
+      ! (docs/contracts.md, "Memory"), unless the analysis failed first.
+      if (allocated(io_error)) then
+         if (io_error%out_of_memory) then
+            if (.not. allocated(error)) then
+               call move_alloc(io_error, error)
+            else
+               deallocate (io_error)
+            end if
+         end if
+      end if
       if (.not. allocated(io_error)) call close_outputs(files, io_error)
       if (.not. allocated(io_error)) then
          call commit_results(results, io_error)

@@ -145,11 +145,17 @@ contains
       type(text_file_t) :: file
       character(len=:), allocatable :: name
       character(len=12) :: digits
-      real(dp), allocatable :: vectors(:, :)
-      integer :: e
+      real(dp), allocatable :: reals(:)
+      integer, allocatable :: integers(:)
+      integer :: e, i, status
       write (digits, '(i2.2)') number
       if (number > 99) write (digits, '(i0)') number
       name = stem//'_mode_'//trim(digits)//'.vtp'
+      ! the file's arrays in work space allocated with stat= first (no temporary of the model's length)
+      allocate (reals(3*model%n_nodes), integers(2*model%n_elements), stat=status)
+      call allocation_failure(status, 'the arrays of the mode file '//name, &
+                              24.0_dp*model%n_nodes + 8.0_dp*model%n_elements, error_analysis, error)
+      if (allocated(error)) return
       call add_result_file(results, name)
       call create_text_file(file, work_path(results, name), final_path(results, name), error)
       if (allocated(error)) return
@@ -163,20 +169,28 @@ contains
       call put_line(file, '<Piece NumberOfPoints="'//integer_to_string(model%n_nodes)//'" NumberOfVerts="0" '// &
                     'NumberOfLines="'//integer_to_string(model%n_elements)//'" NumberOfStrips="0" NumberOfPolys="0">')
       call put_line(file, '<PointData Vectors="mode">')
-      allocate (vectors(3, model%n_nodes), source=0.0_dp)
-      vectors(1:2, :) = block%mode(1:2, :)
-      call write_xml_reals(file, 'mode', 3, reshape(vectors, [3*model%n_nodes]))
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [block%mode(1, i), block%mode(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'mode', 3, reals)
       call write_xml_reals(file, 'mode_rotation', 1, block%mode(3, :))
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
       call put_line(file, '<Points>')
-      vectors = 0.0_dp
-      vectors(1:2, :) = model%coordinates
-      call write_xml_reals(file, 'points', 3, reshape(vectors, [3*model%n_nodes]))
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [model%coordinates(1, i), model%coordinates(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'points', 3, reals)
       call put_line(file, '</Points>')
       call put_line(file, '<Lines>')
-      call write_xml_integers(file, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
-      call write_xml_integers(file, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      do e = 1, model%n_elements
+         integers(2*e - 1:2*e) = model%connectivity(:, e) - 1
+      end do
+      call write_xml_integers(file, 'connectivity', 'Int32', integers)
+      do e = 1, model%n_elements
+         integers(e) = 2*e
+      end do
+      call write_xml_integers(file, 'offsets', 'Int32', integers(1:model%n_elements))
       call put_line(file, '</Lines>')
       call put_line(file, '</Piece>')
       call put_line(file, '</PolyData>')
