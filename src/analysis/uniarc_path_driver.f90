@@ -29,6 +29,7 @@ module uniarc_path_driver
    use uniarc_model_steps, only: prescribed_at, has_prescribed
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_allocate
+   use uniarc_path_state_copy, only: copy_point_record
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -107,7 +108,8 @@ contains
       end if
       call path_initialize(model, driver%state, error)
       if (allocated(error)) return
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) return
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%stop = stop_none
@@ -149,7 +151,11 @@ contains
          driver%stop = stop_failure
          return
       end if
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         return
+      end if
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%step_offset = driver%state%point%step
@@ -179,7 +185,13 @@ contains
                          integer_to_string(driver%state%point%step), error_internal)
          return
       end if
-      previous = driver%state%point
+      ! the point before the step, copied with stat= (an assignment of the record is not checked)
+      call copy_point_record(driver%state%point, previous, 'the point before the step', error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
@@ -189,7 +201,12 @@ contains
          outcome%stop = stop_failure
          return
       end if
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       outcome%step = driver%state%point%step

@@ -107,7 +107,8 @@ contains
          if (allocated(error)) return
          state%slip = 0.0_dp
          state%yielding = .false.
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call touching_candidates(model, state, nodal, state%active)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
@@ -123,7 +124,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, 0, 0, 0)
+         call describe_point(model, state, 0, 0, 0, error)
       end associate
    end subroutine path_initialize
 
@@ -157,7 +158,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, state%point%step, 0, 0)
+         call describe_point(model, state, state%point%step, 0, 0, error)
       end associate
    end subroutine path_restart
 
@@ -353,7 +354,8 @@ contains
       call allocation_failure(status, 'the force vectors of the structure released from its contacts', &
                               24.0_dp*state%map%n_equations, error_analysis, error)
       if (allocated(error)) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
       call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
                           error)
       if (allocated(error)) return
@@ -600,7 +602,12 @@ contains
                   state%direction = 1
                end if
             end select
-            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots, error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             state%point%switched = .false.
             ! A converged state whose tangent is far from the step's chord, or a step that reverses
             ! the last one, is not on the branch the step followed.

@@ -165,7 +165,8 @@ contains
       else
          state%direction = 1
       end if
-      call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots)
+      call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots, error)
+      if (allocated(error)) return
       state%point%switched = .true.
       state%point%switch_lambda = critical%lambda
       state%point%limit_fraction = -1.0_dp

@@ -72,7 +72,11 @@ contains
       passed = .false.
       bytes = 0.0_dp
       if (size(state%active) == 0) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the corner''s displacements', error)
+         return
+      end if
       call pick_candidates(state, chosen)
       if (size(chosen) == 0) return
       call tie_groups(state, chosen, toggled)

@@ -146,7 +146,8 @@ contains
       logical :: ok, have_direction
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, memory_error)
+      if (allocated(memory_error)) return
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
@@ -414,7 +415,8 @@ contains
          reference = system%converged_reference
          system%holds_converged = .false.
       else
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
                              reference, element_scale, error)
          if (allocated(error)) return

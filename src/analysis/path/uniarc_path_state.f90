@@ -559,12 +559,29 @@ contains
       state%yielding = yielding
    end subroutine commit_plastic
 
-   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
-   subroutine nodal_displacements(model, state, nodal)
+   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state; `nodal` keeps its storage
+   !> when it has that shape already. With `error` present the allocation is checked (error_analysis,
+   !> out of memory); without it (the joints' and the slip's updates, a lift-off mode's sign and the
+   !> element-load norm, which have no error to return) a refusal stops the program.
+   subroutine nodal_displacements(model, state, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
-      real(dp), allocatable, intent(out) :: nodal(:, :)
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      real(dp), allocatable, intent(inout) :: nodal(:, :)
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: status
+      if (allocated(nodal)) then
+         if (size(nodal, 1) /= dofs_per_node .or. size(nodal, 2) /= model%n_nodes) deallocate (nodal)
+      end if
+      if (.not. allocated(nodal)) then
+         if (present(error)) then
+            allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+            call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, &
+                                    error_analysis, error)
+            if (allocated(error)) return
+         else
+            allocate (nodal(dofs_per_node, model%n_nodes))
+         end if
+      end if
       call gather_nodal(state%map, state%u, nodal)
    end subroutine nodal_displacements
 
