@@ -141,9 +141,11 @@ DECK
   done
 } > steps.inp
 # paths: 120 path steps of the same cantilever, whose deck fits in about 60 MB; under 103 and 108 MB the
-# analysis starts and runs out of memory after some 50 to 70 steps (each step's model holds the earlier
-# steps' load patterns: 240 kB more per step), the exit-1 case with rows kept (Release: at the support
-# reactions of steps 57 and 67, measured; SIGSEGV there before they were checked).
+# analysis starts and runs out of memory after some 55 to 75 steps (each step's model holds the earlier
+# steps' load patterns: 240 kB more per step), the exit-1 case with rows kept (measured: at the band
+# matrix of the next analysis step, steps 56 and 67 with the Debug build, 63 and 73 with the Release
+# one; before the rows were moved instead of copied, at the support reactions of steps 57 and 67, and
+# a SIGSEGV there before those were checked).
 head -n 8 steps.inp > paths.inp
 for ((k = 1; k <= 120; k++)); do
   printf '%s\n' "*STEP" "*CLOAD" "beam_end, FY, -1e-6" "*PATH, CONTROL=LOAD" "increment = 1" "lambda_max = 1" \
