@@ -24,6 +24,7 @@ module uniarc_model_builder
    use uniarc_strings, only: same_text, integer_to_string
    use uniarc_growth, only: grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
    use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
@@ -546,6 +547,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
       integer :: n, e, bad, i, status
+      real(dp) :: bytes
 
       n = builder%n_nodes
       e = builder%n_elements
@@ -565,6 +567,8 @@ contains
          return
       end if
       bad = unused_node(builder)
+      if (bad < 0) call allocation_failure(-bad, 'the nodes in use', 4.0_dp*n, error_input, error)
+      if (allocated(error)) return
       if (bad > 0) then
          call make_error(error, 'model: expected every node in an element, found node '// &
                          integer_to_string(builder%node_label(bad))//' in none', error_input)
@@ -594,15 +598,23 @@ contains
       model%element_section = builder%element_section(1:e)
       if (allocated(builder%element_kind)) model%element_kind = element_kinds(builder, e)
       if (allocated(builder%end_joints)) then
-         allocate (model%end_joints(2, e))
+         allocate (model%end_joints(2, e), stat=status)
+         call allocation_failure(status, 'the end joints of the model', &
+                                 real(storage_size(model%end_joints)/8, dp)*2*e, error_input, error)
+         if (allocated(error)) return
          model%end_joints(:, 1:min(e, size(builder%end_joints, 2))) = &
             builder%end_joints(:, 1:min(e, size(builder%end_joints, 2)))
       end if
       model%sections = builder%sections(1:builder%n_sections)
+      ! the media's lists allocated with stat= (the candidates are of the model's length); the arrays
+      ! their records hold are copied with stat= below, not by an assignment of the records
       allocate (model%node_sets(builder%n_node_sets), model%element_sets(builder%n_element_sets), &
                 model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &
                 model%contacts(builder%n_contacts), model%contact_groups(builder%n_contact_groups), &
-                model%foundations(builder%n_foundations))
+                model%foundations(builder%n_foundations), stat=status)
+      call allocation_failure(status, 'the contact candidates of the model', &
+                              real(storage_size(builder%contacts)/8, dp)*builder%n_contacts, error_input, error)
+      if (allocated(error)) return
       do i = 1, builder%n_node_sets
          call copy_set(builder%node_sets(i)%nodes, builder%node_sets(i)%name, 'node', model%node_sets(i)%nodes, &
                        model%node_sets(i)%name, error)
@@ -615,15 +627,32 @@ contains
       end do
       if (builder%n_loads > 0) model%distributed_loads = builder%loads(1:builder%n_loads)
       if (builder%n_tracks > 0) model%tracks = builder%tracks(1:builder%n_tracks)
-      if (builder%n_contacts > 0) model%contacts = builder%contacts(1:builder%n_contacts)
-      if (builder%n_contact_groups > 0) model%contact_groups = builder%contact_groups(1:builder%n_contact_groups)
-      if (builder%n_foundations > 0) model%foundations = builder%foundations(1:builder%n_foundations)
+      ! a candidate's record: its scalars and a polyline's few vertices
+      if (builder%n_contacts > 0) model%contacts(:) = builder%contacts(1:builder%n_contacts)
+      bytes = 0.0_dp
+      do i = 1, builder%n_contact_groups
+         model%contact_groups(i)%name = builder%contact_groups(i)%name
+         call copy_array(builder%contact_groups(i)%candidates, model%contact_groups(i)%candidates, status, bytes)
+         call allocation_failure(status, 'the members of contact group '''//builder%contact_groups(i)%name// &
+                                 ''' in the model', bytes, error_input, error)
+         if (allocated(error)) return
+      end do
+      do i = 1, builder%n_foundations
+         call copy_foundation(builder%foundations(i), model%foundations(i), status, bytes)
+         call allocation_failure(status, 'the elements of foundation '''//builder%foundations(i)%name// &
+                                 ''' in the model', bytes, error_input, error)
+         if (allocated(error)) return
+      end do
       model%analysis = builder%analysis
       model%output = builder%output
       allocate (model%thermal_loads(builder%n_thermal))
       if (builder%n_thermal > 0) model%thermal_loads = builder%thermal(1:builder%n_thermal)
       if (builder%n_prescribed > 0) then
-         allocate (model%prescribed(dofs_per_node, n), source=0.0_dp)
+         allocate (model%prescribed(dofs_per_node, n), stat=status)
+         call allocation_failure(status, 'the prescribed displacements of the model', 8.0_dp*dofs_per_node*n, &
+                                 error_input, error)
+         if (allocated(error)) return
+         model%prescribed = 0.0_dp
          do i = 1, builder%n_prescribed
             model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
                model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
@@ -634,6 +663,33 @@ contains
       if (allocated(builder%moves)) call move_obstacles(model, builder%moves, 1.0_dp, &
                                                         own=builder%analysis%kind /= analysis_linear)
    end subroutine finish_model
+
+   !> `dst` the foundation `src`: its element list with stat= (status, and its size in bytes), the rest
+   !> (names of a few characters, scalars) by assignment with no element list to copy. Every component
+   !> of foundation_t but `elements` is named here: one added to the type must be added too.
+   subroutine copy_foundation(src, dst, status, bytes)
+      type(foundation_t), intent(in) :: src
+      type(foundation_t), intent(inout) :: dst
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      if (allocated(src%name)) dst%name = src%name
+      if (allocated(src%element_set)) dst%element_set = src%element_set
+      dst%law = src%law
+      dst%modulus = src%modulus
+      dst%side = src%side
+      dst%direction = src%direction
+      dst%bilateral = src%bilateral
+      dst%gap = src%gap
+      dst%scale = src%scale
+      dst%group = src%group
+      dst%tangential_modulus = src%tangential_modulus
+      dst%tangential_law = src%tangential_law
+      dst%bearing_limit = src%bearing_limit
+      dst%uplift_limit = src%uplift_limit
+      dst%shear_modulus = src%shear_modulus
+      dst%continues = src%continues
+      call copy_array(src%elements, dst%elements, status, bytes)
+   end subroutine copy_foundation
 
    !> `copy`, `copy_name` := `members`, `name` of a `kind` ('node', 'element') set, the members allocated
    !> with stat= (error_input when the system refuses them).
@@ -707,12 +763,18 @@ contains
    end function element_set_index
 
    !> The first node (index) that no element uses, 0 if every node is used.
+   !> Negative: its work array (one flag per node) refused by the system, minus the stat=.
    pure integer function unused_node(builder) result(node)
       type(model_builder_t), intent(in) :: builder
       logical, allocatable :: used(:)
-      integer :: i
+      integer :: i, status
       node = 0
-      allocate (used(builder%n_nodes), source=.false.)
+      allocate (used(builder%n_nodes), stat=status)
+      if (status /= 0) then
+         node = -abs(status)
+         return
+      end if
+      used = .false.
       do i = 1, builder%n_elements
          used(builder%connectivity(:, i)) = .true.
       end do

@@ -17,7 +17,7 @@ module uniarc_path_state_copy
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, bifurcation_state_t, step_trial_t
    implicit none
    private
-   public :: copy_state, move_state, copy_point_record, move_point, move_trial
+   public :: copy_state, move_state, copy_point_record, move_point, move_trial, move_map
 
 contains
 
@@ -85,6 +85,26 @@ contains
       to = from
       call move_trial_arrays(aside, to)
    end subroutine move_trial
+
+   !> Numbering `from` moved into `to` (its arrays handed over, not copied): `to = from` without an
+   !> allocation.
+   subroutine move_map(from, to)
+      type(dof_map_t), intent(inout) :: from, to
+      type(dof_map_t) :: aside
+      call move_map_arrays(from, aside)
+      to = from
+      call move_map_arrays(aside, to)
+   end subroutine move_map
+
+   subroutine move_map_arrays(from, to)
+      type(dof_map_t), intent(inout) :: from, to
+      call move_alloc(from%equation, to%equation)
+      call move_alloc(from%node_order, to%node_order)
+      call move_alloc(from%candidate_equation, to%candidate_equation)
+      call move_alloc(from%condensed, to%condensed)
+      call move_alloc(from%bed_equation, to%bed_equation)
+      call move_alloc(from%metric, to%metric)
+   end subroutine move_map_arrays
 
    !> Every allocatable component of the attempt moved from `from` to `to`; `to`'s are replaced.
    subroutine move_trial_arrays(from, to)
