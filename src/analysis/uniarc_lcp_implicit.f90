@@ -36,7 +36,8 @@
 module uniarc_lcp_implicit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_foreign, only: dgetrf, dgetrs
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_strings, only: integer_to_string, real_to_string
@@ -86,6 +87,9 @@ module uniarc_lcp_implicit
       !> max_i max(0, −q_F(i)/scale(i)) at the returned frame (≤ tolerance when solved).
       real(dp) :: residual = 0.0_dp
       character(len=:), allocatable :: message
+      !> An out-of-memory error of the solver or the operator (uniarc_error: out_of_memory), kept for
+      !> implicit_lcp_solve to return: it ends the run instead of reading as an LCP without solution.
+      type(error_t), allocatable :: fatal
    end type implicit_lcp_report_t
 
    !> Relative size below which a pivot entry is taken as the round-off of zero: 1e-12 of the largest
@@ -109,7 +113,7 @@ contains
       type(implicit_lcp_options_t) :: opts
       real(dp), allocatable :: q(:), scale(:)
       type(error_t), allocatable :: failure
-      integer :: m, round
+      integer :: m, round, status
       logical :: solved, broken
       if (present(options)) opts = options
       if (opts%block_backup < 0 .or. opts%block_steps < 0 .or. opts%block_threshold < 0 .or. opts%complement_limit < 1 .or. &
@@ -124,13 +128,16 @@ contains
          return
       end if
       if (opts%max_pivots == 0) opts%max_pivots = max(1000, 4*m)
-      allocate (q(m), scale(m))
+      allocate (q(m), scale(m), stat=status)
+      call allocation_failure(status, 'the vectors of the contact LCP''s solver', 16.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
       report%message = 'not solved to the stated accuracy'
       do round = 1, opts%rounds
          call operator%frame_q(q, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             return
          end if
          call operator%scales(scale)
@@ -175,9 +182,16 @@ contains
       logical, intent(out) :: solved, broken
       logical, allocatable :: violated(:)
       type(error_t), allocatable :: failure
-      integer :: step, count_violated, fewest, backup
+      integer :: step, count_violated, fewest, backup, status
       solved = .false.
       broken = .false.
+      allocate (violated(size(q)), stat=status)
+      call allocation_failure(status, 'the block pivots of the contact LCP', 4.0_dp*size(q), error_analysis, failure)
+      if (allocated(failure)) then
+         call keep_fatal(report, failure)
+         broken = .true.
+         return
+      end if
       fewest = size(q) + 1
       backup = opts%block_backup
       do step = 1, opts%block_steps + 1
@@ -199,14 +213,19 @@ contains
          call operator%exchange(violated, failure)
          report%exchanges = report%exchanges + 1
          ! A singular frame (the exchanged contacts would leave a mechanism): the operator kept the
-         ! frame it had, and Lemke goes on from there.
-         if (allocated(failure)) return
+         ! frame it had, and Lemke goes on from there (out of memory: the solve ends).
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            broken = allocated(report%fatal)
+            return
+         end if
          report%block_steps = report%block_steps + 1
          report%pivots = report%pivots + count_violated
          call operator%frame_q(q, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             broken = .true.
             return
          end if
@@ -235,15 +254,21 @@ contains
       logical, allocatable :: basic_w(:)
       type(error_t), allocatable :: failure
       real(dp) :: z0, dz0, t, best_ratio, best_slope, ratio, slope, largest_w, largest_z
-      integer :: m, k, p, capacity, pivots, i, b, leave_kind, leave_index, position
+      integer :: m, k, p, capacity, pivots, i, b, leave_kind, leave_index, position, status
       integer, parameter :: leave_none = 0, leave_z0 = 1, leave_w = 2, leave_z = 3
       logical :: entering_z, absorbed
       m = size(q)
       capacity = 2*opts%complement_limit + 2
       allocate (entries(capacity + 1, capacity), rows(capacity + 1), cols(capacity))
-      allocate (z(m), source=0.0_dp)
-      allocate (unit_vector(m), source=0.0_dp)
-      allocate (column(m), row(m), dz(m), dw(m), rhs(capacity + 1), y(capacity + 1))
+      allocate (z(m), unit_vector(m), column(m), row(m), dz(m), dw(m), d(m), wv(m), basic_w(m), stat=status)
+      call allocation_failure(status, 'the vectors of Lemke''s method', 68.0_dp*m, error_analysis, failure)
+      if (allocated(failure)) then
+         call keep_fatal(report, failure)
+         return
+      end if
+      z = 0.0_dp
+      unit_vector = 0.0_dp
+      allocate (rhs(capacity + 1), y(capacity + 1))
       ! Start: z0 enters at the most negative q_i/d_i. The covering vector is the unit of each output
       ! where the output is infeasible and 1e-6 of it elsewhere (any d > 0 is a valid covering vector,
       ! Cottle, Pang & Stone §4.4): the outputs that are already right hardly move with z0, so
@@ -255,7 +280,7 @@ contains
       z0 = -q(k)/d(k)
       wv = max(q + d*z0, 0.0_dp)
       wv(k) = 0.0_dp
-      allocate (basic_w(m), source=.true.)
+      basic_w = .true.
       basic_w(k) = .false.
       p = 0
       rows(1) = k
@@ -278,6 +303,7 @@ contains
             report%solves = report%solves + 1
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             rhs(1:p + 1) = -column(rows(1:p + 1))
@@ -288,6 +314,7 @@ contains
          call schur_solve(entries(1:p + 1, 1:p), d(rows(1:p + 1)), rhs(1:p + 1), y(1:p + 1), failure)
          if (allocated(failure)) then
             call breakdown(report, 'Lemke: singular basis ('//failure%message//')')
+            call keep_fatal(report, failure)
             return
          end if
          dz = 0.0_dp
@@ -298,6 +325,7 @@ contains
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             return
          end if
          dw = dw + d*dz0
@@ -368,6 +396,7 @@ contains
             call new_row(findloc(rows(1:p + 1), leave_index, 1), failure)
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             k = leave_index
@@ -400,6 +429,7 @@ contains
             call absorb(absorbed, failure)
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             if (.not. absorbed .and. p >= capacity - 1) then
@@ -452,13 +482,21 @@ contains
       subroutine finish(failure)
          type(error_t), allocatable, intent(out) :: failure
          logical, allocatable :: flip(:)
-         allocate (flip(m), source=.false.)
+         integer :: status
+         allocate (flip(m), stat=status)
+         call allocation_failure(status, 'the exchange of Lemke''s method', 4.0_dp*m, error_analysis, failure)
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            return
+         end if
+         flip = .false.
          flip(cols(1:p)) = .true.
          if (p > 0) then
             call operator%exchange(flip, failure)
             report%exchanges = report%exchanges + 1
             if (allocated(failure)) then
                call breakdown(report, 'Lemke: the solution frame is singular ('//failure%message//')')
+               call keep_fatal(report, failure)
                return
             end if
          end if
@@ -475,9 +513,16 @@ contains
          real(dp), allocatable :: mzz(:, :), dzz(:, :), shift(:), new_d(:)
          integer, allocatable :: ipiv(:)
          logical, allocatable :: flip(:)
-         integer :: a, info
+         integer :: a, info, status
          type(error_t), allocatable :: singular
          absorbed = .false.
+         allocate (shift(m), new_d(m), flip(m), stat=status)
+         call allocation_failure(status, 'the vectors of an absorption of Lemke''s method', 20.0_dp*m, &
+                                 error_analysis, failure)
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            return
+         end if
          allocate (mzz(p, p), dzz(p, 1), ipiv(p))
          do a = 1, p
             mzz(a, :) = entries(findloc(rows(1:p + 1), cols(a), 1), 1:p)
@@ -488,17 +533,19 @@ contains
          call dgetrs('N', p, 1, mzz, p, ipiv, dzz, p, info)
          dz = 0.0_dp
          dz(cols(1:p)) = -dzz(:, 1)
-         allocate (shift(m))
          call operator%apply(dz, shift, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) return
          new_d = d + shift
          new_d(cols(1:p)) = -dzz(:, 1)
-         allocate (flip(m), source=.false.)
+         flip = .false.
          flip(cols(1:p)) = .true.
          call operator%exchange(flip, singular)
          report%exchanges = report%exchanges + 1
-         if (allocated(singular)) return
+         if (allocated(singular)) then
+            call keep_fatal(report, singular)
+            return
+         end if
          absorbed = .true.
          d = new_d
          call operator%frame_q(q, failure)
@@ -578,6 +625,17 @@ contains
       infeasibility = 0.0_dp
       if (size(q) > 0) infeasibility = max(0.0_dp, maxval(-q/scale))
    end function infeasibility
+
+   !> Keep `failure` in report%fatal when it is out of memory (the first one kept); nothing otherwise.
+   subroutine keep_fatal(report, failure)
+      type(implicit_lcp_report_t), intent(inout) :: report
+      type(error_t), allocatable, intent(inout) :: failure
+      if (.not. allocated(failure)) return
+      if (.not. failure%out_of_memory .or. allocated(report%fatal)) return
+      call move_alloc(failure, report%fatal)
+      report%status = lemke_breakdown
+      report%message = report%fatal%message
+   end subroutine keep_fatal
 
    subroutine breakdown(report, message)
       type(implicit_lcp_report_t), intent(inout) :: report

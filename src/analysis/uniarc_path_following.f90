@@ -25,7 +25,7 @@ module uniarc_path_following
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
-                           dofs_per_node, gap_polyline
+                           dofs_per_node, gap_polyline, analysis_options_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_obstacle_shapes, only: polyline_concave_corner
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
@@ -33,7 +33,7 @@ module uniarc_path_following
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
-                                accept_trial
+                                accept_trial, fail_attempt
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -47,7 +47,7 @@ module uniarc_path_following
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_approach, only: rigid_approach
-   use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_path_state_copy, only: copy_state, move_state, move_trial
    use uniarc_lift_off, only: describe_lift_off
    implicit none
    private
@@ -109,17 +109,20 @@ contains
          if (allocated(error)) return
          state%slip = 0.0_dp
          state%yielding = .false.
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call touching_candidates(model, state, nodal, state%active)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
          ! A model that no contact can hold is refused before the path starts (exit code 2).
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
-         call find_floating(model, state, system, nodal)
-         call approach_first_contact(model, state, system, nodal, error)
-         if (allocated(error)) return
-         call commit_tangent(model, state, system, .true., error)
+         call find_floating(model, state, system, nodal, error)
+         if (.not. allocated(error)) then
+            call approach_first_contact(model, state, system, nodal, error)
+            if (allocated(error)) return
+            call commit_tangent(model, state, system, .true., error)
+         end if
          call move_alloc(system, state%system)
          if (allocated(error)) then
             call add_where(error, 'unloaded state', state)
@@ -127,7 +130,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, 0, 0, 0)
+         call describe_point(model, state, 0, 0, 0, error)
       end associate
    end subroutine path_initialize
 
@@ -161,7 +164,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, state%point%step, 0, 0)
+         call describe_point(model, state, state%point%step, 0, 0, error)
       end associate
    end subroutine path_restart
 
@@ -286,26 +289,39 @@ contains
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
    !> candidates and the springs with an uplift limit open (`system` is work space). Models without
    !> such candidates have none (a mechanism was refused before).
-   subroutine find_floating(model, state, system, nodal)
+   subroutine find_floating(model, state, system, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error   !< out of memory (error_analysis)
       real(dp), allocatable :: internal(:), reference(:)
       logical, allocatable :: bonded(:)
       real(dp) :: element_scale
-      integer :: c
+      logical :: unbonded
+      integer :: c, status
+      if (size(state%active) == 0) return
+      allocate (bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the bonded candidates', 4.0_dp*size(state%active), error_analysis, error)
+      if (allocated(error)) return
       ! a spring with an uplift limit (TU=) is bonded while elastic but holds nothing once it yields,
       ! at either limit: it is released here as a unilateral candidate is (docs/theory.md §3.9)
       ! a tangential spring that follows a radial partner is released with it (docs/theory.md §3.8)
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0, &
-                 c=1, size(state%active))]
-      if (size(bonded) == 0) return
-      if (.not. any([(candidate_live(state%map, c) .and. .not. bonded(c), c=1, size(state%active))])) return
-      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
-      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
-      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
+      unbonded = .false.
+      do c = 1, size(state%active)
+         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0
+         if (candidate_live(state%map, c) .and. .not. bonded(c)) unbonded = .true.
+      end do
+      if (.not. unbonded) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), stat=status)
+      call allocation_failure(status, 'the force vectors of the floating test', 16.0_dp*state%map%n_equations, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
+      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation, error)
    end subroutine find_floating
 
    !> A structure that floats across a gap and that the reference load pushes along a free rigid
@@ -330,7 +346,8 @@ contains
                               error_analysis, error)
       if (allocated(error)) return
       call equilibrium_at(model, state, system, state%u, 0.0_dp, state%active, nodal, internal, reference, &
-                          element_scale)
+                          element_scale, error)
+      if (allocated(error)) return
       call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
                           shift, contact, error)
       if (allocated(error) .or. contact == 0) return
@@ -377,10 +394,19 @@ contains
       call allocation_failure(status, 'the force vectors of the structure released from its contacts', &
                               24.0_dp*state%map%n_equations, error_analysis, error)
       if (allocated(error)) return
-      call nodal_displacements(model, state, nodal)
-      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       scale = 0.0_dp
-      call find_mechanism(model, state%map, released%tangent, singular)
+      call find_mechanism(model, state%map, released%tangent, singular, error_analysis)
+      if (allocated(singular)) then
+         if (singular%out_of_memory) then
+            call move_alloc(singular, error)
+            return
+         end if
+      end if
       if (.not. allocated(singular)) call band_factorize(released%tangent, singular)
       if (.not. allocated(singular)) then
          rhs(:, 1) = reference
@@ -512,6 +538,14 @@ contains
                if (trial%converged .and. .not. trial%release) &
                   call land_on_track_limit(model, state, system, trial, length, track_landed)
                if (track_landed) landed = .false.
+               if (allocated(trial%fatal)) then
+                  ! Out of memory while it lands (land_on_load_limit): the run ends.
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  if (present(cuts)) cuts = halvings
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -637,7 +671,12 @@ contains
                   state%direction = 1
                end if
             end select
-            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots, error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             state%point%switched = .false.
             ! A converged state whose tangent is far from the step's chord, or a step that reverses
             ! the last one, is not on the branch the step followed.
@@ -758,15 +797,16 @@ contains
    !> ends past lambda_max as it reached it (docs/contracts.md). `system` is work space.
    subroutine land_on_load_limit(model, state, system, trial, length, target, landed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       real(dp), intent(out) :: target
       logical, intent(out) :: landed
-      type(model_t), allocatable :: load_controlled
-      type(path_state_t), allocatable :: start
+      type(analysis_options_t) :: load_controlled
+      type(path_state_t) :: start
       type(step_trial_t) :: landing
+      type(error_t), allocatable :: error
       real(dp) :: lambda_max, reached
       landed = .false.
       target = 0.0_dp
@@ -775,18 +815,28 @@ contains
       reached = state%lambda + trial%dlambda
       if (.not. (abs(state%lambda) < lambda_max .and. abs(reached) >= lambda_max)) return
       target = sign(lambda_max, reached)
-      ! The same model under load control, from the same committed state going towards the target.
-      allocate (load_controlled, source=model)
-      load_controlled%analysis%control = control_load
-      allocate (start, source=state)
+      ! The same model under load control (its options only: no copy of the model), from a copy of
+      ! the committed state going towards the target. A copy or a landing refused memory ends the
+      ! run (trial%fatal, as fail_attempt).
+      load_controlled = model%analysis
+      load_controlled%control = control_load
+      call copy_state(state, start, 'the state a step lands on lambda_max from', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', error)
+         return
+      end if
       start%direction = 1
       if (target < state%lambda) start%direction = -1
       landing%length = abs(target - state%lambda)
       ! (attempt_step leaves the system holding the landing's converged assembly, or none.)
-      call attempt_step(load_controlled, start, system, landing)
+      call attempt_step(model, start, system, landing, analysis=load_controlled)
+      if (allocated(landing%fatal)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', landing%fatal)
+         return
+      end if
       if (.not. landing%converged) return
       length = length*abs(target - state%lambda)/abs(trial%dlambda)
-      trial = landing
+      call move_trial(landing, trial)
       landed = .true.
    end subroutine land_on_load_limit
 
@@ -933,16 +983,23 @@ contains
       logical, allocatable :: bonded(:)
       character(len=:), allocatable :: text
       real(dp) :: element_scale, lambda
-      integer :: c
+      integer :: c, status
       if (.not. allocated(state%floating_motion) .or. dlambda == 0.0_dp) return
       if (size(state%floating_motion, 2) == 0) return
       allocate (nodal(dofs_per_node, model%n_nodes), internal(state%map%n_equations), &
-                reference(state%map%n_equations))
+                reference(state%map%n_equations), bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the force vectors of the lift-off test', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 2*state%map%n_equations), error_analysis, error)
+      if (allocated(error)) return
       call gather_nodal(state%map, state%u, nodal)
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
+      do c = 1, size(state%active)
+         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0
+      end do
       lambda = state%lambda + dlambda
-      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale)
+      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       ! the tangent now holds this assembly, neither the committed nor a converged one
       system%holds_committed = .false.
       system%holds_converged = .false.

@@ -7,7 +7,9 @@
 !> next set. The committed state is read for the equation numbering and the scales, never written.
 module uniarc_path_contact_set
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
@@ -56,24 +58,34 @@ contains
       logical, intent(in), optional :: yielding(:)
       type(contact_linearization_t) :: linearization
       type(contact_selection_t) :: selection
-      linearization%x = lin%x
-      linearization%nodal = lin%nodal
-      linearization%residual = lin%residual
-      linearization%reference = lin%reference
+      integer :: n, status
+      real(dp) :: bytes
+      ! The LCP's copies of the linearisation allocated with stat= (docs/contracts.md, "Memory").
+      n = size(lin%x)
+      bytes = 0.0_dp
+      call copy_array(lin%x, linearization%x, status, bytes)
+      if (status == 0) call copy_array(lin%nodal, linearization%nodal, status, bytes)
+      if (status == 0) call copy_array(lin%residual, linearization%residual, status, bytes)
+      if (status == 0) call copy_array(lin%reference, linearization%reference, status, bytes)
+      if (status == 0) call reserve(linearization%du_residual, n, status, bytes)
+      if (status == 0) call reserve(linearization%du_tangent, n, status, bytes)
+      if (status == 0 .and. present(yielding) .and. allocated(state%slip)) then
+         call copy_array(state%slip, linearization%slip, status, bytes)
+         if (status == 0) call reserve(linearization%yielding, size(yielding), status, bytes)
+         if (status == 0) linearization%yielding(:) = yielding
+      end if
+      call allocation_failure(status, 'a vector of the contact LCP''s linearisation', bytes, error_analysis, error)
+      if (allocated(error)) return
       linearization%lambda = lin%lambda
-      linearization%du_residual = lin%rhs(:, 1)
-      linearization%du_tangent = lin%rhs(:, 2)
+      linearization%du_residual(:) = lin%rhs(:, 1)
+      linearization%du_tangent(:) = lin%rhs(:, 2)
       linearization%constraint = constraint
       linearization%units = units_at(model, state, lin%x, lin%nodal, active)
-      if (present(yielding) .and. allocated(state%slip)) then
-         allocate (linearization%slip, source=state%slip)
-         allocate (linearization%yielding, source=yielding)
-      end if
       call select_contact_set(model, state%map, linearization, active, system%assembled, system%tangent, &
                               selection, error)
-      update%active = selection%active
+      call move_alloc(selection%active, update%active)
       update%kept = selection%kept
-      if (selection%kept) update%du_tangent = selection%du_tangent
+      if (selection%kept) call move_alloc(selection%du_tangent, update%du_tangent)
       update%pivots = selection%report%pivots
       update%degenerate = selection%degenerate
       if (allocated(error)) return

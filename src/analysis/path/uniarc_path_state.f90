@@ -12,15 +12,16 @@
 !> a later attempt assembles K_T at the committed state again.
 module uniarc_path_state
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
    use uniarc_strings, only: integer_to_string
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact, candidate_gap, bed_values
+   use uniarc_contact, only: assemble_contact, candidate_gap
    use uniarc_contact_plastic, only: has_plastic, commit_slip
    implicit none
    private
@@ -210,15 +211,19 @@ contains
    !> Work arrays for a model and its equation numbering, all allocated (x and residual too: an
    !> assignment to an unallocated array makes gfortran 12 read its unset bounds first, GCC bug 77504,
    !> an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
-   function new_linearization(model, map) result(lin)
+   !> Errors: an array refused by the system (error_analysis, out of memory, uniarc_memory).
+   subroutine new_linearization(model, map, lin, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(linearization_t) :: lin
-      integer :: n
+      type(linearization_t), intent(out) :: lin
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n, status
       n = map%n_equations
       allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2), &
-                lin%x(n), lin%residual(n))
-   end function new_linearization
+                lin%x(n), lin%residual(n), stat=status)
+      call allocation_failure(status, 'the work vectors of a Newton attempt', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n), error_analysis, error)
+   end subroutine new_linearization
 
    !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
    pure logical function has_contacts(state)
@@ -230,8 +235,9 @@ contains
    !> (n), load λ, working set `active`; nodal (dofs_per_node, n_nodes) are the displacements of x.
    !> Plastic media: the committed slip state%slip, and the candidates at their limit `yielding`
    !> (default: the committed state%yielding).
+   !> Errors: a work array refused by the system (error_analysis, out of memory, uniarc_memory).
    subroutine equilibrium_at(model, state, system, x, lambda, active, nodal, internal, reference, &
-                             element_scale, roundoff, yielding)
+                             element_scale, error, roundoff, yielding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
@@ -239,36 +245,54 @@ contains
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       real(dp), intent(out) :: internal(:), reference(:), element_scale
+      type(error_t), allocatable, intent(out) :: error
       real(dp), intent(out), optional :: roundoff
       logical, intent(in), optional :: yielding(:)
+      real(dp), allocatable :: values(:), deflections(:)
+      logical, allocatable :: holding(:)
+      integer :: m, c, status
       if (allocated(state%joint_plastic)) then
          call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
-                                   internal, reference, element_scale, roundoff, state%joint_plastic)
+                                   internal, reference, element_scale, error, roundoff, state%joint_plastic)
       else
          call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
-                                   internal, reference, element_scale, roundoff)
+                                   internal, reference, element_scale, error, roundoff)
       end if
-      if (size(state%map%candidate_equation) > 0) then
+      if (allocated(error)) return
+      m = size(state%map%candidate_equation)
+      if (m > 0) then
+         ! the candidates' unknowns and bed deflections in work vectors of their own, checked (function
+         ! results of this length are not, in the Release build)
+         allocate (values(m), deflections(m), holding(m), stat=status)
+         call allocation_failure(status, 'the contact vectors of the equilibrium', 20.0_dp*m, error_analysis, error)
+         if (allocated(error)) return
+         values = 0.0_dp
+         do c = 1, m
+            if (state%map%candidate_equation(c) > 0) values(c) = x(state%map%candidate_equation(c))
+            deflections(c) = bed_deflection(state%map, c, x)
+         end do
          if (present(yielding)) then
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+            call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, yielding, &
-                                  deflections=bed_values(state%map, x), reference=reference)
+                                  deflections=deflections, reference=reference)
          else if (allocated(state%yielding)) then
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+            call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, state%yielding, &
-                                  deflections=bed_values(state%map, x), reference=reference)
+                                  deflections=deflections, reference=reference)
          else
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal, deflections=bed_values(state%map, x), &
+            call assemble_contact(model, state%map, nodal, values, active, &
+                                  system%tangent, internal, deflections=deflections, &
                                   reference=reference)
          end if
       end if
       if (allocated(state%floating_equation)) then
          ! a candidate at its bearing limit has no stiffness: it holds no motion (docs/theory.md §3.9)
          if (present(yielding)) then
-            call hold_floating(model, state, active .and. .not. yielding, nodal, system%tangent)
+            holding = active .and. .not. yielding
+            call hold_floating(model, state, holding, nodal, system%tangent)
          else if (allocated(state%yielding)) then
-            call hold_floating(model, state, active .and. .not. state%yielding, nodal, system%tangent)
+            holding = active .and. .not. state%yielding
+            call hold_floating(model, state, holding, nodal, system%tangent)
          else
             call hold_floating(model, state, active, nodal, system%tangent)
          end if
@@ -576,12 +600,29 @@ contains
       state%yielding = yielding
    end subroutine commit_plastic
 
-   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
-   subroutine nodal_displacements(model, state, nodal)
+   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state; `nodal` keeps its storage
+   !> when it has that shape already. With `error` present the allocation is checked (error_analysis,
+   !> out of memory); without it (the joints' and the slip's updates, a lift-off mode's sign and the
+   !> element-load norm, which have no error to return) a refusal stops the program.
+   subroutine nodal_displacements(model, state, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
-      real(dp), allocatable, intent(out) :: nodal(:, :)
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      real(dp), allocatable, intent(inout) :: nodal(:, :)
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: status
+      if (allocated(nodal)) then
+         if (size(nodal, 1) /= dofs_per_node .or. size(nodal, 2) /= model%n_nodes) deallocate (nodal)
+      end if
+      if (.not. allocated(nodal)) then
+         if (present(error)) then
+            allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+            call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, &
+                                    error_analysis, error)
+            if (allocated(error)) return
+         else
+            allocate (nodal(dofs_per_node, model%n_nodes))
+         end if
+      end if
       call gather_nodal(state%map, state%u, nodal)
    end subroutine nodal_displacements
 
