@@ -482,7 +482,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved
+      logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved, multiple
       integer :: revisited
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
@@ -687,6 +687,7 @@ contains
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either; nor
             ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
+            multiple = .false.
             if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
@@ -706,7 +707,16 @@ contains
                         (.not. (state%point%liftoff .or. before%point%liftoff) .or. &
                          all(state%active .eqv. before%active)) .and. &
                         0.5_dp*length >= options%min_increment*state%first_length) then
-                  jump = 'the count of negative pivots changed by more than one critical point can change it'
+                  ! Several critical points passed at once, or one multiple eigenvalue (the whole
+                  ! ring's two oval modes): the locator below tells, by whether the whole change
+                  ! happens across its final bracket. Not at a lift-off state, whose count is that of
+                  ! a piece of the cone test (docs/theory.md §2.2, step 4), no multiplicity of one
+                  ! tangent's eigenvalue.
+                  if (state%point%liftoff .or. before%point%liftoff) then
+                     jump = 'the count of negative pivots changed by more than one critical point can change it'
+                  else
+                     multiple = .true.
+                  end if
                else
                   call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
@@ -729,6 +739,16 @@ contains
                   return
                end if
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
+               ! A change of the count by more than one is a multiple bifurcation only if the locator
+               ! found all of it at one bifurcation, across a bracket narrowed to its tolerance (a
+               ! double eigenvalue of a symmetric structure: two eigenvalues of K_T vanish at once);
+               ! else the step passed several critical points, and it is cut (docs/theory.md §2.3).
+               if (multiple .and. len(jump) == 0) then
+                  if (.not. (state%point%bifurcation_fraction >= 0.0_dp .and. &
+                             state%point%bifurcation_multiplicity == &
+                             abs(state%point%neg_pivots - before%point%neg_pivots))) &
+                     jump = 'the count of negative pivots changed by more than one critical point can change it'
+               end if
                ! A critical point that the re-solutions could not bracket is located again in a
                ! shorter step (while the step may be cut: else the interpolation is kept). Not a step
                ! past a corner: the locator re-solves from the step's start along the old piece, whose

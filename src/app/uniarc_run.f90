@@ -410,7 +410,8 @@ contains
                end if
                if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
                   event_place(outcome%events(k)%position, record%step)//', lambda = '// &
-                  short_number(outcome%events(k)%lambda)//step_label(model, k_step)
+                  short_number(outcome%events(k)%lambda)//multiplicity_note(outcome%events(k)%multiplicity)// &
+                  step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
             if (.not. outcome%advanced) exit
@@ -726,6 +727,16 @@ contains
          text = 'between steps '//integer_to_string(step - 1)//' and '//integer_to_string(step)
       end if
    end function event_place
+
+   !> The note on a bifurcation at which several eigenvalues of the tangent vanish together (a double
+   !> eigenvalue of a symmetric structure, docs/theory.md §2.3); empty for a simple one.
+   function multiplicity_note(multiplicity) result(text)
+      integer, intent(in) :: multiplicity
+      character(len=:), allocatable :: text
+      text = ''
+      if (multiplicity > 1) text = ' (multiplicity '//integer_to_string(multiplicity)//': '// &
+                                   integer_to_string(multiplicity)//' eigenvalues of the tangent vanish together)'
+   end function multiplicity_note
 
    !> Contact events (contact_start, contact_lost) as opposed to critical points of the path.
    pure logical function is_contact_event(kind)

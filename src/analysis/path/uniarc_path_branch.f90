@@ -171,6 +171,7 @@ contains
       state%point%switch_lambda = critical%lambda
       state%point%limit_fraction = -1.0_dp
       state%point%bifurcation_fraction = -1.0_dp
+      state%point%bifurcation_multiplicity = 0
       state%point%stability_by_contact = .false.
       state%point%limit_by_contact = .false.
    end subroutine switch_branch

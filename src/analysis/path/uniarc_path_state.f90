@@ -56,6 +56,11 @@ module uniarc_path_state
       !> (uniarc_path_locate): the fraction of that interval (−1: none located) and λ there.
       real(dp) :: limit_fraction = -1.0_dp, limit_lambda = 0.0_dp
       real(dp) :: bifurcation_fraction = -1.0_dp, bifurcation_lambda = 0.0_dp
+      !> The change of neg_pivots across the located bifurcation's final bracket (uniarc_path_locate),
+      !> when that bracket was narrowed to its tolerance: 2 where two eigenvalues of K_T vanish together
+      !> (a double eigenvalue of a symmetric structure, the whole ring's oval modes cos 2θ and sin 2θ);
+      !> 0 when no bifurcation was located or its bracket could not be narrowed.
+      integer :: bifurcation_multiplicity = 0
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
