@@ -39,11 +39,11 @@ def variants(workdir):
     return {'*STATIC': DECK, '*PATH one step': path_deck}
 
 
-def run(binary, deck, n, workdir, timeout, repeat):
+def run(label, binary, deck, n, workdir, timeout, repeat):
     """(wall seconds of the fastest run, last row as a dict, or None; status text)."""
     best, row, status = None, None, 'ok'
     for attempt in range(repeat):
-        out = os.path.join(workdir, f'{os.path.basename(deck)}.{n}.{attempt}')
+        out = os.path.join(workdir, f'{label}.{os.path.basename(deck)}.{n}.{attempt}')
         start = time.perf_counter()
         try:
             done = subprocess.run(['timeout', '-k', '5', str(timeout), binary, '-q', '-D', f'n={n}', deck,
@@ -81,7 +81,7 @@ def main():
     for analysis, deck in variants(workdir).items():
         for n in args.sizes:
             for label, binary in builds:
-                wall, row, status = run(binary, deck, n, workdir, args.timeout, args.repeat)
+                wall, row, status = run(label, binary, deck, n, workdir, args.timeout, args.repeat)
                 if row is None:
                     print(f'| {analysis} | {n} | {label} | {status} | {wall or 0:.2f} | — | — | — | — |')
                     continue
