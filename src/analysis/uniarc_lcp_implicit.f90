@@ -56,7 +56,8 @@ module uniarc_lcp_implicit
       real(dp) :: tolerance = 1.0e-9_dp
       !> Run the block principal pivoting phase first (off: Lemke alone, e.g. to test it).
       logical :: block_phase = .true.
-      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities.
+      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities that move an index
+      !> back (exchanges of indices never moved before are progress, module header).
       integer :: block_backup = 3
       !> Most exchanges of the block phase in one round.
       integer :: block_steps = 50
