@@ -9,8 +9,12 @@
 !> 1. **Block principal pivoting** (Kostreva 1978; Júdice & Pires 1994): exchange at once every index
 !>    whose output is negative in the current frame; one exchange (for the contact LCP: one banded
 !>    refactorisation) moves many contacts. Júdice and Pires' safeguard counts the infeasibilities:
-!>    when their number has not decreased for `block_backup` exchanges the phase stops. For a P-matrix
-!>    it typically ends in a few exchanges; it is not finite in general, hence phase 2.
+!>    when their number has not decreased for `block_backup` exchanges that move an index back (one
+!>    the phase exchanged before) the phase stops. An exchange of indices the phase never moved is
+!>    progress whatever the count: no frame can recur without an index going back, so there are at
+!>    most m such exchanges (the edge of a contact region that creeps one candidate per exchange
+!>    toward its place, docs/lemke.md). For a P-matrix it typically ends in a few exchanges; it is not
+!>    finite in general (`block_steps` caps it), hence phase 2.
 !> 2. **Lemke's complementary pivoting** (Lemke 1965; Cottle, Pang & Stone 1992, §4.4), started from
 !>    the frame the first phase left: the scheme w = q + M z + d z0 with covering vector d = the unit
 !>    of each infeasible output and 1e-6 of it for the others. Its basis is held as the operator's frame plus a dense Schur complement
@@ -53,7 +57,8 @@ module uniarc_lcp_implicit
       real(dp) :: tolerance = 1.0e-9_dp
       !> Run the block principal pivoting phase first (off: Lemke alone, e.g. to test it).
       logical :: block_phase = .true.
-      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities.
+      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities that move an index
+      !> back (exchanges of indices never moved before are progress, module header).
       integer :: block_backup = 3
       !> Most exchanges of the block phase in one round.
       integer :: block_steps = 50
@@ -180,13 +185,13 @@ contains
       real(dp), intent(inout) :: q(:), scale(:)
       type(implicit_lcp_report_t), intent(inout) :: report
       logical, intent(out) :: solved, broken
-      logical, allocatable :: violated(:)
+      logical, allocatable :: violated(:), moved(:)
       type(error_t), allocatable :: failure
       integer :: step, count_violated, fewest, backup, status
       solved = .false.
       broken = .false.
-      allocate (violated(size(q)), stat=status)
-      call allocation_failure(status, 'the block pivots of the contact LCP', 4.0_dp*size(q), error_analysis, failure)
+      allocate (violated(size(q)), moved(size(q)), stat=status)
+      call allocation_failure(status, 'the block pivots of the contact LCP', 8.0_dp*size(q), error_analysis, failure)
       if (allocated(failure)) then
          call keep_fatal(report, failure)
          broken = .true.
@@ -194,6 +199,8 @@ contains
       end if
       fewest = size(q) + 1
       backup = opts%block_backup
+      ! indices exchanged an odd number of times by this phase (the frame it started from: false)
+      moved = .false.
       do step = 1, opts%block_steps + 1
          violated = q < -opts%tolerance*scale
          count_violated = count(violated)
@@ -205,11 +212,18 @@ contains
          if (count_violated < fewest) then
             fewest = count_violated
             backup = opts%block_backup
-         else if (backup > 0) then
-            backup = backup - 1
-         else
-            return
+         else if (any(violated .and. moved)) then
+            ! No fewer infeasibilities and an index goes back: the exchanges may be cycling.
+            if (backup > 0) then
+               backup = backup - 1
+            else
+               return
+            end if
          end if
+         ! No fewer infeasibilities, but none of them moved by this phase before, is progress: no
+         ! frame can recur without an index going back, and each such step moves a new index (at
+         ! most m of them). The edges of contact regions that creep one candidate per exchange
+         ! toward their place make these steps (docs/lemke.md, docs/benchmarks.md §9).
          call operator%exchange(violated, failure)
          report%exchanges = report%exchanges + 1
          ! A singular frame (the exchanged contacts would leave a mechanism): the operator kept the
@@ -219,6 +233,7 @@ contains
             broken = allocated(report%fatal)
             return
          end if
+         moved = moved .neqv. violated
          report%block_steps = report%block_steps + 1
          report%pivots = report%pivots + count_violated
          call operator%frame_q(q, failure)
