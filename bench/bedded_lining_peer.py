@@ -31,7 +31,11 @@ member released through its joints, docs/theory.md §1.10) and OpenSees the same
 `beamUniform` element loads at each element's midpoint value, and compares the element end forces
 N, V, M (`*OUTPUT, FORCES` against OpenSees' `localForce`). uniarc evaluates the expression at each
 element's midpoint and takes it uniform there (docs/input.md, `*DLOAD`), so both programs carry the
-same loads and must agree to round-off.
+same loads. uniarc's forces file gives each element of the bed its share of the bed's distributed
+reaction as a load on its span (docs/contracts.md, STEM.forces; docs/theory.md §3.1), where OpenSees'
+elements see the springs at their nodes only: the script adds that share to OpenSees' forces, computed
+here from OpenSees' own spring forces (bed_share_loads) and released through the joints by OpenSees'
+own elements (released_end_forces), so both sides give the same quantity and must agree to round-off.
 
     python3 bench/bedded_lining_peer.py --uniarc build/uniarc --dload
 
@@ -56,8 +60,10 @@ GAMMA = 20.0
 H = 10.0             # depth of the ring's centre below the surface (y = H at the surface)
 K0 = 0.5
 TOLERANCE = 1e-9
-# --dload: the same loads in both programs (midpoint values), so round-off: measured 1.4e-12 of the
-# largest M (before the released fixed-end forces, 0.24): 1e-9 as for the displacements.
+# --dload: the same loads in both programs (midpoint values) and the same bed's share on the spans
+# (bed_share_forces), so round-off: measured 9.2e-14, 2.9e-13, 1.4e-12 of the largest N, V, M (without
+# the share on OpenSees' side 6.95e-4, 0.303, 0.089; before the released fixed-end forces, 0.24 of M):
+# 1e-9 as for the displacements.
 FORCE_TOLERANCE = 1e-9
 # the deck file against the generated deck: the same numbers and expressions, so the same arithmetic;
 # 1e-12 of the largest of each force leaves only the 13 digits of the forces file.
@@ -197,14 +203,110 @@ def opensees_solve(in_contact, element_loads=False):
     if ops.analyze(1) != 0:
         raise RuntimeError('OpenSees analysis failed')
     if element_loads:
-        # localForce: the forces on the element (axial, shear, moment at each end) in its frame;
-        # uniarc's section forces: N tension positive, V = dM/ds, M = EI kappa (docs/contracts.md)
-        forces = {}
-        for i in range(1, N_ELEMENTS + 1):
-            f = ops.eleResponse(i, 'localForce')
-            forces[i] = [-f[0], f[1], -f[2], f[3], -f[4], f[5]]
-        opensees_solve.forces = forces
+        # localForce: the forces on the element (axial, shear, moment at each end) in its frame, and
+        # the radial springs' forces (basicForce: k times the node's outward displacement; on the node
+        # it acts along -x of the spring, toward the centre), for the bed's share (bed_share_forces)
+        opensees_solve.local_forces = {i: list(ops.eleResponse(i, 'localForce'))
+                                       for i in range(1, N_ELEMENTS + 1)}
+        opensees_solve.springs = {i: (ops.eleResponse(4000 + i, 'basicForce')[0],
+                                      (math.cos(angle(i)), math.sin(angle(i)))) for i in in_contact}
     return {i: tuple(ops.nodeDisp(i)) for i in range(1, N_ELEMENTS + 1)}
+
+
+def bed_share_loads(springs):
+    """The consistent end loads (Fx1, Fy1, M1, Fx2, Fy2, M2 in the element's local frame, by element)
+    of the bed's distributed reaction that each element carries on its span, as uniarc's forces file
+    reports it (docs/contracts.md, STEM.forces; docs/theory.md §3.1): at every node the pressure of
+    its radial spring, the spring's force over the length it was lumped from (CHORD: k = K_R CHORD),
+    acting on the node along the force's direction, varying linearly along the element; the loads of
+    a linearly varying load q1 -> q2 on a beam clamped at both ends (Przemieniecki 1968, Theory of
+    Matrix Structural Analysis, §5.4):
+        axial   F1 = h (2 q1 + q2)/6,     F2 = h (q1 + 2 q2)/6,
+        normal  F1 = h (7 q1 + 3 q2)/20,  F2 = h (3 q1 + 7 q2)/20,
+                M1 = h^2 (3 q1 + 2 q2)/60,  M2 = -h^2 (2 q1 + 3 q2)/60.
+    `springs`: by node in contact, (basic force of the radial spring, its local x (outward)); a node
+    without contact carries no pressure. Only the radial springs: the tangential ones are point
+    supports in uniarc's forces too (docs/contracts.md)."""
+    load = {i: (0.0, 0.0) for i in range(1, N_ELEMENTS + 1)}
+    for i, (force, (dx, dy)) in springs.items():
+        load[i] = (-force * dx / CHORD, -force * dy / CHORD)
+    loads = {}
+    for e in range(1, N_ELEMENTS + 1):
+        a, b = e, e % N_ELEMENTS + 1
+        xa, ya = R * math.cos(angle(a)), R * math.sin(angle(a))
+        xb, yb = R * math.cos(angle(b)), R * math.sin(angle(b))
+        h = math.hypot(xb - xa, yb - ya)
+        t = ((xb - xa) / h, (yb - ya) / h)
+        n = (-t[1], t[0])
+        qt = [load[k][0] * t[0] + load[k][1] * t[1] for k in (a, b)]
+        qn = [load[k][0] * n[0] + load[k][1] * n[1] for k in (a, b)]
+        loads[e] = [h * (2 * qt[0] + qt[1]) / 6, h * (7 * qn[0] + 3 * qn[1]) / 20,
+                    h * h * (3 * qn[0] + 2 * qn[1]) / 60,
+                    h * (qt[0] + 2 * qt[1]) / 6, h * (3 * qn[0] + 7 * qn[1]) / 20,
+                    -h * h * (2 * qn[0] + 3 * qn[1]) / 60]
+    return loads
+
+
+def released_end_forces(loads):
+    """The end forces (localForce, by element) of each element held at its nodes, through its joints,
+    under the clamped member's end loads `loads` (bed_share_loads): OpenSees' own ring, joints and
+    hinge as in opensees_solve (the joint nodes at end 1 of the elements that start there, the
+    zeroLength rotational springs, none at the hinge) with every ring node fixed and each joint node
+    held in translation and free to turn, loaded by the clamped end moment M1 of the element that
+    starts there (the loads at held degrees of freedom do nothing).
+    The joint node's equilibrium, (K u)_r + k_j theta = M1, is that of the member under its span load
+    with its end released through the joint ((K u)_r - M1 + k_j theta = 0), so K u - loads are the
+    fixed-end forces of the member with its releases: uniarc's span_release (docs/theory.md §1.10,
+    M = Kj F Mf), computed here by OpenSees' element. Zero for the elements without joints."""
+    import openseespy.opensees as ops
+    ops.wipe()
+    ops.model('basic', '-ndm', 2, '-ndf', 3)
+    for i in range(1, N_ELEMENTS + 1):
+        ops.node(i, R * math.cos(angle(i)), R * math.sin(angle(i)))
+        ops.fix(i, 1, 1, 1)
+    ops.geomTransf('Linear', 1)
+    ops.uniaxialMaterial('Elastic', 1, K_JOINT)
+    released = JOINT_NODES + [HINGE_NODE]
+    for j in released:
+        ops.node(1000 + j, *ops.nodeCoord(j))
+        ops.fix(1000 + j, 1, 1, 0)
+    for j in JOINT_NODES:
+        ops.element('zeroLength', 2000 + j, j, 1000 + j, '-mat', 1, '-dir', 3)
+    for i in range(1, N_ELEMENTS + 1):
+        start = 1000 + i if i in released else i
+        ops.element('ElasticTimoshenkoBeam', i, start, i % N_ELEMENTS + 1, 1.0, 1.0, EA, EI, GAS, 1)
+    ops.timeSeries('Linear', 1)
+    ops.pattern('Plain', 1, 1)
+    for j in released:
+        ops.load(1000 + j, 0.0, 0.0, loads[j][2])
+    ops.system('FullGeneral')
+    ops.numberer('Plain')
+    ops.constraints('Transformation')
+    ops.integrator('LoadControl', 1.0)
+    ops.algorithm('Linear')
+    ops.analysis('Static')
+    if ops.analyze(1) != 0:
+        raise RuntimeError('OpenSees analysis of the released end forces failed')
+    return {i: list(ops.eleResponse(i, 'localForce')) for i in range(1, N_ELEMENTS + 1)}
+
+
+def section_forces(local):
+    """uniarc's section forces (N, V, M at start, at end) from OpenSees' localForce (the forces on the
+    element at its ends, in its frame): N tension positive, V = dM/ds, M = EI kappa (docs/contracts.md)."""
+    return [-local[0], local[1], -local[2], local[3], -local[4], local[5]]
+
+
+def bed_share_forces():
+    """The element forces of the last opensees_solve with element loads, with each element's share of
+    the bed's distributed reaction on its span (uniarc's STEM.forces, docs/contracts.md): localForce
+    minus the share's consistent loads released through the element's joints (bed_share_loads,
+    released_end_forces); and, for comparison, without the share (OpenSees' elements see nodal
+    springs only). Both by element, as section forces."""
+    local = opensees_solve.local_forces
+    loads = bed_share_loads(opensees_solve.springs)
+    held = released_end_forces(loads)
+    with_share = {i: section_forces([local[i][k] - (loads[i][k] - held[i][k]) for k in range(6)]) for i in local}
+    return with_share, {i: section_forces(local[i]) for i in local}
 
 
 def opensees_solution(element_loads=False):
@@ -263,13 +365,15 @@ def compare_forces(uniarc, deck_file):
             print(f'{deck_file} is not the model of this script (above {FILE_TOLERANCE:g})')
             return 1
     opensees_solution(element_loads=True)
-    peer = opensees_solve.forces
+    peer, nodal = bed_share_forces()
+    print(f'radial springs in contact: OpenSees loop {len(opensees_solve.springs)}')
     status = 0
     for k, name in [(0, 'N'), (1, 'V'), (2, 'M')]:
         scale = max(abs(peer[i][c]) for i in peer for c in (k, k + 3))
         difference = max(abs(ours[i][c] - peer[i][c]) for i in peer for c in (k, k + 3))
+        share = max(abs(nodal[i][c] - peer[i][c]) for i in peer for c in (k, k + 3))
         print(f'{name}: largest |uniarc - OpenSees| = {difference:.3e}, relative to the largest {scale:.6e}: '
-              f'{difference / scale:.2e}')
+              f'{difference / scale:.2e} (the bed\'s share changes OpenSees\' {name} by {share / scale:.2e})')
         status = status if difference / scale <= FORCE_TOLERANCE else 1
     return status
 
