@@ -44,6 +44,8 @@ module uniarc_foreign
    !> statx(2): AT_FDCWD (paths relative to the working directory) and the fields asked for,
    !> STATX_TYPE | STATX_SIZE.
    integer(c_int), parameter :: at_current_directory = -100_c_int, statx_type_and_size = int(z'201', c_int)
+   !> statx(2)'s AT_SYMLINK_NOFOLLOW (<fcntl.h>, Linux): a symbolic link is looked at, not its target.
+   integer(c_int), parameter :: at_symlink_nofollow = int(z'100', c_int)
 
    !> SIGXFSZ, sent to a process that writes past its file size limit (Linux; BSD and macOS too).
    integer(c_int), parameter :: signal_file_size = 25_c_int
@@ -308,21 +310,28 @@ contains
       if (present(removed)) removed = status == 0
    end subroutine remove_directory
 
-   !> The type and size of the file `path` (symbolic links followed), from statx(2) (Linux 4.11,
-   !> glibc 2.28): `kind` is 'regular file', 'directory', 'character device', 'block device', 'FIFO',
-   !> 'socket' or 'file of unknown type'; `bytes` its size (of a regular file). When the file cannot be
-   !> looked at (it does not exist, a folder on its path is not searchable), `failure` holds the
-   !> system's words and `kind` is ''.
-   subroutine file_status(path, kind, bytes, failure)
+   !> The type and size of the file `path` (symbolic links followed unless `follow_links` is false),
+   !> from statx(2) (Linux 4.11, glibc 2.28), which never opens the file (a FIFO cannot block it):
+   !> `kind` is 'regular file', 'directory', 'character device', 'block device', 'FIFO', 'socket',
+   !> 'symbolic link' (only when not followed) or 'file of unknown type'; `bytes` its size (of a regular
+   !> file). When the file cannot be looked at (it does not exist, a folder on its path is not
+   !> searchable), `failure` holds the system's words and `kind` is ''.
+   subroutine file_status(path, kind, bytes, failure, follow_links)
       character(len=*), intent(in) :: path
       character(len=:), allocatable, intent(out) :: kind
       integer(c_int64_t), intent(out) :: bytes
       character(len=:), allocatable, intent(out) :: failure
+      logical, intent(in), optional :: follow_links
       type(statx_t) :: status
       integer :: type_bits
+      integer(c_int) :: flags
       kind = ''
       bytes = 0
-      if (c_statx(at_current_directory, path//c_null_char, 0_c_int, statx_type_and_size, status) /= 0) then
+      flags = 0_c_int
+      if (present(follow_links)) then
+         if (.not. follow_links) flags = at_symlink_nofollow
+      end if
+      if (c_statx(at_current_directory, path//c_null_char, flags, statx_type_and_size, status) /= 0) then
          failure = system_error_text()
          return
       end if
@@ -342,6 +351,8 @@ contains
          kind = 'FIFO'
       case (int(o'140000'))
          kind = 'socket'
+      case (int(o'120000'))
+         kind = 'symbolic link'
       case default
          kind = 'file of unknown type'
       end select
