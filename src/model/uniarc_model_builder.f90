@@ -39,6 +39,7 @@ module uniarc_model_builder
    public :: set_element_kind, element_kinds
    public :: set_end_joint
    public :: node_index, element_index, section_index, node_set_index, element_set_index, track_index
+   public :: contact_group_index
    public :: unused_node, element_without_section, model_size
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
@@ -84,6 +85,7 @@ module uniarc_model_builder
       !> The names of sections(1:n_sections), node_sets(1:n_node_sets), element_sets(1:n_element_sets)
       !> and tracks(1:n_tracks), numbered alike: a hash index, so that a name costs O(1) to look up.
       type(name_table_t) :: section_names, node_set_names, element_set_names, track_names
+      type(name_table_t) :: contact_group_names   !< of contact_groups(1:n_contact_groups), alike
       integer :: n_contacts = 0
       type(contact_candidate_t), allocatable :: contacts(:)
       integer :: n_contact_groups = 0
@@ -752,6 +754,13 @@ contains
       character(len=*), intent(in) :: name
       index = find_name(builder%node_set_names, name)
    end function node_set_index
+
+   !> Index of the contact group called `name` (case-insensitive), 0 if there is none; O(1) expected time.
+   pure integer function contact_group_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      index = find_name(builder%contact_group_names, name)
+   end function contact_group_index
 
    !> Index of the track called `name` (case-insensitive), 0 if there is none; O(1) expected time.
    pure integer function track_index(builder, name) result(index)
