@@ -104,22 +104,27 @@ contains
       type(source_t), intent(in) :: source
       type(deck_t), intent(in) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, g, k
+      integer :: i, g, k, first, first_group
       if (deck%model%n_contact_groups < 2 .or. deck%model%n_tracks == 0) return
-      do i = 1, deck%model%n_tracks
-         do g = 1, deck%model%n_contact_groups
-            do k = 1, size(group_columns)
-               if (same_text(deck%model%tracks(i)%name, trim(group_columns(k))//'_'// &
-                             deck%model%contact_groups(g)%name)) then
-                  call raise(source, deck%track_line(i), deck%track_column(i), 'expected a track name that '// &
-                             'is not a column of the path file, found '''//deck%model%tracks(i)%name// &
-                             ''' (the path column of contact group '''//deck%model%contact_groups(g)%name// &
-                             ''')', error)
-                  return
-               end if
-            end do
+      ! Each group column looked up among the tracks (O(groups), not O(tracks × groups); issue 14); the
+      ! first track in deck order that clashes is reported, with the first group it clashes with.
+      first = huge(1)
+      first_group = 0
+      do g = 1, deck%model%n_contact_groups
+         do k = 1, size(group_columns)
+            i = track_index(deck%model, trim(group_columns(k))//'_'//deck%model%contact_groups(g)%name)
+            if (i > 0 .and. i < first) then
+               first = i
+               first_group = g
+            end if
          end do
       end do
+      if (first_group > 0) then
+         call raise(source, deck%track_line(first), deck%track_column(first), 'expected a track name that '// &
+                    'is not a column of the path file, found '''//deck%model%tracks(first)%name// &
+                    ''' (the path column of contact group '''//deck%model%contact_groups(first_group)%name// &
+                    ''')', error)
+      end if
    end subroutine check_track_names
 
    !> *STATIC: a linear static analysis (also what a deck without an analysis card gets).
