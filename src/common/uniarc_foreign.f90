@@ -21,7 +21,7 @@ module uniarc_foreign
    public :: lapack_check, rename_file, make_directory, exit_program
    public :: stream_t, stream_open, stream_write, stream_flush, stream_close
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
-   public :: file_status
+   public :: file_status, read_regular_file
    public :: catch_interrupts, interrupt_signal, signal_name
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
@@ -185,6 +185,14 @@ module uniarc_foreign
          integer(c_int), value, intent(in) :: which
          integer(c_int) :: number
       end function c_signal_number
+
+      function c_read_regular_file(path, buffer, size) bind(c, name='uniarc_read_regular_file') result(count)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         character(kind=c_char), intent(out) :: buffer(*)
+         integer(c_int), value, intent(in) :: size
+         integer(c_int) :: count
+      end function c_read_regular_file
 
       function c_strlen(text) bind(c, name='strlen') result(length)
          import :: c_ptr, c_size_t
@@ -357,6 +365,23 @@ contains
          kind = 'file of unknown type'
       end select
    end subroutine file_status
+
+   !> The first at most len(text) characters of the regular file `path`, read without ever blocking
+   !> (uniarc_foreign.c: open with O_NONBLOCK and O_NOFOLLOW, then fstat): `count` is the number of
+   !> characters read into text(1:count), -1 when the file cannot be opened or read, -2 when `path` is
+   !> not a regular file (a FIFO, a device, a directory, a symbolic link), which is not read.
+   subroutine read_regular_file(path, text, count)
+      character(len=*), intent(in) :: path
+      character(len=*), intent(out) :: text
+      integer, intent(out) :: count
+      character(kind=c_char) :: buffer(max(1, len(text)))
+      integer :: i
+      text = ''
+      count = int(c_read_regular_file(path//c_null_char, buffer, int(len(text), c_int)))
+      do i = 1, count
+         text(i:i) = buffer(i)
+      end do
+   end subroutine read_regular_file
 
    !> The process id (getpid), which makes the names of a run's temporary files its own.
    integer function process_id()

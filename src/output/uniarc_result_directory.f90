@@ -13,7 +13,8 @@ module uniarc_result_directory
    use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_error, only: error_t, make_error, add_context, error_input, error_analysis
    use uniarc_foreign, only: stream_t, stream_open, stream_write, stream_close, make_directory, &
-                             rename_file, remove_file, remove_directory, process_id, file_status
+                             rename_file, remove_file, remove_directory, process_id, file_status, &
+                             read_regular_file
    use uniarc_strings, only: integer_to_string
    implicit none
    private
@@ -162,18 +163,20 @@ contains
       results%claimed = .false.
    end subroutine abandon_results
 
-   !> " (pid N)" from the lock file of another run, or nothing when it cannot be read.
+   !> " (pid N)" from the lock file of another run, or nothing when it cannot be read. Read without
+   !> blocking and only if it is a regular file (read_regular_file), should the lock have been
+   !> replaced by a FIFO since it was looked at (issue 14).
    function lock_holder(lock_path) result(text)
       character(len=*), intent(in) :: lock_path
       character(len=:), allocatable :: text
-      character(len=64) :: line
-      integer :: unit, status, close_status
+      character(len=64) :: content
+      integer :: count, line_end
       text = ''
-      open (newunit=unit, file=lock_path, status='old', action='read', iostat=status)
-      if (status /= 0) return
-      read (unit, '(a)', iostat=status) line
-      close (unit, iostat=close_status)
-      if (status == 0 .and. len_trim(line) > 0) text = ' ('//trim(line)//')'
+      call read_regular_file(lock_path, content, count)
+      if (count <= 0) return
+      line_end = index(content(1:count), new_line('a'))
+      if (line_end == 0) line_end = count + 1
+      if (len_trim(content(1:line_end - 1)) > 0) text = ' ('//trim(content(1:line_end - 1))//')'
    end function lock_holder
 
 end module uniarc_result_directory
