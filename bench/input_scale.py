@@ -4,8 +4,11 @@ elements after N *PARAMETER lines (each built on the one before: p_i = p_(i-1) +
 one name up), or after one comment line of M MiB (64 MiB: the longest line a deck may have). The analysis is the same tiny one in every deck, so
 the time is that of reading the deck.
 
-  bench/input_scale.py UNIARC [--parameters N ...] [--megabytes M ...] [--repeat K] [--timeout S]
-                       [--work DIR]
+  bench/input_scale.py UNIARC [--parameters N ...] [--megabytes M ...] [--tracks N ...]
+                       [--node-sets N ...] [--repeat K] [--timeout S] [--work DIR]
+
+--tracks N: the cantilever with N *TRACK lines (N + 14 path columns); --node-sets N: after N *NSET
+cards (issue 14: each new track or set name was compared with every earlier one).
 
 Prints a Markdown table: the wall time and the CPU time (user + system, of the child) of the fastest
 of K runs, and the peak memory (maximum resident set; it includes the few MiB of this script's own
@@ -33,6 +36,25 @@ def parameters_deck(path, n):
         for first in range(2, n + 1, 10000):
             handle.write(''.join(f'p{i} = p{i - 1} + 1\n' for i in range(first, min(first + 10000, n + 1))))
         handle.write(f'P = 3*p{n}/{n}\n' + CANTILEVER)
+
+
+def tracks_deck(path, n):
+    """The cantilever with N *TRACK lines t1..tN (every line a new name, checked against all earlier
+    ones): the path file then has N + 14 columns, its header and rows built in every step."""
+    with open(path, 'w') as handle:
+        handle.write('*PARAMETER\nP = 3\n' + CANTILEVER)
+        for first in range(1, n + 1, 10000):
+            handle.write(''.join(f't{i}, b_end, UY\n' for i in range(first, min(first + 10000, n + 1))))
+
+
+def node_sets_deck(path, n):
+    """The cantilever after N *NSET cards s1..sN of all its 5 nodes (every card a new set name)."""
+    with open(path, 'w') as handle:
+        handle.write('*PARAMETER\nP = 3\n*NODE\n1, 0, 0\n2, 0.25, 0\n3, 0.5, 0\n4, 0.75, 0\n5, 1, 0\n')
+        for first in range(1, n + 1, 10000):
+            handle.write(''.join(f'*NSET, NSET=s{i}\n1, 2, 3, 4, 5\n'
+                                 for i in range(first, min(first + 10000, n + 1))))
+        handle.write(CANTILEVER)
 
 
 def long_line_deck(path, megabytes):
@@ -86,6 +108,8 @@ def main():
     parser.add_argument('uniarc')
     parser.add_argument('--parameters', type=int, nargs='*', default=[16000, 50000, 200000, 1000000])
     parser.add_argument('--megabytes', type=int, nargs='*', default=[1, 4, 16, 64])
+    parser.add_argument('--tracks', type=int, nargs='*', default=[])
+    parser.add_argument('--node-sets', type=int, nargs='*', default=[])
     parser.add_argument('--repeat', type=int, default=3)
     parser.add_argument('--timeout', type=float, default=120.0)
     parser.add_argument('--work', default=None, help='scratch folder (default: a temporary one)')
@@ -96,13 +120,15 @@ def main():
     print('| deck | size | wall | CPU | peak memory |')
     print('|---|---|---|---|---|')
     cases = [('parameters', n, parameters_deck) for n in args.parameters] + \
-            [('comment line', m, long_line_deck) for m in args.megabytes]
+            [('comment line', m, long_line_deck) for m in args.megabytes] + \
+            [('tracks', n, tracks_deck) for n in args.tracks] + \
+            [('node sets', n, node_sets_deck) for n in args.node_sets]
     for label, size, make in cases:
         deck = os.path.join(work, 'deck.inp')
         make(deck, size)
         megabytes = os.path.getsize(deck) / 2**20
         wall, cpu, memory = measure(uniarc, deck, work, args.repeat, args.timeout)
-        what = f'{size:,} {label}' if label == 'parameters' else f'{label} of {size} MiB'
+        what = f'{label} of {size} MiB' if label == 'comment line' else f'{size:,} {label}'
         print(f'| {what} | {megabytes:.1f} MiB | {wall} | {cpu} | {memory} |', flush=True)
         os.remove(deck)
     if args.work is None:

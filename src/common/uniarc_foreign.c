@@ -50,3 +50,29 @@ long long uniarc_address_space_limit(void) {
     if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return -1;
     return (long long)limit.rlim_cur;
 }
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Read the first at most `size` bytes of the regular file `path` into `buffer`, never blocking:
+ * open(2) with O_NONBLOCK (a FIFO opened for reading would otherwise wait for a writer) and
+ * O_NOFOLLOW (a symbolic link is not followed), then fstat(2) of what was opened. Returns the number
+ * of bytes read, -1 when the file cannot be opened or read, -2 when it is not a regular file. */
+int uniarc_read_regular_file(const char *path, char *buffer, int size) {
+    struct stat status;
+    ssize_t count;
+    int descriptor = open(path, O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_CLOEXEC);
+    if (descriptor < 0) return -1;
+    if (fstat(descriptor, &status) != 0) {
+        close(descriptor);
+        return -1;
+    }
+    if (!S_ISREG(status.st_mode)) {
+        close(descriptor);
+        return -2;
+    }
+    count = read(descriptor, buffer, size > 0 ? (size_t)size : 0);
+    close(descriptor);
+    return count < 0 ? -1 : (int)count;
+}

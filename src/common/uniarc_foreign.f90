@@ -21,7 +21,7 @@ module uniarc_foreign
    public :: lapack_check, rename_file, make_directory, exit_program
    public :: stream_t, stream_open, stream_write, stream_flush, stream_close
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
-   public :: file_status
+   public :: file_status, read_regular_file
    public :: catch_interrupts, interrupt_signal, signal_name
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
@@ -44,6 +44,8 @@ module uniarc_foreign
    !> statx(2): AT_FDCWD (paths relative to the working directory) and the fields asked for,
    !> STATX_TYPE | STATX_SIZE.
    integer(c_int), parameter :: at_current_directory = -100_c_int, statx_type_and_size = int(z'201', c_int)
+   !> statx(2)'s AT_SYMLINK_NOFOLLOW (<fcntl.h>, Linux): a symbolic link is looked at, not its target.
+   integer(c_int), parameter :: at_symlink_nofollow = int(z'100', c_int)
 
    !> SIGXFSZ, sent to a process that writes past its file size limit (Linux; BSD and macOS too).
    integer(c_int), parameter :: signal_file_size = 25_c_int
@@ -184,6 +186,14 @@ module uniarc_foreign
          integer(c_int) :: number
       end function c_signal_number
 
+      function c_read_regular_file(path, buffer, size) bind(c, name='uniarc_read_regular_file') result(count)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: path(*)
+         character(kind=c_char), intent(out) :: buffer(*)
+         integer(c_int), value, intent(in) :: size
+         integer(c_int) :: count
+      end function c_read_regular_file
+
       function c_strlen(text) bind(c, name='strlen') result(length)
          import :: c_ptr, c_size_t
          type(c_ptr), value, intent(in) :: text
@@ -308,21 +318,28 @@ contains
       if (present(removed)) removed = status == 0
    end subroutine remove_directory
 
-   !> The type and size of the file `path` (symbolic links followed), from statx(2) (Linux 4.11,
-   !> glibc 2.28): `kind` is 'regular file', 'directory', 'character device', 'block device', 'FIFO',
-   !> 'socket' or 'file of unknown type'; `bytes` its size (of a regular file). When the file cannot be
-   !> looked at (it does not exist, a folder on its path is not searchable), `failure` holds the
-   !> system's words and `kind` is ''.
-   subroutine file_status(path, kind, bytes, failure)
+   !> The type and size of the file `path` (symbolic links followed unless `follow_links` is false),
+   !> from statx(2) (Linux 4.11, glibc 2.28), which never opens the file (a FIFO cannot block it):
+   !> `kind` is 'regular file', 'directory', 'character device', 'block device', 'FIFO', 'socket',
+   !> 'symbolic link' (only when not followed) or 'file of unknown type'; `bytes` its size (of a regular
+   !> file). When the file cannot be looked at (it does not exist, a folder on its path is not
+   !> searchable), `failure` holds the system's words and `kind` is ''.
+   subroutine file_status(path, kind, bytes, failure, follow_links)
       character(len=*), intent(in) :: path
       character(len=:), allocatable, intent(out) :: kind
       integer(c_int64_t), intent(out) :: bytes
       character(len=:), allocatable, intent(out) :: failure
+      logical, intent(in), optional :: follow_links
       type(statx_t) :: status
       integer :: type_bits
+      integer(c_int) :: flags
       kind = ''
       bytes = 0
-      if (c_statx(at_current_directory, path//c_null_char, 0_c_int, statx_type_and_size, status) /= 0) then
+      flags = 0_c_int
+      if (present(follow_links)) then
+         if (.not. follow_links) flags = at_symlink_nofollow
+      end if
+      if (c_statx(at_current_directory, path//c_null_char, flags, statx_type_and_size, status) /= 0) then
          failure = system_error_text()
          return
       end if
@@ -342,10 +359,29 @@ contains
          kind = 'FIFO'
       case (int(o'140000'))
          kind = 'socket'
+      case (int(o'120000'))
+         kind = 'symbolic link'
       case default
          kind = 'file of unknown type'
       end select
    end subroutine file_status
+
+   !> The first at most len(text) characters of the regular file `path`, read without ever blocking
+   !> (uniarc_foreign.c: open with O_NONBLOCK and O_NOFOLLOW, then fstat): `count` is the number of
+   !> characters read into text(1:count), -1 when the file cannot be opened or read, -2 when `path` is
+   !> not a regular file (a FIFO, a device, a directory, a symbolic link), which is not read.
+   subroutine read_regular_file(path, text, count)
+      character(len=*), intent(in) :: path
+      character(len=*), intent(out) :: text
+      integer, intent(out) :: count
+      character(kind=c_char) :: buffer(max(1, len(text)))
+      integer :: i
+      text = ''
+      count = int(c_read_regular_file(path//c_null_char, buffer, int(len(text), c_int)))
+      do i = 1, count
+         text(i:i) = buffer(i)
+      end do
+   end subroutine read_regular_file
 
    !> The process id (getpid), which makes the names of a run's temporary files its own.
    integer function process_id()

@@ -260,8 +260,8 @@ contains
             if (allocated(error)) return
          end if
          call set_parameter(deck%parameters, name, value)
-         call grow_integers(deck%parameter_line, deck%parameters%count)
-         deck%parameter_line(deck%parameters%count) = line
+         call grow_integers(deck%parameter_line, deck%parameters%names%count)
+         deck%parameter_line(deck%parameters%names%count) = line
       end do
    end subroutine read_parameter
 

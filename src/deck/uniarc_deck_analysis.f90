@@ -9,7 +9,8 @@ module uniarc_deck_analysis
    use uniarc_model, only: analysis_options_t, dof_ux, dof_uy, dof_rz, analysis_nonlinear, control_load, &
                            control_displacement, control_arclength, iteration_chan, iteration_cylindrical, &
                            iteration_riks
-   use uniarc_model_builder, only: add_track
+   use uniarc_model_builder, only: add_track, track_index
+   use uniarc_growth, only: grow_integers
    use uniarc_deck_state, only: deck_t, option_field, resolve_nodes
    implicit none
    private
@@ -57,13 +58,11 @@ contains
                return
             end if
          end do
-         do j = 1, deck%model%n_tracks
-            if (same_text(deck%model%tracks(j)%name, fields(1)%text)) then
-               call raise(source, line, fields(1)%column, 'expected a new track name, found '''// &
-                          fields(1)%text//''' again', error)
-               return
-            end if
-         end do
+         if (track_index(deck%model, fields(1)%text) > 0) then
+            call raise(source, line, fields(1)%column, 'expected a new track name, found '''// &
+                       fields(1)%text//''' again', error)
+            return
+         end if
          call resolve_nodes(source, deck, line, fields(2), nodes, error)
          if (allocated(error)) return
          if (size(nodes) /= 1) then
@@ -90,9 +89,11 @@ contains
          end if
 
          call add_track(deck%model, fields(1)%text, nodes(1), dof, scale)
-         if (.not. allocated(deck%track_line)) allocate (deck%track_line(0), deck%track_column(0))
-         deck%track_line = [deck%track_line, line]
-         deck%track_column = [deck%track_column, fields(1)%column]
+         ! grown by doubling (amortised O(1) a track; issue 14), entries 1..n_tracks in use
+         call grow_integers(deck%track_line, deck%model%n_tracks)
+         call grow_integers(deck%track_column, deck%model%n_tracks)
+         deck%track_line(deck%model%n_tracks) = line
+         deck%track_column(deck%model%n_tracks) = fields(1)%column
       end do
    end subroutine read_track
 
@@ -103,22 +104,27 @@ contains
       type(source_t), intent(in) :: source
       type(deck_t), intent(in) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, g, k
+      integer :: i, g, k, first, first_group
       if (deck%model%n_contact_groups < 2 .or. deck%model%n_tracks == 0) return
-      do i = 1, deck%model%n_tracks
-         do g = 1, deck%model%n_contact_groups
-            do k = 1, size(group_columns)
-               if (same_text(deck%model%tracks(i)%name, trim(group_columns(k))//'_'// &
-                             deck%model%contact_groups(g)%name)) then
-                  call raise(source, deck%track_line(i), deck%track_column(i), 'expected a track name that '// &
-                             'is not a column of the path file, found '''//deck%model%tracks(i)%name// &
-                             ''' (the path column of contact group '''//deck%model%contact_groups(g)%name// &
-                             ''')', error)
-                  return
-               end if
-            end do
+      ! Each group column looked up among the tracks (O(groups), not O(tracks × groups); issue 14); the
+      ! first track in deck order that clashes is reported, with the first group it clashes with.
+      first = huge(1)
+      first_group = 0
+      do g = 1, deck%model%n_contact_groups
+         do k = 1, size(group_columns)
+            i = track_index(deck%model, trim(group_columns(k))//'_'//deck%model%contact_groups(g)%name)
+            if (i > 0 .and. i < first) then
+               first = i
+               first_group = g
+            end if
          end do
       end do
+      if (first_group > 0) then
+         call raise(source, deck%track_line(first), deck%track_column(first), 'expected a track name that '// &
+                    'is not a column of the path file, found '''//deck%model%tracks(first)%name// &
+                    ''' (the path column of contact group '''//deck%model%contact_groups(first_group)%name// &
+                    ''')', error)
+      end if
    end subroutine check_track_names
 
    !> *STATIC: a linear static analysis (also what a deck without an analysis card gets).

@@ -7,7 +7,7 @@ module uniarc_deck_contact
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_input
    use uniarc_memory, only: allocation_failure
-   use uniarc_strings, only: field_t, to_upper, is_name, same_text, integer_to_string, real_to_string
+   use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string
    use uniarc_growth, only: append_integers, grow_reals_2
    use uniarc_expression, only: sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
@@ -18,6 +18,7 @@ module uniarc_deck_contact
                            gap_ellipse_inside, gap_ellipse_outside, gap_polyline, tangential_contact, &
                            tangential_bonded
    use uniarc_model_contacts, only: add_foundation, add_springs, add_obstacle
+   use uniarc_model_builder, only: contact_group_index
    use uniarc_contact_law, only: foundation_straight, foundation_problem, foundation_not_open_chain
    use uniarc_deck_move, only: record_obstacle
    use uniarc_deck_state, only: deck_t, option_field, option_real, require_one_data_line, resolve_nodes, &
@@ -535,7 +536,7 @@ contains
       character(len=*), intent(in) :: default_stem
       character(len=:), allocatable, intent(out) :: name
       type(error_t), allocatable, intent(out) :: error
-      integer :: k, column, i
+      integer :: k, column
       k = option_index(card, 'NAME')
       if (k > 0) then
          name = card%options(k)%value
@@ -549,18 +550,16 @@ contains
          name = default_stem//'_'//integer_to_string(deck%model%n_contact_groups + 1)
          column = card%column
       end if
-      do i = 1, deck%model%n_contact_groups
-         if (same_text(deck%model%contact_groups(i)%name, name)) then
-            if (k > 0) then
-               call raise(source, card%line, column, 'expected a new contact group name, found '''// &
-                          name//''' again', error)
-            else
-               call raise(source, card%line, column, 'expected a new contact group name, found the ' // &
-                          'default name '''//name//''' already taken (give this card a NAME=)', error)
-            end if
-            return
+      if (contact_group_index(deck%model, name) > 0) then
+         if (k > 0) then
+            call raise(source, card%line, column, 'expected a new contact group name, found '''// &
+                       name//''' again', error)
+         else
+            call raise(source, card%line, column, 'expected a new contact group name, found the ' // &
+                       'default name '''//name//''' already taken (give this card a NAME=)', error)
          end if
-      end do
+         return
+      end if
    end subroutine contact_group_name
 
    !> KT=K_t [, TANGENTIAL=CONTACT|BONDED] of *FOUNDATION: the modulus K_t ≥ 0 of tangential springs

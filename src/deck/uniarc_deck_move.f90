@@ -5,12 +5,13 @@
 module uniarc_deck_move
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_strings, only: field_t, same_text
+   use uniarc_strings, only: field_t
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, require_option, data_fields, &
                                  require_field_count, field_real
    use uniarc_deck_state, only: deck_t, require_one_data_line
    use uniarc_model, only: gap_fixed_direction
    use uniarc_model_contacts, only: add_move
+   use uniarc_model_builder, only: contact_group_index
    implicit none
    private
    public :: read_move, record_obstacle
@@ -38,7 +39,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: option, group, g, kind, line, i
+      integer :: option, group, kind, line, i
       character(len=:), allocatable :: name
       type(field_t), allocatable :: fields(:)
       real(dp) :: d(2)
@@ -49,10 +50,7 @@ contains
       call require_option(source, card, 'OBSTACLE', option, error)
       if (allocated(error)) return
       name = card%options(option)%value
-      group = 0
-      do g = 1, deck%model%n_contact_groups
-         if (same_text(deck%model%contact_groups(g)%name, name)) group = g
-      end do
+      group = contact_group_index(deck%model, name)
       if (group == 0) then
          call raise(source, card%line, card%options(option)%value_column, 'expected the name of an '// &
                     '*OBSTACLE defined above, found '''//clip(name)//'''', error)

@@ -15,6 +15,7 @@ module uniarc_deck_state
    use uniarc_expression, only: parameter_table_t, find_parameter
    use uniarc_deck_source, only: source_t, card_t, raise, clip, field_real, field_integer
    use uniarc_model, only: analysis_step_t
+   use uniarc_name_table, only: name_table_t
    use uniarc_model_builder, only: model_builder_t, add_node, node_index, element_index, node_set_index, &
                                    element_set_index
    implicit none
@@ -54,6 +55,7 @@ module uniarc_deck_state
       !> (refused once the deck turns out to have steps).
       integer :: n_steps = 0
       type(analysis_step_t), allocatable :: steps(:)
+      type(name_table_t) :: step_names   !< of steps(1:n_steps) and the open one, numbered alike
       logical :: in_step = .false.
       integer :: step_line = 0, step_column = 0
       integer :: loose_load_line = 0, loose_load_column = 0

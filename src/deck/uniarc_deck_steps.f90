@@ -20,6 +20,7 @@ module uniarc_deck_steps
    use uniarc_model, only: analysis_step_t, analysis_options_t, analysis_linear
    use uniarc_model_builder, only: take_loads, copy_supports
    use uniarc_deck_state, only: deck_t
+   use uniarc_name_table, only: add_name, find_name
    implicit none
    private
    public :: check_step_placement, read_step, read_end_step, finish_steps, take_steps
@@ -122,19 +123,20 @@ contains
          deck%steps(deck%n_steps + 1)%name = trim(card%options(k)%value)
       end if
       ! Names are unique regardless of case (a step's name is a field of the crit file's rows).
-      do j = 1, deck%n_steps
-         if (same_text(deck%steps(j)%name, deck%steps(deck%n_steps + 1)%name)) then
-            if (k > 0) then
-               call raise(source, card%line, card%options(k)%value_column, 'expected a new step name, found '''// &
-                          deck%steps(deck%n_steps + 1)%name//''', the name of step '//integer_to_string(j), error)
-            else
-               call raise(source, card%line, card%column, 'expected a new step name, found the default name '''// &
-                          deck%steps(deck%n_steps + 1)%name//''' already taken by step '//integer_to_string(j)// &
-                          ' (give this *STEP a NAME=)', error)
-            end if
-            return
+      ! (a hash lookup: O(1) a step, not a comparison with every earlier step; issue 14)
+      j = find_name(deck%step_names, deck%steps(deck%n_steps + 1)%name)
+      if (j > 0) then
+         if (k > 0) then
+            call raise(source, card%line, card%options(k)%value_column, 'expected a new step name, found '''// &
+                       deck%steps(deck%n_steps + 1)%name//''', the name of step '//integer_to_string(j), error)
+         else
+            call raise(source, card%line, card%column, 'expected a new step name, found the default name '''// &
+                       deck%steps(deck%n_steps + 1)%name//''' already taken by step '//integer_to_string(j)// &
+                       ' (give this *STEP a NAME=)', error)
          end if
-      end do
+         return
+      end if
+      call add_name(deck%step_names, deck%steps(deck%n_steps + 1)%name, j)
       deck%in_step = .true.
       deck%step_line = card%line
       deck%step_column = card%column

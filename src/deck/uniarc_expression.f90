@@ -92,8 +92,8 @@ contains
       call parse_sum(parser, table, value, error, column)
       if (allocated(error)) return
       if (parser%kind /= token_end) then
-         call fail(parser, parser%start, 'expected an operator or the end of the expression, found '''// &
-                   shortened(parser%lexeme)//'''', error, column)
+         call fail(parser, parser%start, 'expected an operator or the end of the expression, found '// &
+                   found(parser), error, column)
       end if
    end subroutine evaluate_expression
 
@@ -723,11 +723,15 @@ contains
    end subroutine read_number
 
    !> The current token as a message shows it: quoted, or "the end of the expression".
+   !> A token_bad's lexeme is its own error message, so its characters are quoted from the deck's
+   !> text instead (issue 14: `1.4 $` quoted the message, not the '$').
    pure function found(parser) result(text)
       type(parser_t), intent(in) :: parser
       character(len=:), allocatable :: text
       if (parser%kind == token_end) then
          text = 'the end of the expression'
+      else if (parser%kind == token_bad) then
+         text = ''''//shortened(parser%text(parser%start:max(parser%start, parser%position - 1)))//''''
       else
          text = ''''//shortened(parser%lexeme)//''''
       end if

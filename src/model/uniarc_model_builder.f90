@@ -21,7 +21,8 @@
 module uniarc_model_builder
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input
-   use uniarc_strings, only: same_text, integer_to_string
+   use uniarc_strings, only: integer_to_string
+   use uniarc_name_table, only: name_table_t, add_name, find_name
    use uniarc_growth, only: grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: copy_array
@@ -37,7 +38,8 @@ module uniarc_model_builder
    public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
    public :: set_element_kind, element_kinds
    public :: set_end_joint
-   public :: node_index, element_index, section_index, node_set_index, element_set_index
+   public :: node_index, element_index, section_index, node_set_index, element_set_index, track_index
+   public :: contact_group_index
    public :: unused_node, element_without_section, model_size
    public :: add_thermal_load, add_prescribed_displacement, has_prescribed_displacements
    public :: take_loads
@@ -80,6 +82,10 @@ module uniarc_model_builder
       type(distributed_load_t), allocatable :: loads(:)
       integer :: n_tracks = 0
       type(track_t), allocatable :: tracks(:)
+      !> The names of sections(1:n_sections), node_sets(1:n_node_sets), element_sets(1:n_element_sets)
+      !> and tracks(1:n_tracks), numbered alike: a hash index, so that a name costs O(1) to look up.
+      type(name_table_t) :: section_names, node_set_names, element_set_names, track_names
+      type(name_table_t) :: contact_group_names   !< of contact_groups(1:n_contact_groups), alike
       integer :: n_contacts = 0
       type(contact_candidate_t), allocatable :: contacts(:)
       integer :: n_contact_groups = 0
@@ -113,6 +119,7 @@ contains
       real(dp), intent(in) :: ea, ei
       real(dp), intent(in), optional :: gas
       type(section_t), allocatable :: grown(:)
+      integer :: index
       if (.not. allocated(builder%sections)) allocate (builder%sections(4))
       if (builder%n_sections == size(builder%sections)) then
          allocate (grown(2*size(builder%sections)))
@@ -121,6 +128,7 @@ contains
       end if
       builder%n_sections = builder%n_sections + 1
       builder%sections(builder%n_sections)%name = name
+      call add_name(builder%section_names, name, index)
       builder%sections(builder%n_sections)%ea = ea
       builder%sections(builder%n_sections)%ei = ei
       builder%sections(builder%n_sections)%gas = 0.0_dp
@@ -305,6 +313,7 @@ contains
          builder%n_node_sets = builder%n_node_sets + 1
          set = builder%n_node_sets
          builder%node_sets(set)%name = name
+         call add_name(builder%node_set_names, name, k)
          allocate (builder%node_sets(set)%nodes(0))
       end if
       call merge_members(builder%node_sets(set)%nodes, members, builder%n_nodes, 'node set '''//name//'''', error)
@@ -336,6 +345,7 @@ contains
          builder%n_element_sets = builder%n_element_sets + 1
          set = builder%n_element_sets
          builder%element_sets(set)%name = name
+         call add_name(builder%element_set_names, name, k)
          allocate (builder%element_sets(set)%elements(0))
       end if
       call merge_members(builder%element_sets(set)%elements, members, builder%n_elements, &
@@ -520,6 +530,7 @@ contains
       integer, intent(in) :: node, dof
       real(dp), intent(in) :: scale
       type(track_t), allocatable :: grown(:)
+      integer :: index
       if (.not. allocated(builder%tracks)) allocate (builder%tracks(4))
       if (builder%n_tracks == size(builder%tracks)) then
          allocate (grown(2*size(builder%tracks)))
@@ -528,6 +539,7 @@ contains
       end if
       builder%n_tracks = builder%n_tracks + 1
       builder%tracks(builder%n_tracks) = track_t(name=name, node=node, dof=dof, scale=scale)
+      call add_name(builder%track_names, name, index)
    end subroutine add_track
 
 
@@ -729,37 +741,39 @@ contains
       index = label_index(builder%element_of_label, builder%element_label(1:builder%n_elements), label)
    end function element_index
 
-   !> Index of the section called `name` (case-insensitive), 0 if there is none.
+   !> Index of the section called `name` (case-insensitive), 0 if there is none; O(1) expected time.
    pure integer function section_index(builder, name) result(index)
       type(model_builder_t), intent(in) :: builder
       character(len=*), intent(in) :: name
-      integer :: i
-      index = 0
-      do i = 1, builder%n_sections
-         if (same_text(builder%sections(i)%name, name)) index = i
-      end do
+      index = find_name(builder%section_names, name)
    end function section_index
 
-   !> Index of the node set called `name` (case-insensitive), 0 if there is none.
+   !> Index of the node set called `name` (case-insensitive), 0 if there is none; O(1) expected time.
    pure integer function node_set_index(builder, name) result(index)
       type(model_builder_t), intent(in) :: builder
       character(len=*), intent(in) :: name
-      integer :: i
-      index = 0
-      do i = 1, builder%n_node_sets
-         if (same_text(builder%node_sets(i)%name, name)) index = i
-      end do
+      index = find_name(builder%node_set_names, name)
    end function node_set_index
 
-   !> Index of the element set called `name` (case-insensitive), 0 if there is none.
+   !> Index of the contact group called `name` (case-insensitive), 0 if there is none; O(1) expected time.
+   pure integer function contact_group_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      index = find_name(builder%contact_group_names, name)
+   end function contact_group_index
+
+   !> Index of the track called `name` (case-insensitive), 0 if there is none; O(1) expected time.
+   pure integer function track_index(builder, name) result(index)
+      type(model_builder_t), intent(in) :: builder
+      character(len=*), intent(in) :: name
+      index = find_name(builder%track_names, name)
+   end function track_index
+
+   !> Index of the element set called `name` (case-insensitive), 0 if there is none; O(1) expected time.
    pure integer function element_set_index(builder, name) result(index)
       type(model_builder_t), intent(in) :: builder
       character(len=*), intent(in) :: name
-      integer :: i
-      index = 0
-      do i = 1, builder%n_element_sets
-         if (same_text(builder%element_sets(i)%name, name)) index = i
-      end do
+      index = find_name(builder%element_set_names, name)
    end function element_set_index
 
    !> The first node (index) that no element uses, 0 if every node is used.

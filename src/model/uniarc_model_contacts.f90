@@ -13,6 +13,7 @@ module uniarc_model_contacts
                                  path_coordinates, normals_valid, foundation_straight, foundation_problem, &
                                  foundation_not_open_chain, foundation_no_memory
    use uniarc_model_builder, only: model_builder_t, model_size
+   use uniarc_name_table, only: add_name
    implicit none
    private
    public :: add_springs, add_foundation, add_obstacle, add_move
@@ -281,6 +282,7 @@ contains
          builder%contacts(first:first + size(candidates) - 1)%bed_next + first - 1
       builder%n_contacts = builder%n_contacts + size(candidates)
       builder%contact_groups(group)%name = name
+      call add_name(builder%contact_group_names, name, i)
       do i = 1, size(members)
          members(i) = first + i - 1
       end do

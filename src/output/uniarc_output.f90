@@ -257,14 +257,24 @@ contains
       if (allocated(model%steps)) name = ' analysis_step'
    end function step_column
 
+   !> The tracks' names, each after a blank (the header columns of the path and crit files).
    pure function track_names(model) result(names)
       type(model_t), intent(in) :: model
       character(len=:), allocatable :: names
-      integer :: i
+      integer :: i, used, total
       names = ''
       if (.not. allocated(model%tracks)) return
+      ! the length first, then each name copied once: linear time (issue 14)
+      total = 0
       do i = 1, size(model%tracks)
-         names = names//' '//model%tracks(i)%name
+         total = total + 1 + len(model%tracks(i)%name)
+      end do
+      deallocate (names)
+      allocate (character(len=total) :: names)
+      used = 0
+      do i = 1, size(model%tracks)
+         names(used + 1:used + 1 + len(model%tracks(i)%name)) = ' '//model%tracks(i)%name
+         used = used + 1 + len(model%tracks(i)%name)
       end do
    end function track_names
 
@@ -545,15 +555,28 @@ contains
       text = real_to_string(x + 0.0_dp, number_format)
    end function format_number
 
-   !> The numbers as text, each after a blank.
+   !> The numbers as text, each after a blank. Built in time linear in the length of the text: each
+   !> number is appended into a buffer whose capacity doubles when full (issue 14: joining text to
+   !> the whole row, number by number, took time quadratic in the number of tracks).
    pure function numbers_text(values) result(text)
       real(dp), intent(in) :: values(:)
       character(len=:), allocatable :: text
-      integer :: i
-      text = ''
+      character(len=:), allocatable :: buffer, grown, number
+      integer :: i, used, needed
+      allocate (character(len=max(64, 24*size(values))) :: buffer)
+      used = 0
       do i = 1, size(values)
-         text = text//' '//trim(format_number(values(i)))
+         number = trim(format_number(values(i)))
+         needed = used + 1 + len(number)
+         if (needed > len(buffer)) then
+            allocate (character(len=max(needed, 2*len(buffer))) :: grown)
+            grown(1:used) = buffer(1:used)
+            call move_alloc(grown, buffer)
+         end if
+         buffer(used + 1:needed) = ' '//number
+         used = needed
       end do
+      text = buffer(1:used)
    end function numbers_text
 
    !> Start the table `name` (and `name.csv` when `csv`) in the work directory with its header line

@@ -2,16 +2,19 @@
 !>
 !> A run first claims `OUTDIR/STEM.lock`, created exclusively (C's fopen "wx": of two runs that race
 !> for it one wins) and holding the run's process id; a run that finds the lock refuses to start
-!> (docs/contracts.md). Its files are then written into its own work directory `OUTDIR/.STEM.part.PID`
+!> (docs/contracts.md). A lock path taken by anything but a regular file (a FIFO, a directory, a link)
+!> is refused too, after a look with statx(2) that never opens it: opening a FIFO would block forever. Its files are then written into its own work directory `OUTDIR/.STEM.part.PID`
 !> under their final names, and only when every one of them is closed without error are they renamed
 !> into OUTDIR, one after the other, after which the work directory and the lock are removed. A run that
 !> stops on an I/O error removes its work directory and its lock instead, so OUTDIR keeps no file of it.
 !> The lock is removed last: while it exists the files of STEM in OUTDIR are not known to be one run's
 !> complete set (a run in progress, or one killed, possibly between two renames).
 module uniarc_result_directory
+   use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_error, only: error_t, make_error, add_context, error_input, error_analysis
    use uniarc_foreign, only: stream_t, stream_open, stream_write, stream_close, make_directory, &
-                             rename_file, remove_file, remove_directory, process_id
+                             rename_file, remove_file, remove_directory, process_id, file_status, &
+                             read_regular_file
    use uniarc_strings, only: integer_to_string
    implicit none
    private
@@ -43,7 +46,8 @@ contains
       type(result_directory_t), intent(out) :: results
       type(error_t), allocatable, intent(out) :: error
       type(stream_t) :: lock
-      character(len=:), allocatable :: failure, close_failure
+      character(len=:), allocatable :: failure, close_failure, kind, status_failure
+      integer(int64) :: bytes
       logical :: exists
       results%directory = directory
       results%stem = stem
@@ -58,8 +62,14 @@ contains
 
       call stream_open(results%lock_path, .true., lock, failure)
       if (allocated(failure)) then
-         inquire (file=results%lock_path, exist=exists)
-         if (exists) then
+         ! Looked at without opening it, nor following a link: a FIFO's open would block (issue 14).
+         call file_status(results%lock_path, kind, bytes, status_failure, follow_links=.false.)
+         exists = .not. allocated(status_failure)
+         if (exists .and. kind /= 'regular file') then
+            call make_error(error, results%lock_path//' exists and is a '//kind//', not the lock file of '// &
+                            'a uniarc run: the results of '//stem//' cannot be written into '//directory// &
+                            '; remove '//results%lock_path, error_input)
+         else if (exists) then
             call make_error(error, results%lock_path//' exists: another uniarc run'// &
                             lock_holder(results%lock_path)//' is writing the results of '//stem// &
                             ' into '//directory//', or one was killed before it ended; remove '// &
@@ -153,18 +163,20 @@ contains
       results%claimed = .false.
    end subroutine abandon_results
 
-   !> " (pid N)" from the lock file of another run, or nothing when it cannot be read.
+   !> " (pid N)" from the lock file of another run, or nothing when it cannot be read. Read without
+   !> blocking and only if it is a regular file (read_regular_file), should the lock have been
+   !> replaced by a FIFO since it was looked at (issue 14).
    function lock_holder(lock_path) result(text)
       character(len=*), intent(in) :: lock_path
       character(len=:), allocatable :: text
-      character(len=64) :: line
-      integer :: unit, status, close_status
+      character(len=64) :: content
+      integer :: count, line_end
       text = ''
-      open (newunit=unit, file=lock_path, status='old', action='read', iostat=status)
-      if (status /= 0) return
-      read (unit, '(a)', iostat=status) line
-      close (unit, iostat=close_status)
-      if (status == 0 .and. len_trim(line) > 0) text = ' ('//trim(line)//')'
+      call read_regular_file(lock_path, content, count)
+      if (count <= 0) return
+      line_end = index(content(1:count), new_line('a'))
+      if (line_end == 0) line_end = count + 1
+      if (len_trim(content(1:line_end - 1)) > 0) text = ' ('//trim(content(1:line_end - 1))//')'
    end function lock_holder
 
 end module uniarc_result_directory
