@@ -31,9 +31,13 @@ module uniarc_check
    !> (uniarc_equilibrium), which must stay below the largest double, 1.8e308; 1e150 leaves a margin of
    !> 1e8 for the sums over elements.
    real(dp), parameter :: stiffness_bound = 1.0e150_dp
-   !> Coordinates and element lengths the analysis accepts: within 1e±100 the cubes of lengths and the
-   !> products of coordinates with stiffnesses (EA, EI ≤ 1e100, uniarc_deck_mesh) stay finite and normal.
-   real(dp), parameter :: coordinate_bound = 1.0e100_dp, length_floor = 1.0e-100_dp
+   !> Coordinates and element lengths the analysis accepts: lengths from 1e-100, coordinates within
+   !> ±1e50. Then the products of lengths with stiffnesses from 1e-100 to 1e100 (EA, EI, a bed's k;
+   !> uniarc_deck_mesh, uniarc_deck_contact) — k·L, EA/L — stay within 1e±200, and the moments of loads
+   !> up to 1e100 per length over a span (q·L², the loads' work q·L³ in the arc-length constraint) stay
+   !> below 1e250: coordinates of 1e100 (L = 1e100 in 41 decks of the extreme-parameter sweep) made
+   !> those infinite, and the stiffness matrix's pivots NaN.
+   real(dp), parameter :: coordinate_bound = 1.0e50_dp, length_floor = 1.0e-100_dp
 
 contains
 
@@ -67,7 +71,7 @@ contains
          x = element_coordinates(model, e)
          what = ''
          if (.not. (maxval(abs(x)) <= coordinate_bound)) then
-            what = 'a coordinate beyond 1e100 in magnitude'
+            what = 'a coordinate beyond 1e50 in magnitude'
          else
             length = norm2(x(:, 2) - x(:, 1))
             size_x = max(maxval(abs(x)), length)
