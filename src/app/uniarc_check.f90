@@ -31,6 +31,10 @@ module uniarc_check
    !> (uniarc_equilibrium), which must stay below the largest double, 1.8e308; 1e150 leaves a margin of
    !> 1e8 for the sums over elements.
    real(dp), parameter :: stiffness_bound = 1.0e150_dp
+   !> The largest ratio of an element's axial to its bending stiffness, either way, the analysis
+   !> accepts: 1e30 is the square of the 1e15 beyond which double precision (16 digits) loses the
+   !> softer stiffness in the sums entirely, a margin for slender models (EA L²/EI of 1e8..1e12).
+   real(dp), parameter :: ratio_bound = 1.0e30_dp
    !> Coordinates and element lengths the analysis accepts: lengths from 1e-100, coordinates within
    !> ±1e50. Then the products of lengths with stiffnesses from 1e-100 to 1e100 (EA, EI, a bed's k;
    !> uniarc_deck_mesh, uniarc_deck_contact) — k·L, EA/L — stay within 1e±200, and the moments of loads
@@ -88,6 +92,16 @@ contains
                   log_k = max(t_axial, t_bending) + log(1.0_dp + exp(-abs(t_axial - t_bending)))
                   if (log_k + log(size_x) > log(stiffness_bound)) &
                      what = 'a stiffness EA/L + 12 EI/L^3 that times its size (coordinates, length) exceeds 1e150'
+                  ! The ratio of its axial to its bending stiffness, (EA/L)/(12 EI/L^3): beyond
+                  ! `ratio_bound` either way the softer one lies below the round-off of the stiffer in
+                  ! every sum of the equations (double precision keeps 16 digits), the Newton iterates'
+                  ! displacements along it are round-off amplified by the ratio, and their squares
+                  ! overflowed (EI = 1e100 or EA = 1e-100 on beams of EA/L ~ 1e4: SIGFPE in Debug).
+                  if (len(what) == 0 .and. t_axial > -huge(1.0_dp) .and. t_bending > -huge(1.0_dp)) then
+                     if (abs(t_axial - t_bending) > log(ratio_bound)) &
+                        what = 'a ratio of its axial to its bending stiffness, EA L^2/(12 EI), beyond 1e30 '// &
+                               'or below 1e-30'
+                  end if
                end if
             end associate
          end if
