@@ -416,20 +416,28 @@ contains
                call field_real(source, deck%parameters, line, fields(i), trim(ellipse_names(i)), values(i), error)
             end select
             if (allocated(error)) return
+            ! the centre or point within ±1e50, as the elements' coordinates (uniarc_check): the gaps
+            ! are differences and squares of coordinates (g0 = 1e150 overflowed them: SIGFPE in Debug)
+            if (i <= 2 .and. .not. abs(values(i)) <= 1.0e50_dp) then
+               call raise(source, line, fields(i)%column, 'expected a coordinate at most 1e50 in magnitude '// &
+                          '(beyond, the gaps overflow double precision: rescale the units), found '// &
+                          real_to_string(values(i)), error)
+               return
+            end if
          end do
-         ! lengths within 1e-100..1e100 as an element's (uniarc_check): the gap functions form a/b,
-         ! b²/a and squares of coordinates over the axes, which overflow beyond
-         if (kind == 'CIRCLE' .and. .not. (values(3) >= 1.0e-100_dp .and. values(3) <= 1.0e100_dp)) then
-            call raise(source, line, fields(3)%column, 'expected a radius R from 1e-100 to 1e100 (beyond, the '// &
+         ! lengths within 1e-100..1e50 as an element's and its coordinates (uniarc_check): the gap
+         ! functions form a/b, b²/a and squares of coordinates over the axes, which overflow beyond
+         if (kind == 'CIRCLE' .and. .not. (values(3) >= 1.0e-100_dp .and. values(3) <= 1.0e50_dp)) then
+            call raise(source, line, fields(3)%column, 'expected a radius R from 1e-100 to 1e50 (beyond, the '// &
                        'gaps overflow double precision: rescale the units), found '// &
                        real_to_string(values(3)), error)
             return
          end if
          if (kind == 'ELLIPSE') then
             do i = 3, 4
-               if (.not. (values(i) >= 1.0e-100_dp .and. values(i) <= 1.0e100_dp)) then
+               if (.not. (values(i) >= 1.0e-100_dp .and. values(i) <= 1.0e50_dp)) then
                   call raise(source, line, fields(i)%column, 'expected a semi-axis '// &
-                             trim(ellipse_names(i))//' from 1e-100 to 1e100 (beyond, the gaps overflow double '// &
+                             trim(ellipse_names(i))//' from 1e-100 to 1e50 (beyond, the gaps overflow double '// &
                              'precision: rescale the units), found '//real_to_string(values(i)), error)
                   return
                end if
