@@ -13,7 +13,7 @@ module uniarc_check
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
-   use uniarc_model, only: control_arclength
+   use uniarc_model, only: control_arclength, thermal_load_t
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_mechanism, only: closed_linear_stiffness, find_mechanism
@@ -31,9 +31,17 @@ module uniarc_check
    !> (uniarc_equilibrium), which must stay below the largest double, 1.8e308; 1e150 leaves a margin of
    !> 1e8 for the sums over elements.
    real(dp), parameter :: stiffness_bound = 1.0e150_dp
-   !> Coordinates and element lengths the analysis accepts: within 1e±100 the cubes of lengths and the
-   !> products of coordinates with stiffnesses (EA, EI ≤ 1e100, uniarc_deck_mesh) stay finite and normal.
-   real(dp), parameter :: coordinate_bound = 1.0e100_dp, length_floor = 1.0e-100_dp
+   !> The largest ratio of an element's axial to its bending stiffness, either way, the analysis
+   !> accepts: 1e30 is the square of the 1e15 beyond which double precision (16 digits) loses the
+   !> softer stiffness in the sums entirely, a margin for slender models (EA L²/EI of 1e8..1e12).
+   real(dp), parameter :: ratio_bound = 1.0e30_dp
+   !> Coordinates and element lengths the analysis accepts: lengths from 1e-100, coordinates within
+   !> ±1e50. Then the products of lengths with stiffnesses from 1e-100 to 1e100 (EA, EI, a bed's k;
+   !> uniarc_deck_mesh, uniarc_deck_contact) — k·L, EA/L — stay within 1e±200, and the moments of loads
+   !> up to 1e100 per length over a span (q·L², the loads' work q·L³ in the arc-length constraint) stay
+   !> below 1e250: coordinates of 1e100 (L = 1e100 in 41 decks of the extreme-parameter sweep) made
+   !> those infinite, and the stiffness matrix's pivots NaN.
+   real(dp), parameter :: coordinate_bound = 1.0e50_dp, length_floor = 1.0e-100_dp
 
 contains
 
@@ -67,7 +75,7 @@ contains
          x = element_coordinates(model, e)
          what = ''
          if (.not. (maxval(abs(x)) <= coordinate_bound)) then
-            what = 'a coordinate beyond 1e100 in magnitude'
+            what = 'a coordinate beyond 1e50 in magnitude'
          else
             length = norm2(x(:, 2) - x(:, 1))
             size_x = max(maxval(abs(x)), length)
@@ -84,6 +92,16 @@ contains
                   log_k = max(t_axial, t_bending) + log(1.0_dp + exp(-abs(t_axial - t_bending)))
                   if (log_k + log(size_x) > log(stiffness_bound)) &
                      what = 'a stiffness EA/L + 12 EI/L^3 that times its size (coordinates, length) exceeds 1e150'
+                  ! The ratio of its axial to its bending stiffness, (EA/L)/(12 EI/L^3): beyond
+                  ! `ratio_bound` either way the softer one lies below the round-off of the stiffer in
+                  ! every sum of the equations (double precision keeps 16 digits), the Newton iterates'
+                  ! displacements along it are round-off amplified by the ratio, and their squares
+                  ! overflowed (EI = 1e100 or EA = 1e-100 on beams of EA/L ~ 1e4: SIGFPE in Debug).
+                  if (len(what) == 0 .and. t_axial > -huge(1.0_dp) .and. t_bending > -huge(1.0_dp)) then
+                     if (abs(t_axial - t_bending) > log(ratio_bound)) &
+                        what = 'a ratio of its axial to its bending stiffness, EA L^2/(12 EI), beyond 1e30 '// &
+                               'or below 1e-30'
+                  end if
                end if
             end associate
          end if
@@ -98,7 +116,59 @@ contains
          end associate
          return
       end do
+      if (allocated(model%thermal_loads)) call check_thermal_scales(model, model%thermal_loads, error)
+      if (allocated(error) .or. .not. allocated(model%steps)) return
+      do e = 1, size(model%steps)
+         if (allocated(model%steps(e)%loads%thermal_loads)) &
+            call check_thermal_scales(model, model%steps(e)%loads%thermal_loads, error)
+         if (allocated(error)) return
+      end do
    end subroutine check_element_scales
+
+   !> The free thermal deformations of the elements (docs/theory.md §1.9): the axial strain α ΔT at most
+   !> 1 in magnitude, and the free rotation of the element's ends against each other, the curvature
+   !> α ΔT_d / h times its length L, at most π. The corotational element takes its natural deformation
+   !> as a small strain and a rotation against its chord; beyond these a deformation means nothing, and
+   !> its products with the stiffnesses (EA α ΔT, EI κ, κ L² in the displacements) overflowed double
+   !> precision (ΔT_d = 1e300 or h = 1e-100 in the reviewer's sweep: SIGFPE in Debug). The quotient
+   !> is compared through logarithms, so that the check itself cannot overflow. Errors (error_input,
+   !> exit code 2): the first element that fails, named with its values.
+   subroutine check_thermal_scales(model, loads, error)
+      type(model_t), intent(in) :: model
+      type(thermal_load_t), intent(in) :: loads(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), parameter :: pi = acos(-1.0_dp)
+      real(dp) :: x(2, 2), length
+      integer :: i, label
+      character(len=:), allocatable :: what
+      do i = 1, size(loads)
+         associate (load => loads(i))
+            what = ''
+            if (load%alpha /= 0.0_dp .and. load%delta_t /= 0.0_dp) then
+               if (log(abs(load%alpha)) + log(abs(load%delta_t)) > 0.0_dp) &
+                  what = 'a free thermal strain alpha dT beyond 1 in magnitude (alpha = '// &
+                         real_to_string(load%alpha)//', dT = '//real_to_string(load%delta_t)//')'
+            end if
+            if (len(what) == 0 .and. load%alpha /= 0.0_dp .and. load%difference /= 0.0_dp .and. &
+                load%depth > 0.0_dp) then
+               x = element_coordinates(model, load%element)
+               length = norm2(x(:, 2) - x(:, 1))
+               if (log(abs(load%alpha)) + log(abs(load%difference)) + log(length) - log(load%depth) > log(pi)) &
+                  what = 'a free thermal rotation alpha dT_d L/h beyond pi (alpha = '//real_to_string(load%alpha)// &
+                         ', dT_d = '//real_to_string(load%difference)//', h = '//real_to_string(load%depth)// &
+                         ', L = '//real_to_string(length)//')'
+            end if
+            if (len(what) == 0) cycle
+            label = load%element
+            if (allocated(model%element_label)) label = model%element_label(load%element)
+            call make_error(error, model%deck_path//': element '//integer_to_string(label)//' has '//what// &
+                            ' under *TEMPERATURE: its thermal deformation is beyond the element''s (a small '// &
+                            'strain, a rotation against its chord) and overflows the equations; check the '// &
+                            'units of alpha, dT, dT_d and h', error_input)
+            return
+         end associate
+      end do
+   end subroutine check_thermal_scales
 
    !> A Pasternak bed that goes on beyond an end of its set (`continues`, an end spring √(K G_p),
    !> docs/theory.md §3.10) where that end node is held as at a symmetry plane across the set: its

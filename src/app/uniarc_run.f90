@@ -1,6 +1,7 @@
 !> Runs the analysis a model asks for and writes its result files; what the program prints on stdout.
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input, add_context
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values, analysis_step_t
@@ -362,6 +363,13 @@ contains
       call open_vtk_series(model, options%stem, vtk)
       call record_state(model, stepped, driver, record, error)
       if (allocated(error)) return
+      ! the starting state is written as row 0 only when every column is finite, as every step is
+      if (.not. finite_record(record)) then
+         call make_error(error, 'the starting state (step 0) is not finite (NaN or overflow in the '// &
+                         'displacements, the reactions or the complementarity residual); it is not written', &
+                         error_analysis)
+         return
+      end if
       record%analysis_step = k_step
       if (.not. allocated(io_error)) call write_path_row(files, model, record, io_error)
       if (.not. allocated(io_error)) call write_shape(files, model, record, io_error)
@@ -476,6 +484,10 @@ contains
             exit
          end if
          call record_state(model, stepped, driver, next, error)
+         if (.not. allocated(error) .and. .not. finite_record(next)) &
+            call make_error(error, 'the starting state of the analysis step is not finite (NaN or overflow); '// &
+                            'it is not written, the path ends at step '//integer_to_string(record%step), &
+                            error_analysis)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
@@ -747,10 +759,27 @@ contains
    !> Every number of a step's row is finite (λ, displacements, reactions, contact summaries).
    pure logical function finite_record(record)
       type(step_record_t), intent(in) :: record
-      finite_record = abs(record%lambda) <= huge(1.0_dp) .and. all(abs(record%displacement) <= huge(1.0_dp))
-      if (allocated(record%reactions)) finite_record = finite_record .and. all(abs(record%reactions) <= huge(1.0_dp))
-      finite_record = finite_record .and. abs(record%reaction_max) <= huge(1.0_dp) .and. &
-                      abs(record%reaction_sum) <= huge(1.0_dp) .and. abs(record%prescribed_force) <= huge(1.0_dp)
+      integer :: g
+      ! every real column of the path row (the tracked values are formed from the displacements; the
+      ! group columns are the groups' own), the reactions of STEM.contact and the joints' plastic
+      ! rotations, tested with ieee_is_finite: an ordered comparison with a NaN would itself raise the
+      ! invalid-operation trap of the Debug build
+      finite_record = ieee_is_finite(record%lambda) .and. all(ieee_is_finite(record%displacement)) .and. &
+                      ieee_is_finite(record%reaction_max) .and. ieee_is_finite(record%reaction_sum) .and. &
+                      ieee_is_finite(record%prescribed_force) .and. all(ieee_is_finite(record%s_contact)) .and. &
+                      ieee_is_finite(record%lcp_residual)
+      if (allocated(record%reactions)) finite_record = finite_record .and. all(ieee_is_finite(record%reactions))
+      if (allocated(record%bed_deflections)) &
+         finite_record = finite_record .and. all(ieee_is_finite(record%bed_deflections))
+      if (allocated(record%joint_plastic)) finite_record = finite_record .and. all(ieee_is_finite(record%joint_plastic))
+      if (allocated(record%slip)) finite_record = finite_record .and. all(ieee_is_finite(record%slip))
+      if (allocated(record%groups)) then
+         do g = 1, size(record%groups)
+            finite_record = finite_record .and. all(ieee_is_finite(record%groups(g)%s_contact)) .and. &
+                            ieee_is_finite(record%groups(g)%reaction_max) .and. &
+                            ieee_is_finite(record%groups(g)%reaction_sum)
+         end do
+      end if
    end function finite_record
 
    !> The progress line of a step on stderr: the step, λ, Newton iterations, contacts, negative pivots,

@@ -4,6 +4,7 @@
 !> (uniarc_contact_law); the checks that need the geometry (nodal normals, a straight set, a node inside
 !> an obstacle) come back from there as codes that become positioned messages here.
 module uniarc_deck_contact
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_input
    use uniarc_memory, only: allocation_failure
@@ -80,9 +81,14 @@ contains
       call option_real(source, card, deck, modulus_option, 'a modulus', foundation%modulus, error)
       if (allocated(error)) return
       ! MODULUS = 0 is no foundation (a group without candidates), so that a sweep over k can start at 0.
-      if (foundation%modulus < 0.0_dp .or. .not. foundation%modulus < huge(1.0_dp)) then
+      ! Otherwise from 1e-100 to 1e100, as EA and EI (uniarc_deck_mesh): with tributary lengths L from
+      ! 1e-100 to 1e100 (uniarc_check) the node spring k·L stays within 1e-200..1e200, so that its
+      ! flexibility 1/(k·L) and the spring's force and energy terms stay finite (k = 1e-300 overflowed
+      ! 1/(k·L): a NaN complementarity residual in Release, SIGFPE in Debug).
+      if (.not. stiffness_in_range(foundation%modulus, zero_allowed=.true.)) then
          call raise(source, card%line, card%options(modulus_option)%value_column, &
-                    'expected a MODULUS >= 0 (0: no foundation), found '//real_to_string(foundation%modulus), error)
+                    'expected a MODULUS of 0 (no foundation) or from 1e-100 to 1e100 (beyond, the node springs '// &
+                    'overflow double precision: rescale the units), found '//real_to_string(foundation%modulus), error)
          return
       end if
       call tangential_springs(source, card, deck, foundation, error)
@@ -213,8 +219,11 @@ contains
          if (allocated(error)) return
          call field_real(source, deck%parameters, line, fields(3), 'a stiffness k', stiffness, error)
          if (allocated(error)) return
-         if (.not. stiffness > 0.0_dp) then
-            call raise(source, line, fields(3)%column, 'expected a positive stiffness k, found '// &
+         ! from 1e-100 to 1e100, as a foundation's MODULUS: its flexibility 1/k and k times the
+         ! structure's displacements (up to coordinates of 1e100) stay finite
+         if (.not. stiffness_in_range(stiffness, zero_allowed=.false.)) then
+            call raise(source, line, fields(3)%column, 'expected a stiffness k from 1e-100 to 1e100 (beyond, '// &
+                       'the springs overflow double precision: rescale the units), found '// &
                        real_to_string(stiffness), error)
             return
          end if
@@ -408,17 +417,29 @@ contains
                call field_real(source, deck%parameters, line, fields(i), trim(ellipse_names(i)), values(i), error)
             end select
             if (allocated(error)) return
+            ! the centre or point within ±1e50, as the elements' coordinates (uniarc_check): the gaps
+            ! are differences and squares of coordinates (g0 = 1e150 overflowed them: SIGFPE in Debug)
+            if (i <= 2 .and. .not. abs(values(i)) <= 1.0e50_dp) then
+               call raise(source, line, fields(i)%column, 'expected a coordinate at most 1e50 in magnitude '// &
+                          '(beyond, the gaps overflow double precision: rescale the units), found '// &
+                          real_to_string(values(i)), error)
+               return
+            end if
          end do
-         if (kind == 'CIRCLE' .and. .not. values(3) > 0.0_dp) then
-            call raise(source, line, fields(3)%column, 'expected a positive radius R, found '// &
+         ! lengths within 1e-100..1e50 as an element's and its coordinates (uniarc_check): the gap
+         ! functions form a/b, b²/a and squares of coordinates over the axes, which overflow beyond
+         if (kind == 'CIRCLE' .and. .not. (values(3) >= 1.0e-100_dp .and. values(3) <= 1.0e50_dp)) then
+            call raise(source, line, fields(3)%column, 'expected a radius R from 1e-100 to 1e50 (beyond, the '// &
+                       'gaps overflow double precision: rescale the units), found '// &
                        real_to_string(values(3)), error)
             return
          end if
          if (kind == 'ELLIPSE') then
             do i = 3, 4
-               if (.not. values(i) > 0.0_dp) then
-                  call raise(source, line, fields(i)%column, 'expected a positive semi-axis '// &
-                             trim(ellipse_names(i))//', found '//real_to_string(values(i)), error)
+               if (.not. (values(i) >= 1.0e-100_dp .and. values(i) <= 1.0e50_dp)) then
+                  call raise(source, line, fields(i)%column, 'expected a semi-axis '// &
+                             trim(ellipse_names(i))//' from 1e-100 to 1e50 (beyond, the gaps overflow double '// &
+                             'precision: rescale the units), found '//real_to_string(values(i)), error)
                   return
                end if
             end do
@@ -597,9 +618,11 @@ contains
       if (kt_option == 0) return
       call option_real(source, card, deck, kt_option, 'a tangential modulus', foundation%tangential_modulus, error)
       if (allocated(error)) return
-      if (foundation%tangential_modulus < 0.0_dp .or. .not. foundation%tangential_modulus < huge(1.0_dp)) then
+      ! from 1e-100 to 1e100 as MODULUS= (k_t·L and 1/(k_t·L) finite)
+      if (.not. stiffness_in_range(foundation%tangential_modulus, zero_allowed=.true.)) then
          call raise(source, card%line, card%options(kt_option)%value_column, &
-                    'expected KT >= 0 (0: frictionless), found '//real_to_string(foundation%tangential_modulus), error)
+                    'expected KT of 0 (frictionless) or from 1e-100 to 1e100 (beyond, the springs overflow '// &
+                    'double precision: rescale the units), found '//real_to_string(foundation%tangential_modulus), error)
       else if (foundation%tangential_modulus > 0.0_dp .and. .not. foundation%modulus > 0.0_dp) then
          call raise(source, card%line, card%options(kt_option)%value_column, 'expected KT=0 with MODULUS=0 ' // &
                     '(the tangential springs sit on the nodes of the bed), found KT='// &
@@ -791,5 +814,20 @@ contains
                     real_to_string(foundation%gap), error)
       end if
    end subroutine foundation_law
+
+   !> Whether a stiffness-like input (a bed's modulus, a spring's stiffness; force per length per
+   !> length or force per length) lies from 1e-100 to 1e100, or is 0 where `zero_allowed` (no
+   !> springs). The products the analysis forms with lengths from 1e-100 to 1e100 (uniarc_check) then
+   !> lie within 1e-200..1e200 and their reciprocals (flexibilities) stay finite. A NaN is refused
+   !> without an ordered comparison with it (which would raise the invalid-operation trap).
+   pure logical function stiffness_in_range(value, zero_allowed) result(ok)
+      real(dp), intent(in) :: value
+      logical, intent(in) :: zero_allowed
+      if (ieee_is_nan(value)) then
+         ok = .false.
+      else
+         ok = (value >= 1.0e-100_dp .and. value <= 1.0e100_dp) .or. (zero_allowed .and. value == 0.0_dp)
+      end if
+   end function stiffness_in_range
 
 end module uniarc_deck_contact

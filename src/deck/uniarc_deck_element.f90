@@ -122,9 +122,12 @@ contains
          if (size(fields) == 3) then
             call field_real(source, deck%parameters, line, fields(3), 'a rotational stiffness k', stiffness, error)
             if (allocated(error)) return
-            if (stiffness < 0.0_dp .or. .not. stiffness < huge(1.0_dp)) then
-               call raise(source, line, fields(3)%column, 'expected a rotational stiffness k >= 0 (0: a ' // &
-                          'hinge), found '//real_to_string(stiffness), error)
+            ! 0 or from 1e-100 to 1e100, as a section's EI (uniarc_deck_mesh): its compliance 1/k and
+            ! the joint's moments stay finite
+            if (.not. (stiffness == 0.0_dp .or. (stiffness >= 1.0e-100_dp .and. stiffness <= 1.0e100_dp))) then
+               call raise(source, line, fields(3)%column, 'expected a rotational stiffness k of 0 (a ' // &
+                          'hinge) or from 1e-100 to 1e100 (beyond, the joint overflows double precision: '// &
+                          'rescale the units), found '//real_to_string(stiffness), error)
                return
             end if
             if (stiffness > 0.0_dp) joint = end_joint_t(hinge=.false., compliance=1.0_dp/stiffness)

@@ -42,7 +42,9 @@ contains
       character(len=5), parameter :: material_names(5) = ['E    ', 'A    ', 'I    ', 'G    ', 'kappa']
       character(len=3), parameter :: stiffness_names(3) = ['EA ', 'EI ', 'GAs']
       real(dp), parameter :: stiffness_limit = 1.0e100_dp
-      real(dp) :: stiffnesses(2)
+      real(dp), parameter :: stiffness_floor = 1.0e-100_dp
+      real(dp) :: stiffnesses(3)
+      integer :: n_stiffnesses, column
       character(len=:), allocatable :: name, what
 
       call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS', 'WEIGHT=', 'ALPHA='], &
@@ -112,13 +114,28 @@ contains
 
       ! Stiffnesses beyond 1e100 overflow double precision in the equations (12 EI/L^3 and the squares of
       ! the convergence test; docs/contracts.md, "Non-finite results").
-      stiffnesses = values(1:2)
-      if (.not. stiffness_form) stiffnesses = [values(1)*values(2), values(1)*values(3)]
-      do i = 1, 2
-         if (.not. stiffnesses(i) <= stiffness_limit) then
-            call raise(source, line, fields(merge(i, i + 1, stiffness_form))%column, 'expected '// &
-                       trim(stiffness_names(i))//' at most 1e100 (larger stiffnesses overflow the equations '// &
-                       'in double precision: rescale the units), found '//real_to_string(stiffnesses(i)), error)
+      ! Stiffnesses below 1e-100 underflow them: with lengths from 1e-100 to 1e100 (uniarc_check) EA/L
+      ! and GAs/L stay above 1e-200, and the ratios the analysis forms of a load or a spring to them
+      ! (displacements, flexibilities, EA = 1e-300 gave 1e300 and overflowed) stay finite.
+      n_stiffnesses = 2
+      if (stiffness_form) then
+         stiffnesses = values(1:3)
+         if (n_values == 3) n_stiffnesses = 3
+      else
+         stiffnesses = [values(1)*values(2), values(1)*values(3), 0.0_dp]
+         if (n_values == 5) then
+            stiffnesses(3) = values(5)*values(4)*values(2)
+            n_stiffnesses = 3
+         end if
+      end if
+      do i = 1, n_stiffnesses
+         if (.not. (stiffnesses(i) >= stiffness_floor .and. stiffnesses(i) <= stiffness_limit)) then
+            column = fields(i)%column
+            if (.not. stiffness_form) column = fields(merge(i + 1, 4, i < 3))%column
+            call raise(source, line, column, 'expected '// &
+                       trim(stiffness_names(i))//' from 1e-100 to 1e100 (beyond, the stiffnesses overflow or '// &
+                       'underflow the equations in double precision: rescale the units), found '// &
+                       real_to_string(stiffnesses(i)), error)
             return
          end if
       end do

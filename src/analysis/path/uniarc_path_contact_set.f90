@@ -176,7 +176,10 @@ contains
          end if
          r = 0.0_dp
          if (active(c)) r = reaction(c)
-         w = gap(c) + model%contacts(c)%flexibility*r
+         ! the spring's deflection only where it carries a force: a free candidate (r = 0) adds none,
+         ! whatever its flexibility (0 × a flexibility that overflowed would be NaN)
+         w = gap(c)
+         if (r /= 0.0_dp) w = w + model%contacts(c)%flexibility*r
          worst = max(worst, -r/r_scale, -w/g_scale, complementarity(r, w, r_scale, g_scale))
       end do
       if (present(yielding)) worst = max(worst, plastic_violation(model, state%map, reaction, gap, active, &
