@@ -19,7 +19,7 @@
 module uniarc_path_driver
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input, error_internal, error_analysis
-   use uniarc_strings, only: integer_to_string
+   use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
@@ -187,6 +187,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
+      character(len=:), allocatable :: finding
       integer :: k
       logical :: collapsed
       if (.not. driver%started) then
@@ -214,7 +215,19 @@ contains
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
          if (.not. error%out_of_memory) then
             call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
-                                  driver%collapse_points, driver%collapse_nodes)
+                                  driver%collapse_points, driver%collapse_nodes, finding)
+            if (.not. collapsed .and. allocated(driver%state%yielding) .and. allocated(driver%state%active)) then
+               ! Points at their bearing limit, but not a certified collapse: say what the certificate
+               ! found, and what the user can do, without claiming a collapse (docs/contracts.md, exit 1).
+               if (any(driver%state%yielding .and. driver%state%active)) &
+                  error%message = error%message//'; not certified a bearing collapse (docs/theory.md '// &
+                                  '§3.9): '//finding//'; the motion that failed may be held only by the points '// &
+                                  'at their limit and by lifted contacts it would close (a plateau at constant '// &
+                                  'load, which the path does not follow) or be a limit point of the path; the '// &
+                                  'last converged state is statically admissible, so the collapse load is at '// &
+                                  'least lambda = '//real_to_string(driver%state%lambda, '(es12.5)')// &
+                                  '; try another CONTROL=, a smaller increment or a finer mesh'
+            end if
             if (collapsed) then
                deallocate (error)
                driver%stop = stop_collapse

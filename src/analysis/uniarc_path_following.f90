@@ -956,7 +956,8 @@ contains
 
    !> A step that fails from a state whose joints are at their moment limit (`*RELEASE, MY=`): with them
    !> as hinges the structure may be a mechanism — a plastic collapse, past which no equilibrium holds
-   !> a higher load (docs/theory.md §1.11). The message names them.
+   !> a higher load (docs/theory.md §1.11). The message names them, and the contact points at their
+   !> bearing limit QU (not as a collapse: that is the certificate's, uniarc_path_collapse).
    subroutine add_mechanism_hint(model, state, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -968,8 +969,8 @@ contains
                                      ' joint(s) at the moment limit MY ('//labels//'): with them as hinges the '// &
                                      'structure may be a mechanism (plastic collapse at lambda = '// &
                                      real_to_string(state%lambda, message_edit)//')'
-      ! Beds and springs at their bearing limit (QU=, docs/theory.md §3.9): each carries its limit and
-      ! no more, so with every support at its limit no higher load has an equilibrium.
+      ! Beds and springs at their bearing limit (QU=, docs/theory.md §3.9): named, not called a collapse
+      ! (the path driver adds what the collapse certificate found: uniarc_path_collapse).
       if (.not. (allocated(state%yielding) .and. allocated(state%active))) return
       count = 0
       labels = ''
@@ -983,8 +984,8 @@ contains
       end do
       if (count == 0) return
       error%message = error%message//'; '//integer_to_string(count)//' contact point(s) of beds or springs at '// &
-                      'their bearing limit QU (nodes '//labels//'): no higher load may be carried (bearing '// &
-                      'collapse at lambda = '//real_to_string(state%lambda, message_edit)//')'
+                      'their bearing limit QU (nodes '//labels//') at lambda = '// &
+                      real_to_string(state%lambda, message_edit)
    end subroutine add_mechanism_hint
 
 

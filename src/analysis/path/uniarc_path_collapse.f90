@@ -30,6 +30,7 @@ module uniarc_path_collapse
    use uniarc_contact, only: candidate_gap, in_set
    use uniarc_assembly, only: gather_nodal
    use uniarc_path_state, only: path_state_t
+   use uniarc_strings, only: real_to_string
    implicit none
    private
    public :: bearing_collapse, near_yield, collapse_bracket
@@ -57,8 +58,9 @@ contains
    !> `count` the candidates at or within near_yield of their limits that the mechanism moves, and
    !> `nodes` their node labels (comma-separated, the first ones). .false. when the model has no
    !> floating motion, no candidate at a limit, no admissible mechanism that the load drives, or a
-   !> bracket wider than collapse_bracket.
-   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes)
+   !> bracket wider than collapse_bracket; then `finding` (if present) says which, in words for a
+   !> message (e.g. "no mechanism that the load drives is admissible", or the bracket it found).
+   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, finding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       !> .true.: only the candidates of the yielding set count as yielding (a converged state that is
@@ -69,6 +71,8 @@ contains
       real(dp), intent(out) :: upper
       integer, intent(out) :: count
       character(len=:), allocatable, intent(out) :: nodes
+      !> why the certificate refused (collapsed = .false.), or '' when it certified the collapse
+      character(len=:), allocatable, intent(out), optional :: finding
       real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
       real(dp), allocatable :: constraint(:, :), slack(:), load(:)
       integer, allocatable :: kind(:)
@@ -79,6 +83,7 @@ contains
       upper = state%lambda
       count = 0
       nodes = ''
+      if (present(finding)) finding = 'the structure has no rigid motion held only by its contacts'
       if (.not. (allocated(state%floating_motion) .and. allocated(state%yielding) .and. &
                  allocated(state%reactions) .and. allocated(state%reference))) return
       m = size(state%floating_motion, 2)
@@ -107,6 +112,7 @@ contains
       do c = 1, n_c
          if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
       end do
+      if (present(finding)) finding = 'no contact point at or within 0.1 % of its limit'
       if (strict .and. .not. any(state%yielding .and. state%active)) return
       any_yield = .false.
       do c = 1, n_c
@@ -144,6 +150,7 @@ contains
       hold = hold(pack([(c, c=1, n_c)], kind == 1), :)
       call null_space(hold, basis)
       d = size(basis, 2)
+      if (present(finding)) finding = 'the elastic contacts hold every rigid motion'
       if (d == 0) return
       ! The load's work on each basis motion, and the constraint rows (one per yielding or open
       ! candidate that the subspace moves), oriented so that an admissible φ = basis·y has row·y ≥ 0:
@@ -152,6 +159,7 @@ contains
       do k = 1, d
          load(k) = dot_product(state%reference, matmul(state%floating_motion, basis(:, k)))
       end do
+      if (present(finding)) finding = 'the load does no work on the rigid motions the elastic contacts leave free'
       if (maxval(abs(load)) <= 0.0_dp) return
       allocate (constraint(d, 0))
       do c = 1, n_c
@@ -188,9 +196,16 @@ contains
             end do
          end do
       end select
+      if (present(finding)) finding = 'no rigid motion that the load drives is admissible (each would close an '// &
+                                      'open contact or unload a yielded one)'
       if (best == huge(1.0_dp)) return
       upper = state%lambda + best
       collapsed = best <= collapse_bracket*abs(upper)
+      if (present(finding)) then
+         finding = ''
+         if (.not. collapsed) finding = 'a rigid mechanism bounding the collapse load only by lambda <= '// &
+                                        real_to_string(upper, '(es12.5)')//', not within 0.1 % of lambda = '//real_to_string(state%lambda, '(es12.5)')
+      end if
       if (.not. collapsed) return
       ! the candidates at their limits (for the message)
       do c = 1, n_c
