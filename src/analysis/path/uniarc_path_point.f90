@@ -7,7 +7,7 @@ module uniarc_path_point
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: reserve
-   use uniarc_model, only: model_t
+   use uniarc_model, only: model_t, control_displacement
    use uniarc_strings, only: integer_to_string
    use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
@@ -30,7 +30,7 @@ contains
       integer, intent(in) :: step, iterations, lcp_pivots
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
-      real(dp) :: norm, g, gradient(2), hessian(2, 2), bytes
+      real(dp) :: norm, g, gradient(2), hessian(2, 2), bytes, sense
       integer :: m, c, row, node, status
       ! The record's arrays allocated with stat= (the assignments below then allocate nothing).
       m = size(state%map%candidate_equation)
@@ -50,6 +50,14 @@ contains
       ! Unit tangent of the path in (u, λ) with the arc-length metric ds² = ||du||² (cylindrical):
       ! du/ds = ±K⁻¹R/||K⁻¹R||, dλ/ds = ±1/||K⁻¹R||, signed by the direction of travel.
       norm = masked_norm(state%map, state%tangent_displacement)
+      ! The sense of travel along ±(K⁻¹R, 1). Under displacement control `direction` is the sign of
+      ! the controlled displacement's increment, Δλ = direction·Δw/(K⁻¹R)_w: the path goes along
+      ! +(K⁻¹R, 1) where that component of K⁻¹R has direction's sign, along −(K⁻¹R, 1) where not (a
+      ! load pointing down pushed down, Δw < 0: λ grows, dλ/ds > 0; docs/theory.md §2.1).
+      sense = real(state%direction, dp)
+      if (model%analysis%control == control_displacement .and. state%control_equation > 0) then
+         if (state%tangent_displacement(state%control_equation) < 0.0_dp) sense = -sense
+      end if
       if (degenerate_tangent(state, state%tangent_displacement)) then
          ! The contacts carry the whole reference load: the path goes in λ alone, measured by ψ
          ! (docs/theory.md §2.7): du/ds = 0, dλ/ds = ±1/ψ (±1 if ψ is 0: λ itself is the parameter),
@@ -58,9 +66,9 @@ contains
          if (.not. (norm > 0.0_dp)) norm = 1.0_dp
          state%point%rate = 0.0_dp*state%tangent_displacement
       else
-         state%point%rate = (real(state%direction, dp)/norm)*state%map%metric*state%tangent_displacement
+         state%point%rate = (sense/norm)*state%map%metric*state%tangent_displacement
       end if
-      state%point%dlambda_ds = real(state%direction, dp)/norm
+      state%point%dlambda_ds = sense/norm
       state%point%lcp_residual = 0.0_dp
       state%point%in_contact = .false.
       state%point%contact_value = 0.0_dp
@@ -88,18 +96,18 @@ contains
                   ! at its bearing limit: r = q, constant
                   state%point%contact_rate(c) = 0.0_dp
                else if (row > 0) then
-                  state%point%contact_rate(c) = state%direction*state%tangent_displacement(row)/norm
+                  state%point%contact_rate(c) = sense*state%tangent_displacement(row)/norm
                else
                   ! condensed: r = −g/t, dr/ds = −(a·du/ds)/t
-                  state%point%contact_rate(c) = -state%direction*along(state%tangent_displacement)/norm/ &
+                  state%point%contact_rate(c) = -sense*along(state%tangent_displacement)/norm/ &
                                                 model%contacts(c)%flexibility
                end if
             else
                state%point%contact_value(c) = g
-               state%point%contact_rate(c) = state%direction*along(state%tangent_displacement)/norm
+               state%point%contact_rate(c) = sense*along(state%tangent_displacement)/norm
                ! a moving obstacle closes the gap with λ too (docs/theory.md §3.11)
                if (model%contacts(c)%gap_rate /= 0.0_dp) state%point%contact_rate(c) = &
-                  state%direction*(along(state%tangent_displacement) + model%contacts(c)%gap_rate)/norm
+                  sense*(along(state%tangent_displacement) + model%contacts(c)%gap_rate)/norm
             end if
          end do
       end if
