@@ -219,6 +219,11 @@ contains
                return
             end if
             state%load_norm = abs(options%first_increment)*norm2(model%contacts%gap_rate)
+            ! a moving curved obstacle: its rate −a·d is at most |d| (|a| = 1)
+            if (any(model%contacts%motion(1) /= 0.0_dp) .or. any(model%contacts%motion(2) /= 0.0_dp)) &
+               state%load_norm = abs(options%first_increment)*sqrt(sum(model%contacts%gap_rate**2) + &
+                                                                    sum(model%contacts%motion(1)**2) + &
+                                                                    sum(model%contacts%motion(2)**2))
          end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
@@ -279,7 +284,9 @@ contains
    pure logical function moving_obstacles(model)
       type(model_t), intent(in) :: model
       moving_obstacles = .false.
-      if (allocated(model%contacts)) moving_obstacles = any(model%contacts%gap_rate /= 0.0_dp)
+      if (allocated(model%contacts)) moving_obstacles = any(model%contacts%gap_rate /= 0.0_dp) .or. &
+                                                       any(model%contacts%motion(1) /= 0.0_dp) .or. &
+                                                       any(model%contacts%motion(2) /= 0.0_dp)
    end function moving_obstacles
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a

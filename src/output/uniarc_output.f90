@@ -395,7 +395,7 @@ contains
       call put_row(files%forces, '')
       call flush_table(files%forces, error)
       if (allocated(error) .or. .not. files%with_contact) return
-      gaps = candidate_gaps(model, record%displacement)
+      gaps = candidate_gaps(model, record%displacement, record%lambda)
       ! a moving obstacle's gap at the record's λ (docs/theory.md §3.11; the others untouched)
       where (model%contacts%gap_rate /= 0.0_dp) gaps = gaps + record%lambda*model%contacts%gap_rate
       ! a Pasternak bed point's gap is with the bed's surface (the others untouched, −0 included)

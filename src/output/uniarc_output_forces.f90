@@ -259,10 +259,12 @@ contains
 
    !> The gap g of every contact candidate at nodal displacements `displacement` (3, n_nodes), in
    !> length units (uniarc_contact_law, candidate_gap): positive open; negative in contact with an
-   !> elastic medium, whose springs are then compressed by −g = r/k.
-   pure function candidate_gaps(model, displacement) result(gaps)
+   !> elastic medium, whose springs are then compressed by −g = r/k. `lambda`: the load factor, where a
+   !> moving curved obstacle stands (a plane's λ ∂g/∂λ is the caller's; docs/theory.md §3.11).
+   pure function candidate_gaps(model, displacement, lambda) result(gaps)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(in), optional :: lambda
       real(dp), allocatable :: gaps(:)
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c
@@ -273,7 +275,7 @@ contains
       do c = 1, size(model%contacts)
          associate (node => model%contacts(c)%node)
             call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gaps(c), &
-                               gradient, hessian)
+                               gradient, hessian, lambda)
          end associate
       end do
    end function candidate_gaps
