@@ -197,7 +197,8 @@ contains
       do r = 1, repeats
          start = clock()
          call assemble_equilibrium(model, state%map, nodal, state%lambda, state%fixed_load, assembled, &
-                                   internal, reference, element_scale)
+                                   internal, reference, element_scale, error)
+         if (allocated(error)) call fail('assembly: '//error%message)
          parts%assembly = min(parts%assembly, seconds_since(start))
       end do
       do r = 1, repeats
@@ -272,7 +273,8 @@ contains
          do k = 0, iterations
             call gather_nodal(state%map, u, nodal)
             call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, state%system%tangent, &
-                                      internal, reference, element_scale)
+                                      internal, reference, element_scale, error)
+            if (allocated(error)) call fail('pinched ring: '//error%message)
             rhs(:, 1) = lambda*reference - internal
             ratios(k) = norm2(rhs(:, 1))/norm2(lambda*reference)
             call band_factorize(state%system%tangent, error)

@@ -168,6 +168,7 @@ SOURCES = [
     ('nonlinear_lee_frame', '', 'Lee, Manuel & Rossow 1968 (benchmarks.md (e))'),
     ('nonlinear_arch_pressure_kerr_soifer', 'limit_min', 'independent model (benchmarks.md ex. 4)'),
     ('nonlinear_arch_pressure_kerr_soifer', '', 'range of Kerr & Soifer 1969, Carnoy 1980, Sun & Natori 1996, the paper'),
+    ('nonlinear_ring_full_double_bifurcation', '', 'Timoshenko & Gere 1961: 3EI/R³ at 16 elements a quarter (the quarter ring at that mesh)'),
     ('nonlinear_ring_pressure_follower', '', 'Timoshenko & Gere 1961 §7.5: 3EI/R³'),
     ('nonlinear_ring_pressure_fixed', '', 'Timoshenko & Gere 1961 §7.5: 4EI/R³'),
     ('contact_ex1_ring_rigid_cavity', 'at lambda', 'Table 2 of the paper: Pian & Bucciarelli / the paper (±1.5°)'),
@@ -371,9 +372,11 @@ SECTIONS = [
          'Deck `tests/regression/decks/lee_frame.inp`, arc length through the whole path.', ['lee.png']),
         ('Kerr & Soifer\'s arch under radial pressure, no surface', 'nonlinear_arch_pressure',
          'Deck `input/arch_pressure_free.inp` (ex. 4 without the surface).', ['kerr_soifer.png']),
-        ('Ring under uniform external pressure', 'nonlinear_ring_pressure',
+        ('Ring under uniform external pressure', 'nonlinear_ring_',
          'Decks `tests/regression/decks/ring_pressure_{follower,fixed}.inp`, quarter ring with double '
-         'symmetry; the critical load is the `bifurcation` of the perfect ring.', []),
+         'symmetry; the critical load is the `bifurcation` of the perfect ring. '
+         '`tests/regression/decks/ring_full_pressure_follower.inp`: the whole ring, whose two oval modes '
+         'buckle together (a double eigenvalue), against the quarter ring of the same element size.', []),
     ]),
     ('Linear closed forms', [
         ('Straight members under nodal loads', 'linear_',

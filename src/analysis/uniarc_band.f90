@@ -13,7 +13,7 @@ module uniarc_band
    implicit none
    private
    public :: band_matrix_t
-   public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply
+   public :: band_allocate, band_zero, band_add_element, band_add, band_get, band_multiply, band_product
    public :: band_factorize, band_solve, band_solve_transpose, band_inertia, band_set
    public :: band_copy, band_move, band_inertia_from_factors, band_weakest_pivot, &
              band_row_terms
@@ -183,6 +183,15 @@ contains
       type(band_matrix_t), intent(in) :: matrix
       real(dp), intent(in) :: x(:)
       real(dp) :: y(size(x))
+      call band_product(matrix, x, y)
+   end function band_multiply
+
+   !> y = A x (n) into the caller's `y`, as band_multiply: without the function's result, which the
+   !> Release build allocates unchecked for a large n (docs/contracts.md, "Memory").
+   pure subroutine band_product(matrix, x, y)
+      type(band_matrix_t), intent(in) :: matrix
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: y(:)   !< (size(x))
       integer :: i, j, offset
       offset = matrix%kl + matrix%ku + 1
       y = 0.0_dp
@@ -191,7 +200,7 @@ contains
             y(i) = y(i) + matrix%ab(offset + i - j, j)*x(j)
          end do
       end do
-   end function band_multiply
+   end subroutine band_product
 
    !> Factorise in place by band LU with partial pivoting (dgbtrf) and record the sign of det A.
    !> A zero pivot is reported as an error (category analysis): the caller cuts the step.

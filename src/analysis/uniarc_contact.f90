@@ -13,8 +13,10 @@
 !>     [ 0                      1   ]        [ −r_c               ]   for c ∉ S (r_c = 0)
 !> The −a_c columns of inactive candidates are kept: they are how a reaction acts when the LCP asks.
 !>
-!> A foundation's tangential spring that follows its radial partner (contact_candidate_t%partner) is in
-!> the set only with it (`in_set`): never a variable of the LCP, it is switched with its partner.
+!> A foundation's tangential spring that follows its radial partner (contact_candidate_t%partner) is
+!> never a variable of the LCP. In the static analysis it is in the set only with its partner
+!> (`in_set`), switched with it; along a path its own flag is history, set at each commit from its
+!> partner's committed status, and its gap is shifted by its anchor (docs/theory.md §3.8).
 !>
 !> A point of a Pasternak bed (docs/theory.md §3.10) is a rigid contact with the bed's surface, whose
 !> deflection d_c (into the bed) is an unknown of its own (dof_map_t%bed_equation): its gap is
@@ -26,9 +28,9 @@
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
 module uniarc_contact
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, contact_candidate_t
+   use uniarc_model, only: model_t, contact_candidate_t, analysis_linear
    use uniarc_contact_law, only: candidate_gap
-   use uniarc_contact_plastic, only: slip_shift, limit_force
+   use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force
    use uniarc_dof_map, only: dof_map_t, bed_deflection
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
@@ -87,7 +89,8 @@ contains
             if (in_set(model, active, c)) call add_condensed_spring(model%contacts(c), model%coordinates(:, model%contacts(c)%node), &
                                                      displacement(1:2, model%contacts(c)%node), &
                                                      map%equation(1:2, model%contacts(c)%node), tangent, internal, &
-                                                     slip_shift(model, c, slip), yields)
+                                                     slip_shift(model, c, slip), yields, &
+                                                     shifts_gap(model, c, present(slip)))
             cycle
          end if
          if (row == 0) cycle
@@ -97,7 +100,7 @@ contains
             call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
                                gradient, hessian, at, rate)
             curved = any(candidate%motion /= 0.0_dp)
-            if (candidate%plastic) gap = gap + slip_shift(model, c, slip)
+            if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
             gap = gap + d(c)
             ! a moving curved obstacle: ∂(a r)/∂λ = −r h d, moved from F_aug into R (module header)
             swing = 0.0_dp
@@ -175,7 +178,7 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
                             gradient, hessian, lambda, rate)
-         if (model%contacts(c)%plastic) gap = gap + slip_shift(model, c, slip)
+         if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
          if (present(deflections)) gap = gap + deflections(c)
          if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) gap = gap + lambda*model%contacts(c)%gap_rate
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
@@ -197,15 +200,19 @@ contains
       end do
    end function bed_values
 
-   !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag, and
-   !> for a tangential spring that follows a radial partner (contact_candidate_t%partner) the partner's
-   !> too, so that it acts only where the radial contact is closed.
+   !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag; and
+   !> in the static analysis (*STATIC), for a tangential spring that follows a radial partner
+   !> (contact_candidate_t%partner), the partner's too, so that it acts only where the radial contact
+   !> is closed. Along a path (*PATH) the tangential spring's own flag is its status, history taken
+   !> from its partner's committed status at each commit (uniarc_path_state, commit_tangential;
+   !> docs/theory.md §3.8), so that a step's equations do not jump where a radial contact opens.
    pure logical function in_set(model, active, c)
       type(model_t), intent(in) :: model
       logical, intent(in) :: active(:)
       integer, intent(in) :: c
       in_set = active(c)
-      if (model%contacts(c)%partner > 0) in_set = in_set .and. active(model%contacts(c)%partner)
+      if (model%contacts(c)%partner > 0 .and. model%analysis%kind == analysis_linear) &
+         in_set = in_set .and. active(model%contacts(c)%partner)
    end function in_set
 
    !> One candidate entering (`entering`) or leaving the working set, in an assembled augmented tangent
@@ -287,7 +294,7 @@ contains
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).
    !> A plastic one: its gap shifted by its slip `shift`; when `yields`, r = q (its bearing limit) and
    !> the tangent −q ∂a/∂u only (no spring stiffness at the limit); at an uplift limit r = −t likewise.
-   pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal, shift, yields)
+   pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal, shift, yields, shifted)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
       integer, intent(in) :: eq(2)
@@ -295,10 +302,11 @@ contains
       real(dp), intent(inout) :: internal(:)
       real(dp), intent(in) :: shift
       logical, intent(in) :: yields
+      logical, intent(in) :: shifted   !< whether `shift` moves the gap (uniarc_contact_plastic, shifts_gap)
       real(dp) :: gap, gradient(2), hessian(2, 2), reaction, elastic
       integer :: i, j
       call candidate_gap(candidate, x0, u, gap, gradient, hessian)
-      if (candidate%plastic) gap = gap + shift
+      if (shifted) gap = gap + shift
       reaction = -gap/candidate%flexibility
       elastic = 1.0_dp
       if (yields) then

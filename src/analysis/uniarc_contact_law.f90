@@ -27,7 +27,7 @@ module uniarc_contact_law
    public :: winkler_flexibility, spring_flexibility, foundation_candidates
    public :: chain_nodes, tributary_lengths, nodal_left_normals, total_turning, path_coordinates
    public :: normals_valid, normals_branch, normals_opposed, normals_folded, foundation_straight
-   public :: foundation_not_open_chain, pasternak_bed, open_chain
+   public :: foundation_not_open_chain, foundation_no_memory, pasternak_bed, open_chain
    public :: foundation_problem
 
    !> Outcomes of `nodal_left_normals` and `foundation_candidates`.
@@ -38,6 +38,9 @@ module uniarc_contact_law
    integer, parameter :: foundation_straight = 4  !< SIDE inner/outer on a straight set: no concave side
    !> a Pasternak bed (G_p > 0) on a set that is not one open chain of elements (a ring, branches, gaps)
    integer, parameter :: foundation_not_open_chain = 5
+   !> a work array or the candidates refused by the system (`foundation_candidates`' `bytes` its size;
+   !> the caller's error: out of memory, uniarc_memory)
+   integer, parameter :: foundation_no_memory = 6
 
    !> Length of the mean of two unit normals under which they are taken as opposite (a fold of the set).
    real(dp), parameter :: fold_tolerance = 1.0e-9_dp
@@ -187,29 +190,51 @@ contains
    !> bed on the left, + on the right; for side_inner/side_outer the concave side is the left one when
    !> the set's total turning is positive (counter-clockwise). `status` is normals_valid, or says why not:
    !> a normal of node `nodes(bad)` undefined (normals_branch, normals_opposed, normals_folded; `bad`
-   !> indexes the chain's nodes, see `chain_nodes`), or foundation_straight. The group is left to the caller.
-   pure subroutine foundation_candidates(foundation, coordinates, connectivity, candidates, status, bad_node)
+   !> indexes the chain's nodes, see `chain_nodes`), or foundation_straight; foundation_no_memory with
+   !> `bytes` (optional) the size of the array refused. The group is left to the caller.
+   pure subroutine foundation_candidates(foundation, coordinates, connectivity, candidates, status, bad_node, bytes)
       type(foundation_t), intent(in) :: foundation
       real(dp), intent(in) :: coordinates(:, :)          !< (2, n_nodes) initial positions
       integer, intent(in) :: connectivity(:, :)          !< (2, n_elements) internal node indices
       type(contact_candidate_t), allocatable, intent(out) :: candidates(:)
       integer, intent(out) :: status
       integer, intent(out) :: bad_node                   !< the node (internal index) of a normal problem, else 0
+      real(dp), intent(out), optional :: bytes           !< with foundation_no_memory: the size refused
       integer, allocatable :: nodes(:)
-      real(dp), allocatable :: lengths(:), normals(:, :), s(:)
-      real(dp) :: turning, sign
-      integer :: i, bad, n
+      real(dp), allocatable :: lengths(:), normals(:, :), s(:), arc(:)
+      real(dp) :: turning, sign, size_asked
+      integer :: i, bad, n, refused
+      logical :: is_open
 
       allocate (candidates(0))
       status = normals_valid
       bad_node = 0
-      nodes = chain_nodes(size(coordinates, 2), connectivity, foundation%elements)
-      lengths = tributary_lengths(coordinates, connectivity, foundation%elements, nodes)
-      allocate (normals(2, size(nodes)))
+      if (present(bytes)) bytes = 0.0_dp
+      ! Every array allocated with stat= (work of the model's length; docs/contracts.md, "Memory").
+      size_asked = 16.0_dp*size(coordinates, 2)
+      call chain_nodes(size(coordinates, 2), connectivity, foundation%elements, nodes, refused)
+      if (refused == 0) then
+         size_asked = 8.0_dp*size(coordinates, 2)
+         call tributary_lengths(coordinates, connectivity, foundation%elements, nodes, lengths, refused)
+      end if
+      if (refused == 0) then
+         size_asked = 32.0_dp*size(nodes)
+         allocate (normals(2, size(nodes)), s(size(nodes)), arc(size(nodes)), stat=refused)
+      end if
+      if (refused /= 0) then
+         call no_memory(size_asked, status, bytes)
+         return
+      end if
       if (foundation%side == side_direction) then
-         normals = spread(foundation%direction, 2, size(nodes))
+         do i = 1, size(nodes)
+            normals(:, i) = foundation%direction
+         end do
       else
          call nodal_left_normals(coordinates, connectivity, foundation%elements, nodes, normals, status, bad)
+         if (status == foundation_no_memory) then
+            call no_memory(16.0_dp*size(coordinates, 2), status, bytes)
+            return
+         end if
          if (status /= normals_valid) then
             bad_node = nodes(bad)
             return
@@ -221,7 +246,11 @@ contains
          case (side_right)
             sign = 1.0_dp
          case default
-            turning = total_turning(coordinates, connectivity, foundation%elements)
+            call total_turning(coordinates, connectivity, foundation%elements, turning, refused)
+            if (refused /= 0) then
+               call no_memory(8.0_dp*size(coordinates, 2), status, bytes)
+               return
+            end if
             if (abs(turning) <= straight_tolerance) then
                status = foundation_straight
                return
@@ -233,11 +262,17 @@ contains
          normals = sign*normals
       end if
       if (.not. foundation%modulus > 0.0_dp) return
-      s = foundation%scale*path_coordinates(coordinates, nodes)
+      call path_coordinates(coordinates, nodes, arc)
+      s = foundation%scale*arc
 
       deallocate (candidates)
       n = size(nodes)
-      allocate (candidates(merge(2*n, n, foundation%tangential_modulus > 0.0_dp)))
+      allocate (candidates(merge(2*n, n, foundation%tangential_modulus > 0.0_dp)), stat=refused)
+      if (refused /= 0) then
+         allocate (candidates(0))
+         call no_memory(real(storage_size(candidates)/8, dp)*merge(2*n, n, foundation%tangential_modulus > 0.0_dp), status, bytes)
+         return
+      end if
       do i = 1, n
          candidates(i)%node = nodes(i)
          candidates(i)%gap_kind = gap_fixed_direction
@@ -259,14 +294,21 @@ contains
       end do
       if (foundation%law == foundation_pasternak .and. foundation%shear_modulus > 0.0_dp) then
          ! The shear layer couples the nodes: one open chain, the bed's unknowns in its order.
-         if (.not. open_chain(size(coordinates, 2), connectivity, foundation%elements, nodes)) then
+         call open_chain(size(coordinates, 2), connectivity, foundation%elements, nodes, is_open, refused)
+         if (refused /= 0) then
+            deallocate (candidates)
+            allocate (candidates(0))
+            call no_memory(8.0_dp*size(coordinates, 2), status, bytes)
+            return
+         end if
+         if (.not. is_open) then
             status = foundation_not_open_chain
             deallocate (candidates)
             allocate (candidates(0))
             return
          end if
          call pasternak_bed(foundation%modulus, foundation%shear_modulus, foundation%continues, lengths, &
-                            path_coordinates(coordinates, nodes), candidates(1:n))
+                            arc, candidates(1:n))
       end if
       if (.not. foundation%tangential_modulus > 0.0_dp) return
       ! Tangential springs (the tangential subgrade modulus of bedded-beam lining models): at each node
@@ -286,6 +328,15 @@ contains
          candidates(n + i)%coordinate = s(i)
       end do
    end subroutine foundation_candidates
+
+   !> The outcome of an allocation the system refused: foundation_no_memory and the size asked.
+   pure subroutine no_memory(asked, status, bytes)
+      real(dp), intent(in) :: asked
+      integer, intent(out) :: status
+      real(dp), intent(out), optional :: bytes
+      status = foundation_no_memory
+      if (present(bytes)) bytes = asked
+   end subroutine no_memory
 
    !> The Pasternak bed (Pasternak 1954; Kerr 1964) on the n points of one open chain (`candidates`, in
    !> chain order, already Winkler candidates of modulus K): the surface deflection w (into the bed)
@@ -332,27 +383,35 @@ contains
 
    !> Whether `nodes` (the chain order of `elements`, `chain_nodes`) is one open chain: n − 1 elements,
    !> each from a node to the next one in that order.
-   pure logical function open_chain(n_nodes, connectivity, elements, nodes)
+   !> status: the stat= of its work arrays (0: `is_open` set).
+   pure subroutine open_chain(n_nodes, connectivity, elements, nodes, is_open, status)
       integer, intent(in) :: n_nodes                  !< number of nodes of the model
       integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
       integer, intent(in) :: elements(:)
       integer, intent(in) :: nodes(:)
+      logical, intent(out) :: is_open
+      integer, intent(out) :: status
       integer, allocatable :: position(:)
       logical, allocatable :: linked(:)
       integer :: i, p
-      open_chain = .false.
+      is_open = .false.
+      status = 0
       if (size(nodes) /= size(elements) + 1) return
-      allocate (position(n_nodes), source=0)
-      allocate (linked(size(nodes)), source=.false.)
-      position(nodes) = [(i, i=1, size(nodes))]
+      allocate (position(n_nodes), linked(size(nodes)), stat=status)
+      if (status /= 0) return
+      position = 0
+      linked = .false.
+      do i = 1, size(nodes)
+         position(nodes(i)) = i
+      end do
       do i = 1, size(elements)
          p = position(connectivity(1, elements(i)))
          if (p == 0 .or. p == size(nodes)) return
          if (linked(p) .or. position(connectivity(2, elements(i))) /= p + 1) return
          linked(p) = .true.
       end do
-      open_chain = .true.
-   end function open_chain
+      is_open = .true.
+   end subroutine open_chain
 
    !> What a `foundation_candidates` status other than normals_valid means, for messages: what is wrong
    !> at the node concerned (branch, opposed, folded), or with the whole set (foundation_straight).
@@ -385,23 +444,27 @@ contains
    !> node; chains come in the order of the first of their elements in `elements`. A closed chain (a
    !> ring) starts at node1 of its first listed element. Elements that do not form chains (opposed
    !> directions, branches) still contribute each of their nodes once, in the order met.
-   pure function chain_nodes(n_nodes, connectivity, elements) result(nodes)
+   !> status: the stat= of an allocation the system refused (0: `nodes` complete).
+   pure subroutine chain_nodes(n_nodes, connectivity, elements, nodes, status)
       integer, intent(in) :: n_nodes                  !< number of nodes of the model
       integer, intent(in) :: connectivity(:, :)       !< (2, n_elements) internal node indices
       integer, intent(in) :: elements(:)              !< the set's elements
-      integer, allocatable :: nodes(:)
-      integer, allocatable :: incoming(:), outgoing(:)
+      integer, allocatable, intent(out) :: nodes(:)
+      integer, intent(out) :: status
+      integer, allocatable :: incoming(:), outgoing(:), found(:)
       logical, allocatable :: added(:)
       integer :: i, end, node, start, previous, current, count, steps
 
-      allocate (incoming(n_nodes), outgoing(n_nodes), source=0)
-      allocate (added(n_nodes), source=.false.)
+      allocate (incoming(n_nodes), outgoing(n_nodes), added(n_nodes), found(2*size(elements)), stat=status)
+      if (status /= 0) return
+      incoming = 0
+      outgoing = 0
+      added = .false.
       do i = 1, size(elements)
          if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
          if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
       end do
 
-      allocate (nodes(2*size(elements)))
       count = 0
       do i = 1, size(elements)
          do end = 1, 2
@@ -424,29 +487,35 @@ contains
             do
                if (added(current)) exit
                count = count + 1
-               nodes(count) = current
+               found(count) = current
                added(current) = .true.
                if (outgoing(current) == 0) exit
                current = connectivity(2, outgoing(current))
             end do
          end do
       end do
-      nodes = nodes(1:count)
-   end function chain_nodes
+      allocate (nodes(count), stat=status)
+      if (status /= 0) return
+      nodes(:) = found(1:count)
+   end subroutine chain_nodes
 
    !> Tributary lengths: for each of `nodes`, half the sum of the initial lengths of its adjacent elements
    !> that are in `elements` (the length of foundation the node carries; an end node gets half an element).
-   pure function tributary_lengths(coordinates, connectivity, elements, nodes) result(lengths)
+   !> status: the stat= of an allocation the system refused (0: `lengths` (size(nodes)) complete).
+   pure subroutine tributary_lengths(coordinates, connectivity, elements, nodes, lengths, status)
       real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes) initial positions
       integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
       integer, intent(in) :: elements(:)
       integer, intent(in) :: nodes(:)
-      real(dp), allocatable :: lengths(:)
+      real(dp), allocatable, intent(out) :: lengths(:)
+      integer, intent(out) :: status
       real(dp), allocatable :: per_node(:)
       real(dp) :: half
       integer :: i
 
-      allocate (per_node(size(coordinates, 2)), source=0.0_dp)
+      allocate (per_node(size(coordinates, 2)), lengths(size(nodes)), stat=status)
+      if (status /= 0) return
+      per_node = 0.0_dp
       do i = 1, size(elements)
          associate (ends => connectivity(:, elements(i)))
             half = 0.5_dp*norm2(coordinates(:, ends(2)) - coordinates(:, ends(1)))
@@ -454,14 +523,15 @@ contains
             per_node(ends(2)) = per_node(ends(2)) + half
          end associate
       end do
-      lengths = per_node(nodes)
-   end function tributary_lengths
+      lengths(:) = per_node(nodes)
+   end subroutine tributary_lengths
 
    !> The unit nodal normals of a chain of elements: at each of `nodes`, the normalised mean of the
    !> left normals (tangent node1 → node2 turned by +90°) of its adjacent elements in `elements`.
    !>
    !> `status` is `normals_valid`, or says why the normal of node `nodes(bad)` is not defined: more than
-   !> two adjacent elements, two adjacent elements of opposed direction, or a fold (mean normal ~ 0).
+   !> two adjacent elements, two adjacent elements of opposed direction, or a fold (mean normal ~ 0);
+   !> foundation_no_memory when its work arrays are refused by the system (`bad` 0).
    pure subroutine nodal_left_normals(coordinates, connectivity, elements, nodes, normals, status, bad)
       real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
       integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
@@ -475,8 +545,16 @@ contains
       real(dp) :: tangent(2), length
       integer :: i, node
 
-      allocate (sum_normals(2, size(coordinates, 2)), source=0.0_dp)
-      allocate (starting(size(coordinates, 2)), ending(size(coordinates, 2)), source=0)
+      bad = 0
+      allocate (sum_normals(2, size(coordinates, 2)), starting(size(coordinates, 2)), ending(size(coordinates, 2)), &
+                stat=status)
+      if (status /= 0) then
+         status = foundation_no_memory
+         return
+      end if
+      sum_normals = 0.0_dp
+      starting = 0
+      ending = 0
       do i = 1, size(elements)
          associate (ends => connectivity(:, elements(i)))
             tangent = coordinates(:, ends(2)) - coordinates(:, ends(1))
@@ -514,16 +592,22 @@ contains
    !> Total turning of a chain of elements: the sum, over the nodes where one element of `elements` ends
    !> and another starts, of the cross product t_in × t_out of their unit tangents. Positive when the
    !> chain turns counter-clockwise, i.e. when its centre of curvature, its concave side, is on its left.
-   pure function total_turning(coordinates, connectivity, elements) result(turning)
+   !> status: the stat= of its work arrays refused by the system (0: `turning` set).
+   pure subroutine total_turning(coordinates, connectivity, elements, turning, status)
       real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
       integer, intent(in) :: connectivity(:, :)       !< (2, n_elements)
       integer, intent(in) :: elements(:)
-      real(dp) :: turning
+      real(dp), intent(out) :: turning
+      integer, intent(out) :: status
       integer, allocatable :: incoming(:), outgoing(:)
       real(dp) :: t_in(2), t_out(2)
       integer :: i, node
 
-      allocate (incoming(size(coordinates, 2)), outgoing(size(coordinates, 2)), source=0)
+      turning = 0.0_dp
+      allocate (incoming(size(coordinates, 2)), outgoing(size(coordinates, 2)), stat=status)
+      if (status /= 0) return
+      incoming = 0
+      outgoing = 0
       do i = 1, size(elements)
          if (outgoing(connectivity(1, elements(i))) == 0) outgoing(connectivity(1, elements(i))) = elements(i)
          if (incoming(connectivity(2, elements(i))) == 0) incoming(connectivity(2, elements(i))) = elements(i)
@@ -545,21 +629,20 @@ contains
          t = t/norm2(t)
       end function unit_tangent
 
-   end function total_turning
+   end subroutine total_turning
 
    !> Arc length along `nodes` in the initial geometry: 0 at the first node, then the cumulative
    !> distance between consecutive nodes of the list.
-   pure function path_coordinates(coordinates, nodes) result(s)
+   pure subroutine path_coordinates(coordinates, nodes, s)
       real(dp), intent(in) :: coordinates(:, :)       !< (2, n_nodes)
       integer, intent(in) :: nodes(:)
-      real(dp), allocatable :: s(:)
+      real(dp), intent(out) :: s(:)                   !< (size(nodes)) the caller's
       integer :: i
-      allocate (s(size(nodes)))
       if (size(nodes) == 0) return
       s(1) = 0.0_dp
       do i = 2, size(nodes)
          s(i) = s(i - 1) + norm2(coordinates(:, nodes(i)) - coordinates(:, nodes(i - 1)))
       end do
-   end function path_coordinates
+   end subroutine path_coordinates
 
 end module uniarc_contact_law

@@ -17,10 +17,12 @@
 module uniarc_contact_lcp
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
-                          band_move, band_multiply
+                          band_move, band_product
    use uniarc_contact, only: candidate_gap, set_membership, in_set
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
@@ -158,15 +160,35 @@ contains
       real(dp), allocatable :: q(:), w(:), scale(:), reaction(:), gap(:)
       type(implicit_lcp_options_t) :: options
       real(dp) :: r_scale, w_scale
-      integer :: c, j
+      integer :: c, j, m, status
+      real(dp) :: bytes
+      logical :: partner_changed
 
-      selection%active = active
+      ! Every array of the model's length allocated with stat= (docs/contracts.md, "Memory"): a
+      ! refusal is an out-of-memory error, which ends the run (uniarc_path_state: fail_attempt).
+      bytes = 0.0_dp
+      call reserve(selection%active, size(active), status, bytes)
+      call allocation_failure(status, 'the working set of the contact LCP', bytes, error_analysis, error)
+      if (allocated(error)) return
+      selection%active(:) = active
       selection%kept = .false.
-      unilateral = pack([(c, c=1, size(map%candidate_equation))], &
-                        [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
-                          c=1, size(map%candidate_equation))])
-      if (allocated(linearization%yielding)) unilateral = pack(unilateral, .not. linearization%yielding(unilateral))
-      call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, linearization%lambda, lcp)
+      ! The unilateral candidates: live, not bilateral, not yielding.
+      m = 0
+      do c = 1, size(map%candidate_equation)
+         if (unilateral_candidate(c)) m = m + 1
+      end do
+      allocate (unilateral(m), stat=status)
+      call allocation_failure(status, 'the candidates of the contact LCP', 4.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
+      m = 0
+      do c = 1, size(map%candidate_equation)
+         if (.not. unilateral_candidate(c)) cycle
+         m = m + 1
+         unilateral(m) = c
+      end do
+      call candidate_data(model, map, linearization%x, linearization%nodal, unilateral, active, linearization%lambda, &
+                          lcp, error)
+      if (allocated(error)) return
       if (allocated(linearization%slip)) then
          do j = 1, lcp%m
             c = unilateral(j)
@@ -182,8 +204,12 @@ contains
       ! allocate (..., source=) rather than assignment to the unallocated components: gfortran 12's
       ! reallocation on assignment reads the bounds of the unallocated descriptor first (GCC bug
       ! 77504, an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
-      allocate (lcp%du_residual, source=linearization%du_residual)
-      allocate (lcp%du_tangent, source=linearization%du_tangent)
+      bytes = 8.0_dp*size(linearization%du_residual)
+      allocate (lcp%du_residual, source=linearization%du_residual, stat=status)
+      if (status == 0) allocate (lcp%du_tangent, source=linearization%du_tangent, stat=status)
+      if (status == 0) allocate (lcp%border(size(linearization%du_tangent)), stat=status)
+      call allocation_failure(status, 'a vector of the contact LCP', bytes, error_analysis, error)
+      if (allocated(error)) return
       lcp%constraint = linearization%constraint
       lcp%units = linearization%units
       lcp%tolerance = options%tolerance
@@ -191,7 +217,9 @@ contains
 
       ! q first: when the working set is already right (q ≥ 0 within round-off) the LCP's answer is
       ! the frame itself and nothing more is needed (the warm start that the paper's form cannot have).
-      allocate (q(lcp%m), scale(lcp%m), w(lcp%m))
+      allocate (q(lcp%m), scale(lcp%m), w(lcp%m), lcp%round_off(lcp%m), stat=status)
+      call allocation_failure(status, 'the vectors of the contact LCP', 32.0_dp*lcp%m, error_analysis, error)
+      if (allocated(error)) return
       call lcp%frame_q(q, error)
       selection%degenerate = lcp%degenerate
       if (allocated(error)) return
@@ -203,13 +231,23 @@ contains
 
       call band_move(assembled, lcp%matrix)
       call band_move(tangent, lcp%factors)
-      allocate (lcp%residual, source=linearization%residual)
-      allocate (lcp%reference, source=linearization%reference)
-      allocate (lcp%work(size(linearization%x), 1))
+      bytes = 8.0_dp*size(linearization%x)
+      allocate (lcp%residual, source=linearization%residual, stat=status)
+      if (status == 0) allocate (lcp%reference, source=linearization%reference, stat=status)
+      if (status == 0) allocate (lcp%work(size(linearization%x), 1), stat=status)
+      if (status /= 0) then
+         call band_move(lcp%matrix, assembled)
+         call band_move(lcp%factors, tangent)
+      end if
+      call allocation_failure(status, 'a vector of the contact LCP', bytes, error_analysis, error)
+      if (allocated(error)) return
       call implicit_lcp_solve(lcp, w, selection%report, error, options)
       call band_move(lcp%matrix, assembled)
       call band_move(lcp%factors, tangent)
       tangent%factorized = .false.
+      ! out of memory within the solver: the run ends (not an LCP without solution)
+      if (.not. allocated(error) .and. allocated(selection%report%fatal)) &
+         call move_alloc(selection%report%fatal, error)
       ! Under an arc-length constraint a ray is the same degeneracy seen from a frame without the
       ! contacts that would carry the load: the bordered M of those candidates is singular (its
       ! determinant is that of the bordered K_S of the frame with them, a Schur complement; Cottle,
@@ -225,7 +263,9 @@ contains
 
       ! The solution's frame: reactions (outputs of candidates in the set) and gaps (of the others);
       ! in contact where the reaction dominates its complement.
-      allocate (reaction(lcp%m), gap(lcp%m))
+      allocate (reaction(lcp%m), gap(lcp%m), stat=status)
+      call allocation_failure(status, 'the reactions and gaps of the contact LCP', 16.0_dp*lcp%m, error_analysis, error)
+      if (allocated(error)) return
       do j = 1, lcp%m
          if (lcp%active(j)) then
             reaction(j) = w(j)
@@ -242,18 +282,31 @@ contains
       end do
       ! The factors of the final frame serve the caller when the new set is that frame (and no
       ! tangential spring follows a partner that changed: the frames keep them as they were).
-      if (all(selection%active(unilateral) .eqv. lcp%active) .and. &
-          .not. any([(model%contacts(c)%partner > 0 .and. &
-                      (in_set(model, selection%active, c) .neqv. in_set(model, active, c)), &
-                      c=1, size(active))])) then
+      partner_changed = .false.
+      do c = 1, size(active)
+         if (model%contacts(c)%partner > 0 .and. &
+             (in_set(model, selection%active, c) .neqv. in_set(model, active, c))) partner_changed = .true.
+      end do
+      if (all(selection%active(unilateral) .eqv. lcp%active) .and. .not. partner_changed) then
          tangent%factorized = .true.
-         allocate (selection%du_tangent, source=lcp%du_tangent)
+         call move_alloc(lcp%du_tangent, selection%du_tangent)   ! the operator's last use of it
          selection%kept = .true.
       end if
+
+   contains
+
+      !> Candidate c is a variable of the LCP: live, not bilateral, not yielding.
+      logical function unilateral_candidate(c)
+         integer, intent(in) :: c
+         unilateral_candidate = candidate_live(map, c) .and. .not. model%contacts(c)%bilateral
+         if (unilateral_candidate .and. allocated(linearization%yielding)) &
+            unilateral_candidate = .not. linearization%yielding(c)
+      end function unilateral_candidate
    end subroutine select_contact_set
 
    !> The per-candidate data of the operator for the unilateral candidates `unilateral`.
-   subroutine candidate_data(model, map, x, nodal, unilateral, active, lambda, lcp)
+   !> Errors: the arrays refused by the system (error_analysis, out of memory).
+   subroutine candidate_data(model, map, x, nodal, unilateral, active, lambda, lcp, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
@@ -261,10 +314,14 @@ contains
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: lambda   !< of the state (moving obstacles)
       type(contact_lcp_operator_t), intent(inout) :: lcp
-      integer :: j, c, node
+      type(error_t), allocatable, intent(out) :: error
+      integer :: j, c, node, status
       lcp%m = size(unilateral)
       allocate (lcp%row(lcp%m), lcp%eq(2, lcp%m), lcp%bed(lcp%m), lcp%gradient(2, lcp%m), lcp%hessian(2, 2, lcp%m), &
-                lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m), lcp%rate(lcp%m))
+                lcp%flexibility(lcp%m), lcp%gap(lcp%m), lcp%reaction(lcp%m), lcp%active(lcp%m), lcp%rate(lcp%m), &
+                stat=status)
+      call allocation_failure(status, 'the candidate data of the contact LCP', 124.0_dp*lcp%m, error_analysis, error)
+      if (allocated(error)) return
       do j = 1, lcp%m
          c = unilateral(j)
          node = model%contacts(c)%node
@@ -304,7 +361,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: particular(:)
       real(dp) :: dlambda, largest_displacement, largest_reaction
-      integer :: j, i
+      integer :: j, i, status
       if (self%degenerate) then
          q = 0.0_dp
          call make_error(error, 'the path constraint does not fix the load increment with this contact '// &
@@ -313,7 +370,11 @@ contains
          return
       end if
       dlambda = bordered_dlambda(self%constraint, self%du_residual, self%du_tangent, self%constraint%target)
-      allocate (particular, source=self%du_residual + dlambda*self%du_tangent)   ! GCC bug 77504, above
+      allocate (particular(size(self%du_residual)), stat=status)
+      call allocation_failure(status, 'a vector of the contact LCP', 8.0_dp*size(self%du_residual), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      particular(:) = self%du_residual + dlambda*self%du_tangent
       largest_displacement = 0.0_dp
       largest_reaction = 0.0_dp
       do j = 1, self%m
@@ -519,25 +580,31 @@ contains
    subroutine refactorize(self, error)
       type(contact_lcp_operator_t), intent(inout) :: self
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: rhs(:, :), correction(:, :)
-      integer :: k
-      call band_copy(self%matrix, self%factors, error)
+      real(dp), allocatable :: rhs(:, :), correction(:, :), product(:)
+      integer :: k, status
+      call band_copy(self%matrix, self%factors, error, error_analysis)
       if (allocated(error)) return
       call band_factorize(self%factors, error)
       if (allocated(error)) return
-      allocate (rhs(size(self%residual), 2), correction(size(self%residual), 2))
+      allocate (rhs(size(self%residual), 2), correction(size(self%residual), 2), product(size(self%residual)), &
+                stat=status)
+      call allocation_failure(status, 'the vectors of a refactorisation of the contact LCP', &
+                              40.0_dp*size(self%residual), error_analysis, error)
+      if (allocated(error)) return
       rhs(:, 1) = self%residual
       rhs(:, 2) = self%reference
       call band_solve(self%factors, rhs, error)
       if (allocated(error)) return
-      correction(:, 1) = self%residual - band_multiply(self%matrix, rhs(:, 1))
-      correction(:, 2) = self%reference - band_multiply(self%matrix, rhs(:, 2))
+      call band_product(self%matrix, rhs(:, 1), product)
+      correction(:, 1) = self%residual - product
+      call band_product(self%matrix, rhs(:, 2), product)
+      correction(:, 2) = self%reference - product
       call band_solve(self%factors, correction, error)
       if (allocated(error)) return
       do k = 1, 2
          rhs(:, k) = rhs(:, k) + correction(:, k)
       end do
-      self%correction = correction
+      call move_alloc(correction, self%correction)
       self%du_residual = rhs(:, 1)
       self%du_tangent = rhs(:, 2)
       call border_vector(self)

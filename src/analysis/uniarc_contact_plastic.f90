@@ -37,7 +37,7 @@ module uniarc_contact_plastic
    use uniarc_contact_law, only: candidate_gap
    implicit none
    private
-   public :: has_plastic, slip_shift, yield_rule, plastic_violation, commit_slip, slip_increment, limit_force
+   public :: has_plastic, slip_shift, shifts_gap, yield_rule, plastic_violation, commit_slip, slip_increment, limit_force
 
 contains
 
@@ -48,16 +48,28 @@ contains
       if (allocated(model%contacts)) has_plastic = any(model%contacts%plastic)
    end function has_plastic
 
-   !> The slip that shifts candidate c's gap: slip(c) for a plastic candidate, 0 otherwise or when no
-   !> slip is given (so that the gaps of elastic media are the contact law's, bit for bit).
+   !> The slip that shifts candidate c's gap: slip(c) for a plastic candidate, and for a tangential
+   !> spring that follows a radial partner (contact_candidate_t%partner) its anchor −a_c along a path
+   !> (the gap t·u − a_c: the spring is stress-free where its contact last closed, docs/theory.md
+   !> §3.8); 0 otherwise or when no slip is given (so that the gaps of elastic media are the contact
+   !> law's, bit for bit).
    pure real(dp) function slip_shift(model, c, slip) result(shift)
       type(model_t), intent(in) :: model
       integer, intent(in) :: c
       real(dp), intent(in), optional :: slip(:)
       shift = 0.0_dp
       if (.not. present(slip)) return
-      if (model%contacts(c)%plastic .and. c <= size(slip)) shift = slip(c)
+      if ((model%contacts(c)%plastic .or. model%contacts(c)%partner > 0) .and. c <= size(slip)) shift = slip(c)
    end function slip_shift
+
+   !> Whether candidate c's gap is shifted by its slip (slip_shift): every plastic candidate, and a
+   !> tangential spring that follows a partner when a slip (its anchor, along a path) is given.
+   pure logical function shifts_gap(model, c, with_slip)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: c
+      logical, intent(in) :: with_slip   !< a slip array is given
+      shifts_gap = model%contacts(c)%plastic .or. (model%contacts(c)%partner > 0 .and. with_slip)
+   end function shifts_gap
 
    !> The limit force a yielding candidate holds: its bearing limit q (force, ≥ 0, pushing); with an
    !> uplift limit t (TU=) and a negative `force`, −t (pulling). `force` tells the side: the reaction

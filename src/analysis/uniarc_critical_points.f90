@@ -23,6 +23,9 @@ module uniarc_critical_points
       real(dp) :: position = 0.0_dp           !< step number, fractional (e.g. 12.4)
       real(dp) :: lambda = 0.0_dp
       real(dp) :: fraction = 0.0_dp           !< 0..1 between the two points
+      !> bifurcation: how many eigenvalues of K_T vanish there (2 for a double eigenvalue, the count of
+      !> negative pivots changing by two across the locator's final bracket); 1 otherwise
+      integer :: multiplicity = 1
    end type critical_event_t
 
 contains
@@ -81,6 +84,9 @@ contains
             ! Located by re-solving the step (uniarc_path_locate).
             event%fraction = after%bifurcation_fraction
             event%lambda = after%bifurcation_lambda
+            ! (Not at a lift-off, whose count is that of a piece of the cone test, docs/theory.md §2.2.)
+            if (after%bifurcation_multiplicity > 1 .and. after%bifurcation_multiplicity == unexplained .and. &
+                event%kind == 'bifurcation') event%multiplicity = after%bifurcation_multiplicity
          else
             event%fraction = 0.5_dp
             if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then

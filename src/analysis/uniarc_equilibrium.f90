@@ -25,7 +25,9 @@ module uniarc_equilibrium
    use uniarc_frame_linear, only: fixed_direction_load_vector, pressure_load_vector
    use uniarc_element_loads, only: thermal_load_vector
    use uniarc_released_loads, only: released_span_correction
-   use uniarc_model_steps, only: prescribed_at, has_prescribed
+   use uniarc_model_steps, only: has_prescribed
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    implicit none
    private
    public :: assemble_equilibrium
@@ -45,9 +47,10 @@ contains
    !> moment limit (uniarc_joint_plasticity), the history the elements' return mapping starts from.
    !> Without prescribed displacements `displacement` is used as it is (no copy: nothing allocated of
    !> the model's length, docs/contracts.md, "Memory"); with them, the total displacements are formed in
-   !> a work array first.
+   !> a work array first, allocated with stat=.
+   !> Errors: that work array refused by the system (error_analysis, out of memory, uniarc_memory).
    subroutine assemble_equilibrium(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
-                                   force_scale, roundoff, joint_plastic)
+                                   force_scale, error, roundoff, joint_plastic)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -57,16 +60,30 @@ contains
       real(dp), intent(out) :: internal(:)
       real(dp), intent(out) :: reference(:)
       real(dp), intent(out) :: force_scale
+      type(error_t), allocatable, intent(out) :: error
       real(dp), intent(out), optional :: roundoff
       real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp), allocatable :: total(:, :)
+      integer :: j, status
       ! The displacements of every DOF: the free ones given, the held ones prescribed (module header).
       if (.not. has_prescribed(model)) then
          call assemble_at(model, map, displacement, lambda, fixed_load, tangent, internal, reference, &
                           force_scale, roundoff, joint_plastic)
          return
       end if
-      total = displacement + prescribed_at(model, lambda)
+      ! total = displacement + prescribed_at(model, lambda), formed in place (no function result)
+      allocate (total(size(displacement, 1), size(displacement, 2)), stat=status)
+      call allocation_failure(status, 'the displacements with the prescribed ones', 8.0_dp*size(displacement), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      total = 0.0_dp
+      if (allocated(model%prescribed)) total = lambda*model%prescribed
+      if (allocated(model%held)) then
+         do j = 1, size(model%held)
+            if (allocated(model%held(j)%prescribed)) total = total + model%held(j)%factor*model%held(j)%prescribed
+         end do
+      end if
+      total = displacement + total
       call assemble_at(model, map, total, lambda, fixed_load, tangent, internal, reference, &
                        force_scale, roundoff, joint_plastic)
    end subroutine assemble_equilibrium

@@ -9,8 +9,12 @@
 !> 1. **Block principal pivoting** (Kostreva 1978; Júdice & Pires 1994): exchange at once every index
 !>    whose output is negative in the current frame; one exchange (for the contact LCP: one banded
 !>    refactorisation) moves many contacts. Júdice and Pires' safeguard counts the infeasibilities:
-!>    when their number has not decreased for `block_backup` exchanges the phase stops. For a P-matrix
-!>    it typically ends in a few exchanges; it is not finite in general, hence phase 2.
+!>    when their number has not decreased for `block_backup` exchanges that move an index back (one
+!>    the phase exchanged before) the phase stops. An exchange of indices the phase never moved is
+!>    progress whatever the count: no frame can recur without an index going back, so there are at
+!>    most m such exchanges (the edge of a contact region that creeps one candidate per exchange
+!>    toward its place, docs/lemke.md). For a P-matrix it typically ends in a few exchanges; it is not
+!>    finite in general (`block_steps` caps it), hence phase 2.
 !> 2. **Lemke's complementary pivoting** (Lemke 1965; Cottle, Pang & Stone 1992, §4.4), started from
 !>    the frame the first phase left: the scheme w = q + M z + d z0 with covering vector d = the unit
 !>    of each infeasible output and 1e-6 of it for the others. Its basis is held as the operator's frame plus a dense Schur complement
@@ -36,7 +40,8 @@
 module uniarc_lcp_implicit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_foreign, only: dgetrf, dgetrs
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_strings, only: integer_to_string, real_to_string
@@ -52,7 +57,8 @@ module uniarc_lcp_implicit
       real(dp) :: tolerance = 1.0e-9_dp
       !> Run the block principal pivoting phase first (off: Lemke alone, e.g. to test it).
       logical :: block_phase = .true.
-      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities.
+      !> Júdice–Pires backup count: exchanges allowed without fewer infeasibilities that move an index
+      !> back (exchanges of indices never moved before are progress, module header).
       integer :: block_backup = 3
       !> Most exchanges of the block phase in one round.
       integer :: block_steps = 50
@@ -86,6 +92,9 @@ module uniarc_lcp_implicit
       !> max_i max(0, −q_F(i)/scale(i)) at the returned frame (≤ tolerance when solved).
       real(dp) :: residual = 0.0_dp
       character(len=:), allocatable :: message
+      !> An out-of-memory error of the solver or the operator (uniarc_error: out_of_memory), kept for
+      !> implicit_lcp_solve to return: it ends the run instead of reading as an LCP without solution.
+      type(error_t), allocatable :: fatal
    end type implicit_lcp_report_t
 
    !> Relative size below which a pivot entry is taken as the round-off of zero: 1e-12 of the largest
@@ -109,7 +118,7 @@ contains
       type(implicit_lcp_options_t) :: opts
       real(dp), allocatable :: q(:), scale(:)
       type(error_t), allocatable :: failure
-      integer :: m, round
+      integer :: m, round, status
       logical :: solved, broken
       if (present(options)) opts = options
       if (opts%block_backup < 0 .or. opts%block_steps < 0 .or. opts%block_threshold < 0 .or. opts%complement_limit < 1 .or. &
@@ -124,13 +133,16 @@ contains
          return
       end if
       if (opts%max_pivots == 0) opts%max_pivots = max(1000, 4*m)
-      allocate (q(m), scale(m))
+      allocate (q(m), scale(m), stat=status)
+      call allocation_failure(status, 'the vectors of the contact LCP''s solver', 16.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
       report%message = 'not solved to the stated accuracy'
       do round = 1, opts%rounds
          call operator%frame_q(q, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             return
          end if
          call operator%scales(scale)
@@ -173,13 +185,22 @@ contains
       real(dp), intent(inout) :: q(:), scale(:)
       type(implicit_lcp_report_t), intent(inout) :: report
       logical, intent(out) :: solved, broken
-      logical, allocatable :: violated(:)
+      logical, allocatable :: violated(:), moved(:)
       type(error_t), allocatable :: failure
-      integer :: step, count_violated, fewest, backup
+      integer :: step, count_violated, fewest, backup, status
       solved = .false.
       broken = .false.
+      allocate (violated(size(q)), moved(size(q)), stat=status)
+      call allocation_failure(status, 'the block pivots of the contact LCP', 8.0_dp*size(q), error_analysis, failure)
+      if (allocated(failure)) then
+         call keep_fatal(report, failure)
+         broken = .true.
+         return
+      end if
       fewest = size(q) + 1
       backup = opts%block_backup
+      ! indices exchanged an odd number of times by this phase (the frame it started from: false)
+      moved = .false.
       do step = 1, opts%block_steps + 1
          violated = q < -opts%tolerance*scale
          count_violated = count(violated)
@@ -191,22 +212,35 @@ contains
          if (count_violated < fewest) then
             fewest = count_violated
             backup = opts%block_backup
-         else if (backup > 0) then
-            backup = backup - 1
-         else
-            return
+         else if (any(violated .and. moved)) then
+            ! No fewer infeasibilities and an index goes back: the exchanges may be cycling.
+            if (backup > 0) then
+               backup = backup - 1
+            else
+               return
+            end if
          end if
+         ! No fewer infeasibilities, but none of them moved by this phase before, is progress: no
+         ! frame can recur without an index going back, and each such step moves a new index (at
+         ! most m of them). The edges of contact regions that creep one candidate per exchange
+         ! toward their place make these steps (docs/lemke.md, docs/benchmarks.md §9).
          call operator%exchange(violated, failure)
          report%exchanges = report%exchanges + 1
          ! A singular frame (the exchanged contacts would leave a mechanism): the operator kept the
-         ! frame it had, and Lemke goes on from there.
-         if (allocated(failure)) return
+         ! frame it had, and Lemke goes on from there (out of memory: the solve ends).
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            broken = allocated(report%fatal)
+            return
+         end if
+         moved = moved .neqv. violated
          report%block_steps = report%block_steps + 1
          report%pivots = report%pivots + count_violated
          call operator%frame_q(q, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             broken = .true.
             return
          end if
@@ -235,15 +269,21 @@ contains
       logical, allocatable :: basic_w(:)
       type(error_t), allocatable :: failure
       real(dp) :: z0, dz0, t, best_ratio, best_slope, ratio, slope, largest_w, largest_z
-      integer :: m, k, p, capacity, pivots, i, b, leave_kind, leave_index, position
+      integer :: m, k, p, capacity, pivots, i, b, leave_kind, leave_index, position, status
       integer, parameter :: leave_none = 0, leave_z0 = 1, leave_w = 2, leave_z = 3
       logical :: entering_z, absorbed
       m = size(q)
       capacity = 2*opts%complement_limit + 2
       allocate (entries(capacity + 1, capacity), rows(capacity + 1), cols(capacity))
-      allocate (z(m), source=0.0_dp)
-      allocate (unit_vector(m), source=0.0_dp)
-      allocate (column(m), row(m), dz(m), dw(m), rhs(capacity + 1), y(capacity + 1))
+      allocate (z(m), unit_vector(m), column(m), row(m), dz(m), dw(m), d(m), wv(m), basic_w(m), stat=status)
+      call allocation_failure(status, 'the vectors of Lemke''s method', 68.0_dp*m, error_analysis, failure)
+      if (allocated(failure)) then
+         call keep_fatal(report, failure)
+         return
+      end if
+      z = 0.0_dp
+      unit_vector = 0.0_dp
+      allocate (rhs(capacity + 1), y(capacity + 1))
       ! Start: z0 enters at the most negative q_i/d_i. The covering vector is the unit of each output
       ! where the output is infeasible and 1e-6 of it elsewhere (any d > 0 is a valid covering vector,
       ! Cottle, Pang & Stone §4.4): the outputs that are already right hardly move with z0, so
@@ -255,7 +295,7 @@ contains
       z0 = -q(k)/d(k)
       wv = max(q + d*z0, 0.0_dp)
       wv(k) = 0.0_dp
-      allocate (basic_w(m), source=.true.)
+      basic_w = .true.
       basic_w(k) = .false.
       p = 0
       rows(1) = k
@@ -278,6 +318,7 @@ contains
             report%solves = report%solves + 1
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             rhs(1:p + 1) = -column(rows(1:p + 1))
@@ -288,6 +329,7 @@ contains
          call schur_solve(entries(1:p + 1, 1:p), d(rows(1:p + 1)), rhs(1:p + 1), y(1:p + 1), failure)
          if (allocated(failure)) then
             call breakdown(report, 'Lemke: singular basis ('//failure%message//')')
+            call keep_fatal(report, failure)
             return
          end if
          dz = 0.0_dp
@@ -298,6 +340,7 @@ contains
          report%solves = report%solves + 1
          if (allocated(failure)) then
             call breakdown(report, failure%message)
+            call keep_fatal(report, failure)
             return
          end if
          dw = dw + d*dz0
@@ -368,6 +411,7 @@ contains
             call new_row(findloc(rows(1:p + 1), leave_index, 1), failure)
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             k = leave_index
@@ -400,6 +444,7 @@ contains
             call absorb(absorbed, failure)
             if (allocated(failure)) then
                call breakdown(report, failure%message)
+               call keep_fatal(report, failure)
                return
             end if
             if (.not. absorbed .and. p >= capacity - 1) then
@@ -452,13 +497,21 @@ contains
       subroutine finish(failure)
          type(error_t), allocatable, intent(out) :: failure
          logical, allocatable :: flip(:)
-         allocate (flip(m), source=.false.)
+         integer :: status
+         allocate (flip(m), stat=status)
+         call allocation_failure(status, 'the exchange of Lemke''s method', 4.0_dp*m, error_analysis, failure)
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            return
+         end if
+         flip = .false.
          flip(cols(1:p)) = .true.
          if (p > 0) then
             call operator%exchange(flip, failure)
             report%exchanges = report%exchanges + 1
             if (allocated(failure)) then
                call breakdown(report, 'Lemke: the solution frame is singular ('//failure%message//')')
+               call keep_fatal(report, failure)
                return
             end if
          end if
@@ -475,9 +528,16 @@ contains
          real(dp), allocatable :: mzz(:, :), dzz(:, :), shift(:), new_d(:)
          integer, allocatable :: ipiv(:)
          logical, allocatable :: flip(:)
-         integer :: a, info
+         integer :: a, info, status
          type(error_t), allocatable :: singular
          absorbed = .false.
+         allocate (shift(m), new_d(m), flip(m), stat=status)
+         call allocation_failure(status, 'the vectors of an absorption of Lemke''s method', 20.0_dp*m, &
+                                 error_analysis, failure)
+         if (allocated(failure)) then
+            call keep_fatal(report, failure)
+            return
+         end if
          allocate (mzz(p, p), dzz(p, 1), ipiv(p))
          do a = 1, p
             mzz(a, :) = entries(findloc(rows(1:p + 1), cols(a), 1), 1:p)
@@ -488,17 +548,19 @@ contains
          call dgetrs('N', p, 1, mzz, p, ipiv, dzz, p, info)
          dz = 0.0_dp
          dz(cols(1:p)) = -dzz(:, 1)
-         allocate (shift(m))
          call operator%apply(dz, shift, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) return
          new_d = d + shift
          new_d(cols(1:p)) = -dzz(:, 1)
-         allocate (flip(m), source=.false.)
+         flip = .false.
          flip(cols(1:p)) = .true.
          call operator%exchange(flip, singular)
          report%exchanges = report%exchanges + 1
-         if (allocated(singular)) return
+         if (allocated(singular)) then
+            call keep_fatal(report, singular)
+            return
+         end if
          absorbed = .true.
          d = new_d
          call operator%frame_q(q, failure)
@@ -578,6 +640,17 @@ contains
       infeasibility = 0.0_dp
       if (size(q) > 0) infeasibility = max(0.0_dp, maxval(-q/scale))
    end function infeasibility
+
+   !> Keep `failure` in report%fatal when it is out of memory (the first one kept); nothing otherwise.
+   subroutine keep_fatal(report, failure)
+      type(implicit_lcp_report_t), intent(inout) :: report
+      type(error_t), allocatable, intent(inout) :: failure
+      if (.not. allocated(failure)) return
+      if (.not. failure%out_of_memory .or. allocated(report%fatal)) return
+      call move_alloc(failure, report%fatal)
+      report%status = lemke_breakdown
+      report%message = report%fatal%message
+   end subroutine keep_fatal
 
    subroutine breakdown(report, message)
       type(implicit_lcp_report_t), intent(inout) :: report

@@ -108,7 +108,7 @@ contains
       set = [(candidate_live(map, c), c=1, size(set))]
       call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
       if (allocated(error)) return
-      call find_mechanism(model, map, assembled, error)
+      call find_mechanism(model, map, assembled, error, error_analysis)
       if (allocated(error)) return
       call touching(model, map, length_scale, set)
       ! A structure held only by its contacts across a gap, that the load pushes along a free rigid
@@ -227,8 +227,8 @@ contains
                  .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
       call assemble_set(model, map, zero_nodal, bonded, matrix, residual, error)
       if (allocated(error)) return
-      call floating_motions(model, map, matrix, motions, equations)
-      if (.not. allocated(motions)) return
+      call floating_motions(model, map, matrix, motions, equations, error)
+      if (allocated(error) .or. .not. allocated(motions)) return
       allocate (shift(map%n_equations), moved(dofs_per_node, model%n_nodes))
       call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
@@ -310,8 +310,8 @@ contains
       allocate (residual(map%n_equations), reference(map%n_equations))
       call assemble_set(model, map, zero_nodal, bonded, assembled, residual, failure)
       if (allocated(failure)) return
-      call floating_motions(model, map, assembled, motions, equations)
-      if (.not. allocated(motions)) return
+      call floating_motions(model, map, assembled, motions, equations, failure)
+      if (allocated(failure) .or. .not. allocated(motions)) return
       call assemble_reference_load(model, map, .true., reference)
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
       call describe_lift_off(model, map, motions, zero_nodal, residual + reference, text)

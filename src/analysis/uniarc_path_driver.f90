@@ -27,9 +27,11 @@ module uniarc_path_driver
    use uniarc_path_collapse, only: bearing_collapse
    use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
-   use uniarc_model_steps, only: prescribed_at, has_prescribed
+   use uniarc_model_steps, only: has_prescribed
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_allocate
+   use uniarc_path_state_copy, only: copy_point_record, move_map
+   use uniarc_memory, only: allocation_failure
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -118,7 +120,8 @@ contains
       end if
       call path_initialize(model, driver%state, error)
       if (allocated(error)) return
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) return
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%stop = stop_none
@@ -160,7 +163,11 @@ contains
          driver%stop = stop_failure
          return
       end if
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         return
+      end if
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%step_offset = driver%state%point%step
@@ -191,7 +198,13 @@ contains
                          integer_to_string(driver%state%point%step), error_internal)
          return
       end if
-      previous = driver%state%point
+      ! the point before the step, copied with stat= (an assignment of the record is not checked)
+      call copy_point_record(driver%state%point, previous, 'the point before the step', error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
@@ -218,7 +231,12 @@ contains
          outcome%stop = stop_failure
          return
       end if
-      call nodal_displacements(model, driver%state, driver%displacement)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       outcome%step = driver%state%point%step
@@ -248,6 +266,10 @@ contains
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
+      ! A commit that switched tangential springs off is followed by its release step (Δλ = 0) before
+      ! the path stops at a load or track limit: the last row is in equilibrium without their forces
+      ! (docs/theory.md §3.8).
+      if (driver%state%release_due .and. driver%stop /= stop_step_limit) driver%stop = stop_none
       ! A converged state at a bearing collapse (every motion the load drives held only by media at their
       ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then
@@ -277,8 +299,8 @@ contains
       type(path_driver_t), intent(inout) :: driver
       type(error_t), allocatable, intent(out) :: error
       type(dof_map_t) :: map
-      real(dp), allocatable :: x(:)
-      integer :: i, k, c, n
+      real(dp), allocatable :: x(:), last_increment(:), fixed_load(:)
+      integer :: i, k, c, n, status
       associate (state => driver%state)
          if (allocated(state%floating_equation)) then
             call make_error(error, 'supports changed between analysis steps of a structure held only by its '// &
@@ -288,7 +310,10 @@ contains
          call build_dof_map(model, map, error, error_analysis)
          if (allocated(error)) return
          n = map%n_equations
-         allocate (x(n), source=0.0_dp)
+         allocate (x(n), last_increment(n), fixed_load(n), stat=status)
+         call allocation_failure(status, 'the vectors of the new numbering', 24.0_dp*n, error_analysis, error)
+         if (allocated(error)) return
+         x = 0.0_dp
          do i = 1, model%n_nodes
             do k = 1, size(map%equation, 1)
                if (map%equation(k, i) > 0) x(map%equation(k, i)) = driver%displacement(k, i)
@@ -299,9 +324,11 @@ contains
                x(map%candidate_equation(c)) = state%u(state%map%candidate_equation(c))
          end do
          call move_alloc(x, state%u)
-         state%map = map
-         deallocate (state%last_increment, state%fixed_load)
-         allocate (state%last_increment(n), state%fixed_load(n), source=0.0_dp)
+         call move_map(map, state%map)
+         last_increment = 0.0_dp
+         fixed_load = 0.0_dp
+         call move_alloc(last_increment, state%last_increment)
+         call move_alloc(fixed_load, state%fixed_load)
          if (allocated(state%eigenvector)) deallocate (state%eigenvector)
          if (allocated(state%liftoff_mode)) deallocate (state%liftoff_mode)
          if (allocated(state%bifurcation)) deallocate (state%bifurcation)
@@ -322,7 +349,23 @@ contains
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: lambda
       real(dp), intent(inout) :: nodal(:, :)
-      if (has_prescribed(model)) nodal = nodal + prescribed_at(model, lambda)
+      real(dp) :: total
+      integer :: node, k, j
+      if (.not. has_prescribed(model)) return
+      ! nodal + prescribed_at(model, lambda), entry by entry in its order: no function result
+      do node = 1, size(nodal, 2)
+         do k = 1, size(nodal, 1)
+            total = 0.0_dp
+            if (allocated(model%prescribed)) total = lambda*model%prescribed(k, node)
+            if (allocated(model%held)) then
+               do j = 1, size(model%held)
+                  if (allocated(model%held(j)%prescribed)) &
+                     total = total + model%held(j)%factor*model%held(j)%prescribed(k, node)
+               end do
+            end if
+            nodal(k, node) = nodal(k, node) + total
+         end do
+      end do
    end subroutine add_prescribed
 
    !> The first stop rule that holds at a converged point (step, λ, tracked values), or stop_none.

@@ -25,7 +25,7 @@ module uniarc_path_following
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
-                           dofs_per_node, gap_polyline
+                           dofs_per_node, gap_polyline, analysis_options_t
    use uniarc_contact_law, only: candidate_gap
    use uniarc_obstacle_shapes, only: polyline_concave_corner
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
@@ -33,7 +33,7 @@ module uniarc_path_following
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
                                 nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
-                                accept_trial
+                                accept_trial, fail_attempt
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
    use uniarc_path_stability, only: commit_tangent
@@ -47,7 +47,7 @@ module uniarc_path_following
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_approach, only: rigid_approach
-   use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_path_state_copy, only: copy_state, move_state, move_trial
    use uniarc_lift_off, only: describe_lift_off
    implicit none
    private
@@ -109,17 +109,20 @@ contains
          if (allocated(error)) return
          state%slip = 0.0_dp
          state%yielding = .false.
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call touching_candidates(model, state, nodal, state%active)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
          ! A model that no contact can hold is refused before the path starts (exit code 2).
          call check_mechanism(model, state, system, nodal, error)
          if (allocated(error)) return
-         call find_floating(model, state, system, nodal)
-         call approach_first_contact(model, state, system, nodal, error)
-         if (allocated(error)) return
-         call commit_tangent(model, state, system, .true., error)
+         call find_floating(model, state, system, nodal, error)
+         if (.not. allocated(error)) then
+            call approach_first_contact(model, state, system, nodal, error)
+            if (allocated(error)) return
+            call commit_tangent(model, state, system, .true., error)
+         end if
          call move_alloc(system, state%system)
          if (allocated(error)) then
             call add_where(error, 'unloaded state', state)
@@ -127,7 +130,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, 0, 0, 0)
+         call describe_point(model, state, 0, 0, 0, error)
       end associate
    end subroutine path_initialize
 
@@ -161,7 +164,7 @@ contains
          end if
          call size_first_step(model, state, error)
          if (allocated(error)) return
-         call describe_point(model, state, state%point%step, 0, 0)
+         call describe_point(model, state, state%point%step, 0, 0, error)
       end associate
    end subroutine path_restart
 
@@ -293,24 +296,39 @@ contains
    !> contact touches, docs/theory.md §2.8): the stiffness at the unloaded state with the unilateral
    !> candidates and the springs with an uplift limit open (`system` is work space). Models without
    !> such candidates have none (a mechanism was refused before).
-   subroutine find_floating(model, state, system, nodal)
+   subroutine find_floating(model, state, system, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error   !< out of memory (error_analysis)
       real(dp), allocatable :: internal(:), reference(:)
       logical, allocatable :: bonded(:)
       real(dp) :: element_scale
-      integer :: c
+      logical :: unbonded
+      integer :: c, status
+      if (size(state%active) == 0) return
+      allocate (bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the bonded candidates', 4.0_dp*size(state%active), error_analysis, error)
+      if (allocated(error)) return
       ! a spring with an uplift limit (TU=) is bonded while elastic but holds nothing once it yields,
       ! at either limit: it is released here as a unilateral candidate is (docs/theory.md §3.9)
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
-      if (size(bonded) == 0) return
-      if (.not. any([(candidate_live(state%map, c) .and. .not. bonded(c), c=1, size(state%active))])) return
-      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
-      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
-      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation)
+      ! a tangential spring that follows a radial partner is released with it (docs/theory.md §3.8)
+      unbonded = .false.
+      do c = 1, size(state%active)
+         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0
+         if (candidate_live(state%map, c) .and. .not. bonded(c)) unbonded = .true.
+      end do
+      if (.not. unbonded) return
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), stat=status)
+      call allocation_failure(status, 'the force vectors of the floating test', 16.0_dp*state%map%n_equations, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
+      call floating_motions(model, state%map, system%tangent, state%floating_motion, state%floating_equation, error)
    end subroutine find_floating
 
    !> A structure that floats across a gap and that the reference load pushes along a free rigid
@@ -335,7 +353,8 @@ contains
                               error_analysis, error)
       if (allocated(error)) return
       call equilibrium_at(model, state, system, state%u, 0.0_dp, state%active, nodal, internal, reference, &
-                          element_scale)
+                          element_scale, error)
+      if (allocated(error)) return
       call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
                           shift, contact, error)
       if (allocated(error) .or. contact == 0) return
@@ -368,7 +387,8 @@ contains
       end if
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
       ! the committed factors stay for the first predictor.
-      bonded = [(state%active(c) .and. model%contacts(c)%bilateral, c=1, size(state%active))]
+      bonded = [(state%active(c) .and. model%contacts(c)%bilateral .and. model%contacts(c)%partner == 0, &
+                 c=1, size(state%active))]
       if (all(bonded .eqv. state%active)) then
          call supports_carry_all(state, natural)
          return
@@ -381,10 +401,19 @@ contains
       call allocation_failure(status, 'the force vectors of the structure released from its contacts', &
                               24.0_dp*state%map%n_equations, error_analysis, error)
       if (allocated(error)) return
-      call nodal_displacements(model, state, nodal)
-      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      call equilibrium_at(model, state, released, state%u, 0.0_dp, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       scale = 0.0_dp
-      call find_mechanism(model, state%map, released%tangent, singular)
+      call find_mechanism(model, state%map, released%tangent, singular, error_analysis)
+      if (allocated(singular)) then
+         if (singular%out_of_memory) then
+            call move_alloc(singular, error)
+            return
+         end if
+      end if
       if (.not. allocated(singular)) call band_factorize(released%tangent, singular)
       if (.not. allocated(singular)) then
          rhs(:, 1) = reference
@@ -460,7 +489,7 @@ contains
       real(dp), allocatable :: landing(:)
       character(len=:), allocatable :: jump
       integer :: attempt, halvings
-      logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved
+      logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved, multiple
       integer :: revisited
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
@@ -511,9 +540,19 @@ contains
                   call land_on_load_limit(model, state, system, trial, length, target, landed)
                ! A step that takes the stop track through stop_value is re-solved under displacement
                ! control of the tracked DOF to land on it (docs/theory.md §2.11).
+               ! (Not a release step: its jump is at constant λ, docs/theory.md §3.8.)
                track_landed = .false.
-               if (trial%converged) call land_on_track_limit(model, state, system, trial, length, track_landed)
+               if (trial%converged .and. .not. trial%release) &
+                  call land_on_track_limit(model, state, system, trial, length, track_landed)
                if (track_landed) landed = .false.
+               if (allocated(trial%fatal)) then
+                  ! Out of memory while it lands (land_on_load_limit): the run ends.
+                  call move_alloc(system, state%system)
+                  call move_alloc(trial%fatal, error)
+                  if (present(cuts)) cuts = halvings
+                  call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+                  return
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -524,8 +563,9 @@ contains
                   if (allocated(state%yielding)) then
                      if (any(trial%yielding .neqv. state%yielding)) exit
                   end if
-                  ! A load step of a degenerate tangent has no displacement predictor to be near.
-                  if (degenerate_step(state, trial)) exit
+                  ! A load step of a degenerate tangent has no displacement predictor to be near; nor has
+                  ! a release step (Δλ = 0, docs/theory.md §3.8).
+                  if (degenerate_step(state, trial) .or. trial%release) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
@@ -598,7 +638,7 @@ contains
             ! Commit the converged trial.
             committed_lambda = state%lambda + trial%dlambda
             ! The uncut step to the limit lands on it exactly (λ + (λ_max − λ) may differ in the last bit).
-            if (to_limit .and. halvings == 0 .and. .not. track_landed) &
+            if (to_limit .and. halvings == 0 .and. .not. (track_landed .or. trial%release)) &
                committed_lambda = real(state%direction, dp)*options%lambda_max
             if (landed) committed_lambda = target
             call accept_trial(model, state, trial, committed_lambda)
@@ -608,6 +648,9 @@ contains
             ! Nor is the slide of a floating structure onto its first contact (docs/theory.md §2.8) a
             ! direction of the path: a rigid motion at no force, as long as its contact's tilt allows.
             if (trial%floating_slide) state%last_increment = 0.0_dp
+            ! Nor is a release step's jump (docs/theory.md §3.8): the next step's angle tests compare
+            ! with the step before it.
+            if (trial%release) state%last_increment = before%last_increment
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)
@@ -618,7 +661,15 @@ contains
             select case (options%control)
             case (control_arclength)
                ! Keep travelling forward: positive angle between the new tangent and the last increment.
-               if (degenerate_tangent(state, state%tangent_displacement)) then
+               if (trial%release) then
+                  ! A release step went nowhere in λ: forward is the way the step before it went, by
+                  ! the angle of its increment with the new tangent (kept where it had none).
+                  if (masked_dot(state%map, before%last_increment, state%tangent_displacement) < 0.0_dp) then
+                     state%direction = -1
+                  else if (masked_dot(state%map, before%last_increment, state%tangent_displacement) > 0.0_dp) then
+                     state%direction = 1
+                  end if
+               else if (degenerate_tangent(state, state%tangent_displacement)) then
                   ! No displacement to take the angle with: forward is the way λ went (a load step).
                   state%direction = 1
                   if (trial%dlambda < 0.0_dp) state%direction = -1
@@ -628,7 +679,12 @@ contains
                   state%direction = 1
                end if
             end select
-            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots)
+            call describe_point(model, state, state%point%step + 1, trial%iterations, trial%lcp_pivots, error)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             state%point%switched = .false.
             ! A converged state whose tangent is far from the step's chord, or a step that reverses
             ! the last one, is not on the branch the step followed.
@@ -639,7 +695,8 @@ contains
             ! A load step (docs/theory.md §2.7) went in λ alone: its chord has no direction either; nor
             ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
-            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide)) then
+            multiple = .false.
+            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then
@@ -658,7 +715,16 @@ contains
                         (.not. (state%point%liftoff .or. before%point%liftoff) .or. &
                          all(state%active .eqv. before%active)) .and. &
                         0.5_dp*length >= options%min_increment*state%first_length) then
-                  jump = 'the count of negative pivots changed by more than one critical point can change it'
+                  ! Several critical points passed at once, or one multiple eigenvalue (the whole
+                  ! ring's two oval modes): the locator below tells, by whether the whole change
+                  ! happens across its final bracket. Not at a lift-off state, whose count is that of
+                  ! a piece of the cone test (docs/theory.md §2.2, step 4), no multiplicity of one
+                  ! tangent's eigenvalue.
+                  if (state%point%liftoff .or. before%point%liftoff) then
+                     jump = 'the count of negative pivots changed by more than one critical point can change it'
+                  else
+                     multiple = .true.
+                  end if
                else
                   call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
@@ -670,7 +736,8 @@ contains
                                      'the path, two critical points, passed in one step'
                end if
             end if
-            if (len(jump) == 0) then
+            ! A release step (Δλ = 0) is a jump of the law, not a piece of the path to re-solve.
+            if (len(jump) == 0 .and. .not. trial%release) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
                                            error, switching=state%bifurcations + 1 == options%switch_bifurcation)
@@ -680,6 +747,16 @@ contains
                   return
                end if
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
+               ! A change of the count by more than one is a multiple bifurcation only if the locator
+               ! found all of it at one bifurcation, across a bracket narrowed to its tolerance (a
+               ! double eigenvalue of a symmetric structure: two eigenvalues of K_T vanish at once);
+               ! else the step passed several critical points, and it is cut (docs/theory.md §2.3).
+               if (multiple .and. len(jump) == 0) then
+                  if (.not. (state%point%bifurcation_fraction >= 0.0_dp .and. &
+                             state%point%bifurcation_multiplicity == &
+                             abs(state%point%neg_pivots - before%point%neg_pivots))) &
+                     jump = 'the count of negative pivots changed by more than one critical point can change it'
+               end if
                ! A critical point that the re-solutions could not bracket is located again in a
                ! shorter step (while the step may be cut: else the interpolation is kept). Not a step
                ! past a corner: the locator re-solves from the step's start along the old piece, whose
@@ -748,15 +825,16 @@ contains
    !> ends past lambda_max as it reached it (docs/contracts.md). `system` is work space.
    subroutine land_on_load_limit(model, state, system, trial, length, target, landed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       real(dp), intent(out) :: target
       logical, intent(out) :: landed
-      type(model_t), allocatable :: load_controlled
-      type(path_state_t), allocatable :: start
+      type(analysis_options_t) :: load_controlled
+      type(path_state_t) :: start
       type(step_trial_t) :: landing
+      type(error_t), allocatable :: error
       real(dp) :: lambda_max, reached
       landed = .false.
       target = 0.0_dp
@@ -765,18 +843,28 @@ contains
       reached = state%lambda + trial%dlambda
       if (.not. (abs(state%lambda) < lambda_max .and. abs(reached) >= lambda_max)) return
       target = sign(lambda_max, reached)
-      ! The same model under load control, from the same committed state going towards the target.
-      allocate (load_controlled, source=model)
-      load_controlled%analysis%control = control_load
-      allocate (start, source=state)
+      ! The same model under load control (its options only: no copy of the model), from a copy of
+      ! the committed state going towards the target. A copy or a landing refused memory ends the
+      ! run (trial%fatal, as fail_attempt).
+      load_controlled = model%analysis
+      load_controlled%control = control_load
+      call copy_state(state, start, 'the state a step lands on lambda_max from', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', error)
+         return
+      end if
       start%direction = 1
       if (target < state%lambda) start%direction = -1
       landing%length = abs(target - state%lambda)
       ! (attempt_step leaves the system holding the landing's converged assembly, or none.)
-      call attempt_step(load_controlled, start, system, landing)
+      call attempt_step(model, start, system, landing, analysis=load_controlled)
+      if (allocated(landing%fatal)) then
+         call fail_attempt(trial, 'no memory for the landing on lambda_max', landing%fatal)
+         return
+      end if
       if (.not. landing%converged) return
       length = length*abs(target - state%lambda)/abs(trial%dlambda)
-      trial = landing
+      call move_trial(landing, trial)
       landed = .true.
    end subroutine land_on_load_limit
 
@@ -878,17 +966,19 @@ contains
    !> contact over its crest: there ∂g/∂λ = −a·d vanishes (|a·d| below 2 % of |d|), so the motion pushes
    !> nothing and du/dλ turns, which the branch checks in displacement take for a reversal and the arc
    !> length cannot measure (docs/theory.md §3.11). The message names the node; the path is not traced past
-   !> the crest.
+   !> the crest. Its nodal displacements refused by the system: no hint.
    subroutine add_crest_hint(model, state, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(error_t), intent(inout) :: error
       real(dp), allocatable :: nodal(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2), rate
-      integer :: c, node
+      integer :: c, node, status
       if (.not. allocated(model%contacts) .or. .not. allocated(state%u) .or. .not. allocated(state%active)) return
       if (all(model%contacts%motion(1) == 0.0_dp) .and. all(model%contacts%motion(2) == 0.0_dp)) return
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      ! refused by the system: no hint (the step's own error stands; docs/contracts.md, "Memory")
+      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+      if (status /= 0) return
       call gather_nodal(state%map, state%u, nodal)
       do c = 1, size(model%contacts)
          if (all(model%contacts(c)%motion == 0.0_dp) .or. .not. state%active(c)) cycle
@@ -955,16 +1045,23 @@ contains
       logical, allocatable :: bonded(:)
       character(len=:), allocatable :: text
       real(dp) :: element_scale, lambda
-      integer :: c
+      integer :: c, status
       if (.not. allocated(state%floating_motion) .or. dlambda == 0.0_dp) return
       if (size(state%floating_motion, 2) == 0) return
       allocate (nodal(dofs_per_node, model%n_nodes), internal(state%map%n_equations), &
-                reference(state%map%n_equations))
+                reference(state%map%n_equations), bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the force vectors of the lift-off test', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 2*state%map%n_equations), error_analysis, error)
+      if (allocated(error)) return
       call gather_nodal(state%map, state%u, nodal)
-      bonded = [(candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(state%active))]
+      do c = 1, size(state%active)
+         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0
+      end do
       lambda = state%lambda + dlambda
-      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale)
+      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
       ! the tangent now holds this assembly, neither the committed nor a converged one
       system%holds_committed = .false.
       system%holds_converged = .false.

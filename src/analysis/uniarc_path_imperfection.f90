@@ -7,6 +7,8 @@ module uniarc_path_imperfection
    use uniarc_error, only: error_t, make_error, error_analysis, add_context
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t
+   use uniarc_model_copy, only: copy_model
+   use uniarc_memory, only: allocation_failure
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none
    use uniarc_path_branch, only: nodal_mode
    implicit none
@@ -19,9 +21,13 @@ contains
    !> imperfection_bifurcation > 0) added to the coordinates, scaled to a largest nodal translation
    !> model%analysis%imperfection_amplitude (length). The first run traces the perfect model's path
    !> with its own *PATH options (no branch switching) until it has located the n-th bifurcation.
-   !> Errors (error_analysis): the first run fails, or ends by a stop rule before the n-th bifurcation.
+   !> `imperfect` has no analysis steps (uniarc_model_copy: copy_model); the caller moves the deck's
+   !> into it. `model` is unchanged on return (intent(inout) for copy_model, which moves its arrays
+   !> aside while it copies the scalars).
+   !> Errors (error_analysis): the first run fails, or ends by a stop rule before the n-th bifurcation;
+   !> a copy of the model or the mode refused by the system (out of memory, uniarc_memory).
    subroutine computed_imperfection(model, imperfect, error)
-      type(model_t), intent(in) :: model
+      type(model_t), intent(inout) :: model
       type(model_t), intent(out) :: imperfect
       type(error_t), allocatable, intent(out) :: error
       type(model_t) :: perfect
@@ -29,12 +35,17 @@ contains
       type(step_outcome_t) :: outcome
       real(dp), allocatable :: mode(:, :)
       real(dp) :: largest
-      integer :: wanted
+      integer :: wanted, status
+      real(dp) :: bytes
       character(len=:), allocatable :: deck
       deck = ''
       if (allocated(model%deck_path)) deck = model%deck_path
       wanted = model%analysis%imperfection_bifurcation
-      perfect = model
+      ! Copies checked component by component (an intrinsic assignment of the record is not).
+      call copy_model(model, perfect, status, bytes)
+      call allocation_failure(status, 'an array of the perfect structure''s model (*IMPERFECTION)', bytes, &
+                              error_analysis, error)
+      if (allocated(error)) return
       perfect%analysis%switch_bifurcation = 0
       perfect%analysis%imperfection_bifurcation = 0
       call driver_start(perfect, driver, error)
@@ -50,10 +61,18 @@ contains
             return
          end if
          if (allocated(driver%state%bifurcation) .and. driver%state%bifurcations == wanted) then
-            mode = nodal_mode(perfect, driver%state%map, driver%state%bifurcation%mode)
+            call nodal_mode(perfect, driver%state%map, driver%state%bifurcation%mode, mode, error)
+            if (allocated(error)) then
+               call add_context(error, 'the first run on the perfect structure (*IMPERFECTION)', deck)
+               return
+            end if
             largest = maxval(sqrt(mode(1, :)**2 + mode(2, :)**2))
-            imperfect = model
-            imperfect%coordinates = model%coordinates + (model%analysis%imperfection_amplitude/largest)*mode(1:2, :)
+            call copy_model(model, imperfect, status, bytes)
+            call allocation_failure(status, 'an array of the imperfect model (*IMPERFECTION)', bytes, &
+                                    error_analysis, error)
+            if (allocated(error)) return
+            imperfect%coordinates(:, :) = model%coordinates + &
+                                          (model%analysis%imperfection_amplitude/largest)*mode(1:2, :)
             return
          end if
       end do

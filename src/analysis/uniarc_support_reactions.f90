@@ -106,11 +106,12 @@ contains
          call assemble_reference_load(unsupported, map, .false., fixed_load)
          if (present(joint_plastic)) then
             call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
-                                      reference, force_scale, joint_plastic=joint_plastic)
+                                      reference, force_scale, error, joint_plastic=joint_plastic)
          else
             call assemble_equilibrium(unsupported, map, displacement, lambda, fixed_load, stiffness, internal, &
-                                      reference, force_scale)
+                                      reference, force_scale, error)
          end if
+         if (allocated(error)) return
       end if
       internal = internal - lambda*reference   ! in place: no temporary (unchecked in the Release build)
       call gather_nodal(map, internal, reactions)
@@ -119,7 +120,8 @@ contains
          call allocation_failure(status, 'the loads of the balance check', 8.0_dp*dofs_per_node*model%n_nodes, &
                                  error_analysis, error)
          if (allocated(error)) return
-         call gather_nodal(map, lambda*reference, loads)
+         reference = lambda*reference   ! in place: no temporary (unchecked in the Release build)
+         call gather_nodal(map, reference, loads)
       end if
       where (.not. model%fixed) reactions = 0.0_dp
    end subroutine support_reactions

@@ -12,7 +12,7 @@ module uniarc_check
    use uniarc_contact_law, only: chain_nodes
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_element, only: element_stiffness_scale, element_coordinates
-   use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text
+   use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
    use uniarc_model, only: control_arclength
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
@@ -112,14 +112,17 @@ contains
       type(model_t), intent(in) :: model
       type(error_t), allocatable, intent(out) :: error
       integer, allocatable :: nodes(:)
-      integer :: f, end, node, neighbour, along, across
+      integer :: f, end, node, neighbour, along, across, status
       real(dp) :: tangent(2)
       character(len=*), parameter :: end_name(2) = ['start', 'end  '], other(2) = ['END  ', 'START']
       if (.not. allocated(model%foundations)) return
       do f = 1, size(model%foundations)
          associate (bed => model%foundations(f))
             if (bed%law /= foundation_pasternak .or. .not. bed%shear_modulus > 0.0_dp) cycle
-            nodes = chain_nodes(model%n_nodes, model%connectivity, bed%elements)
+            call chain_nodes(model%n_nodes, model%connectivity, bed%elements, nodes, status)
+            call allocation_failure(status, 'the nodes of foundation '''//bed%name//'''', 16.0_dp*model%n_nodes, &
+                                    error_input, error)
+            if (allocated(error)) return
             if (size(nodes) < 2) cycle
             do end = 1, 2
                if (.not. bed%continues(end)) cycle

@@ -2,32 +2,33 @@
 module uniarc_run
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input
+   use uniarc_error, only: error_t, make_error, error_internal, error_analysis, error_input, add_context
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values, analysis_step_t
    use uniarc_deck_source, only: echo_window
    use uniarc_linear_static, only: solve_linear_static, explain_static_imbalance
    use uniarc_path_following, only: candidate_reactions
    use uniarc_contact, only: bed_values
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
    use uniarc_support_reactions, only: support_reactions, prescribed_force
    use uniarc_static_balance, only: check_static_balance
-   use uniarc_contact_summary, only: contact_summary_t, summarize_contact, summarize_groups
+   use uniarc_contact_summary, only: contact_summary_t, summarize_contacts
    use uniarc_contact_plastic, only: has_plastic
-   use uniarc_output, only: output_files_t, step_record_t, open_outputs, write_path_row, write_shape, &
+   use uniarc_output, only: output_files_t, step_record_t, move_record, open_outputs, write_path_row, write_shape, &
                             write_crit_row, close_outputs, discard_outputs, format_number, forces_due, write_forces
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results
    use uniarc_foreign, only: interrupt_signal, signal_name
-   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, bed_deflection
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
                            nearly_mechanism_warning
-   use uniarc_memory, only: available_memory, memory_text
+   use uniarc_memory, only: available_memory, memory_text, allocation_failure
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
@@ -78,13 +79,15 @@ contains
       call check_element_scales(model, error)
       if (allocated(error)) return
       call check_bed_ends(model, error)
-      if (allocated(error)) return
-      call build_dof_map(model, map, error)
-      if (allocated(error)) return
-      call check_model(model, map, error)
-      if (allocated(error)) return
-      call check_step_supports(model, error)
-      if (allocated(error)) return
+      if (.not. allocated(error)) call build_dof_map(model, map, error)
+      if (.not. allocated(error)) call check_model(model, map, error)
+      if (.not. allocated(error)) call check_step_supports(model, error)
+      if (allocated(error)) then
+         ! memory refused by the checks: the model does not fit, said of the deck (`DECK: the model ...`)
+         if (error%out_of_memory .and. error%category == error_input .and. allocated(model%deck_path)) &
+            call add_context(error, model%deck_path)
+         return
+      end if
       call warn_nearly_mechanism(model, map)
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
@@ -96,7 +99,12 @@ contains
          if (model%analysis%imperfection_bifurcation > 0) then
             ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
             call computed_imperfection(model, imperfect, error)
-            if (.not. allocated(error)) call run_path(imperfect, options, results, error)
+            if (.not. allocated(error)) then
+               ! The deck's analysis steps moved, not copied, into the imperfect model and back.
+               if (allocated(model%steps)) call move_alloc(model%steps, imperfect%steps)
+               call run_path(imperfect, options, results, error)
+               if (allocated(imperfect%steps)) call move_alloc(imperfect%steps, model%steps)
+            end if
          else
             call run_path(model, options, results, error)
          end if
@@ -254,8 +262,11 @@ contains
                call name_analysis_step(model, k, error)
                return
             end if
-            summary = summarize_contact(model, record%reactions, active)
-            record%groups = summarize_groups(model, record%reactions, active)
+            call summarize_contacts(model, record%reactions, active, summary, record%groups, error)
+            if (allocated(error)) then
+               call name_analysis_step(model, k, error)
+               return
+            end if
             record%n_contact = summary%n_contact
             record%contact_regions = summary%regions
             record%s_contact = summary%s_contact
@@ -328,7 +339,7 @@ contains
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
       type(step_outcome_t) :: outcome
-      type(step_record_t) :: record, last_written
+      type(step_record_t) :: record, next
       type(modes_table_t) :: modes
       type(error_t), allocatable :: io_error
       type(model_t) :: stepped
@@ -366,21 +377,19 @@ contains
             if (allocated(error)) exit
             ! A bearing collapse (stop_collapse) takes no new step: its event is at the last row written.
             if (outcome%advanced) then
-               last_written = record
-               call record_state(model, stepped, driver, record, error)
-               if (allocated(error)) then
-                  record = last_written
+               ! The new row in a record of its own, moved into `record` (the last written) once it is
+               ! known to be whole and finite: no copy of a record (docs/contracts.md, "Memory").
+               call record_state(model, stepped, driver, next, error)
+               if (allocated(error)) exit
+               next%analysis_step = k_step
+               if (.not. finite_record(next)) then
+                  call make_error(error, 'step '//integer_to_string(next%step)//' from lambda = '// &
+                                  trim(format_number(outcome%lambda))//': the converged state is not finite (NaN or '// &
+                                  'overflow in lambda, the displacements or the reactions); it is not written, '// &
+                                  'the path ends at step '//integer_to_string(record%step), error_analysis)
                   exit
                end if
-               record%analysis_step = k_step
-               if (.not. finite_record(record)) then
-                  call make_error(error, 'step '//integer_to_string(record%step)//' from lambda = '// &
-                                  trim(format_number(outcome%lambda))//': the converged state is not finite (NaN '// &
-                                  'or overflow in lambda, the displacements or the reactions); it is not written, '// &
-                                  'the path ends at step '//integer_to_string(last_written%step), error_analysis)
-                  record = last_written
-                  exit
-               end if
+               call move_record(next, record)
                call write_path_row(files, model, record, io_error)
                if (allocated(io_error)) exit
             end if
@@ -401,11 +410,13 @@ contains
                end if
                if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
                   event_place(outcome%events(k)%position, record%step)//', lambda = '// &
-                  short_number(outcome%events(k)%lambda)//step_label(model, k_step)
+                  short_number(outcome%events(k)%lambda)//multiplicity_note(outcome%events(k)%multiplicity)// &
+                  step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
             if (.not. outcome%advanced) exit
-            if (model%output%modes) call keep_mode(model, driver, outcome%events, modes)
+            if (model%output%modes) call keep_mode(model, driver, outcome%events, modes, error)
+            if (allocated(error)) exit
             if (mod(record%step, stepped%analysis%shape_every) == 0) then
                call write_shape(files, model, record, io_error)
                if (allocated(io_error)) exit
@@ -464,12 +475,13 @@ contains
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         call record_state(model, stepped, driver, record, error)
+         call record_state(model, stepped, driver, next, error)
          if (allocated(error)) then
             call name_analysis_step(model, k_step, error)
             exit
          end if
-         record%analysis_step = k_step
+         next%analysis_step = k_step
+         call move_record(next, record)
          call write_path_row(files, model, record, io_error)
       end do
       if (.not. allocated(io_error) .and. mod(record%step, stepped%analysis%shape_every) /= 0) &
@@ -528,17 +540,21 @@ contains
 
    !> The buckling mode of the bifurcation the last step located (driver%state%bifurcation), if any,
    !> into the modes table (*OUTPUT, MODES), with the kind and position of its event in STEM.crit.
-   subroutine keep_mode(model, driver, events, modes)
+   !> Errors: the mode or the grown table refused by the system (error_analysis, out of memory).
+   subroutine keep_mode(model, driver, events, modes, error)
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(in) :: driver
       type(critical_event_t), intent(in) :: events(:)
       type(modes_table_t), intent(inout) :: modes
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: mode(:, :)
       integer :: k
       if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
       do k = size(events), 1, -1
          if (index(events(k)%kind, 'bifurcation') == 0) cycle
-         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, &
-                       nodal_mode(model, driver%state%map, driver%state%bifurcation%mode))
+         call nodal_mode(model, driver%state%map, driver%state%bifurcation%mode, mode, error)
+         if (allocated(error)) return
+         call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, mode, error)
          return
       end do
    end subroutine keep_mode
@@ -553,6 +569,18 @@ contains
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(inout) :: io_error
       type(error_t), allocatable, intent(inout) :: error
+      ! An array of a table the system refused (uniarc_output, uniarc_vtk: out of memory) is no I/O
+      ! error: the rows written so far are complete, the files are kept, the run ends with it
+      ! (docs/contracts.md, "Memory"), unless the analysis failed first.
+      if (allocated(io_error)) then
+         if (io_error%out_of_memory) then
+            if (.not. allocated(error)) then
+               call move_alloc(io_error, error)
+            else
+               deallocate (io_error)
+            end if
+         end if
+      end if
       if (.not. allocated(io_error)) call close_outputs(files, io_error)
       if (.not. allocated(io_error)) then
          call commit_results(results, io_error)
@@ -597,28 +625,50 @@ contains
       type(model_t), intent(inout) :: stepped   !< unchanged (inout for support_reactions' copy_model)
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(inout) :: record
-      !> the support reactions' numbering refused by the system (out of memory, error_analysis)
+      !> an array of the record or the support reactions' numbering refused by the system (out of
+      !> memory, error_analysis); `record` is then to be discarded
       type(error_t), allocatable, intent(out) :: error
       type(contact_summary_t) :: summary
       real(dp), allocatable :: reactions(:, :)
+      real(dp) :: bytes
+      integer :: c, m, status
       associate (state => driver%state)
-         record%displacement = driver%displacement
+         ! The record's arrays allocated with stat= (an assignment would allocate them unchecked).
+         m = size(state%map%candidate_equation)
+         bytes = 0.0_dp
+         call copy_array(driver%displacement, record%displacement, status, bytes)
+         if (status == 0) call reserve(record%reactions, m, status, bytes)
+         if (status == 0) call reserve(record%bed_deflections, m, status, bytes)
+         if (status == 0 .and. has_plastic(model)) then
+            call copy_array(state%slip, record%slip, status, bytes)
+            if (status == 0) call reserve(record%yielding, size(state%yielding), status, bytes)
+         end if
+         if (status == 0 .and. allocated(state%joint_plastic)) &
+            call copy_array(state%joint_plastic, record%joint_plastic, status, bytes)
+         call allocation_failure(status, 'an array of the row of step '//integer_to_string(state%point%step), &
+                                 bytes, error_analysis, error)
+         if (allocated(error)) return
          record%step = state%point%step
          record%lambda = state%lambda
          record%iterations = state%point%iterations
          record%neg_pivots = state%point%neg_pivots
          record%lcp_pivots = state%point%lcp_pivots
          record%lcp_residual = state%point%lcp_residual
-         record%reactions = candidate_reactions(state)
-         if (has_plastic(model)) then
-            record%slip = state%slip
-            record%yielding = state%yielding .and. state%active
+         ! candidate_reactions and bed_values (uniarc_path_state, uniarc_contact) into the record
+         record%reactions = 0.0_dp
+         if (allocated(state%reactions)) then
+            ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
+            do c = 1, m
+               if (state%active(c)) record%reactions(c) = state%reactions(c)
+            end do
          end if
-         record%bed_deflections = bed_values(state%map, state%u)
-         summary = summarize_contact(model, record%reactions, state%active)
-         record%groups = summarize_groups(model, record%reactions, state%active)
-         if (allocated(state%joint_plastic)) record%joint_plastic = state%joint_plastic
+         if (has_plastic(model)) record%yielding(:) = state%yielding .and. state%active
+         do c = 1, m
+            record%bed_deflections(c) = bed_deflection(state%map, c, state%u)
+         end do
+         call summarize_contacts(model, record%reactions, state%active, summary, record%groups, error)
       end associate
+      if (allocated(error)) return
       record%n_contact = summary%n_contact
       record%contact_regions = summary%regions
       record%s_contact = summary%s_contact
@@ -677,6 +727,16 @@ contains
          text = 'between steps '//integer_to_string(step - 1)//' and '//integer_to_string(step)
       end if
    end function event_place
+
+   !> The note on a bifurcation at which several eigenvalues of the tangent vanish together (a double
+   !> eigenvalue of a symmetric structure, docs/theory.md §2.3); empty for a simple one.
+   function multiplicity_note(multiplicity) result(text)
+      integer, intent(in) :: multiplicity
+      character(len=:), allocatable :: text
+      text = ''
+      if (multiplicity > 1) text = ' (multiplicity '//integer_to_string(multiplicity)//': '// &
+                                   integer_to_string(multiplicity)//' eigenvalues of the tangent vanish together)'
+   end function multiplicity_note
 
    !> Contact events (contact_start, contact_lost) as opposed to critical points of the path.
    pure logical function is_contact_event(kind)

@@ -8,12 +8,21 @@ module uniarc_copy
    use uniarc_kinds, only: dp
    implicit none
    private
-   public :: copy_array, copy_text, move_text
+   public :: copy_array, copy_text, move_text, reserve
 
    interface copy_array
       module procedure copy_reals_1, copy_reals_2, copy_integers_1, copy_integers_2, copy_logicals_1, &
          copy_logicals_2
    end interface copy_array
+
+   !> `reserve(array, n, status, bytes)` (also `(array, rows, columns, status, bytes)`): `array` allocated
+   !> with stat= to the given extents unless it already has them (then kept as it is, its values too);
+   !> its values are undefined after a new allocation. So that the assignments that follow (`array = ...`
+   !> of the same shape) allocate nothing: reallocation on assignment has no stat=. status: the stat=
+   !> (0: allocated); bytes: set to the size asked for, for uniarc_memory's allocation_failure.
+   interface reserve
+      module procedure reserve_reals_1, reserve_reals_2, reserve_logicals_1, reserve_integers_1
+   end interface reserve
 
 contains
 
@@ -114,5 +123,61 @@ contains
       allocate (dst(lbound(src, 1):ubound(src, 1)), stat=status)
       if (status == 0) dst(:) = src
    end subroutine copy_logicals_1
+
+   subroutine reserve_reals_1(array, n, status, bytes)
+      real(dp), allocatable, intent(inout) :: array(:)
+      integer, intent(in) :: n
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      status = 0
+      if (allocated(array)) then
+         if (size(array) == n) return
+         deallocate (array)
+      end if
+      bytes = 8.0_dp*max(n, 0)
+      allocate (array(n), stat=status)
+   end subroutine reserve_reals_1
+
+   subroutine reserve_reals_2(array, rows, columns, status, bytes)
+      real(dp), allocatable, intent(inout) :: array(:, :)
+      integer, intent(in) :: rows, columns
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      status = 0
+      if (allocated(array)) then
+         if (size(array, 1) == rows .and. size(array, 2) == columns) return
+         deallocate (array)
+      end if
+      bytes = 8.0_dp*max(rows, 0)*max(columns, 0)
+      allocate (array(rows, columns), stat=status)
+   end subroutine reserve_reals_2
+
+   subroutine reserve_logicals_1(array, n, status, bytes)
+      logical, allocatable, intent(inout) :: array(:)
+      integer, intent(in) :: n
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      status = 0
+      if (allocated(array)) then
+         if (size(array) == n) return
+         deallocate (array)
+      end if
+      bytes = 4.0_dp*max(n, 0)
+      allocate (array(n), stat=status)
+   end subroutine reserve_logicals_1
+
+   subroutine reserve_integers_1(array, n, status, bytes)
+      integer, allocatable, intent(inout) :: array(:)
+      integer, intent(in) :: n
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      status = 0
+      if (allocated(array)) then
+         if (size(array) == n) return
+         deallocate (array)
+      end if
+      bytes = 4.0_dp*max(n, 0)
+      allocate (array(n), stat=status)
+   end subroutine reserve_integers_1
 
 end module uniarc_copy

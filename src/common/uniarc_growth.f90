@@ -51,31 +51,58 @@ contains
    end subroutine grow_integers
 
    !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are 0.
-   pure subroutine grow_integers_2(array, columns)
+   !> With `status` present, an allocation the system refuses leaves `array` as it was, with the nonzero
+   !> stat= in `status` (as grow_integers); without it, the runtime stops the program.
+   pure subroutine grow_integers_2(array, columns, status)
       integer, allocatable, intent(inout) :: array(:, :)
       integer, intent(in) :: columns
+      integer, intent(out), optional :: status
       integer, allocatable :: grown(:, :)
-      allocate (grown(size(array, 1), columns), source=0)
+      if (present(status)) then
+         allocate (grown(size(array, 1), columns), stat=status)
+         if (status /= 0) return
+         grown = 0
+      else
+         allocate (grown(size(array, 1), columns), source=0)
+      end if
       grown(:, 1:size(array, 2)) = array
       call move_alloc(grown, array)
    end subroutine grow_integers_2
 
    !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are 0.
-   pure subroutine grow_reals_2(array, columns)
+   !> With `status` present, an allocation the system refuses leaves `array` as it was, with the nonzero
+   !> stat= in `status` (as grow_integers); without it, the runtime stops the program.
+   pure subroutine grow_reals_2(array, columns, status)
       real(dp), allocatable, intent(inout) :: array(:, :)
       integer, intent(in) :: columns
+      integer, intent(out), optional :: status
       real(dp), allocatable :: grown(:, :)
-      allocate (grown(size(array, 1), columns), source=0.0_dp)
+      if (present(status)) then
+         allocate (grown(size(array, 1), columns), stat=status)
+         if (status /= 0) return
+         grown = 0.0_dp
+      else
+         allocate (grown(size(array, 1), columns), source=0.0_dp)
+      end if
       grown(:, 1:size(array, 2)) = array
       call move_alloc(grown, array)
    end subroutine grow_reals_2
 
    !> Give `array` (rows, columns) `columns` columns, keeping its contents; new entries are false.
-   pure subroutine grow_logicals_2(array, columns)
+   !> With `status` present, an allocation the system refuses leaves `array` as it was, with the nonzero
+   !> stat= in `status` (as grow_integers); without it, the runtime stops the program.
+   pure subroutine grow_logicals_2(array, columns, status)
       logical, allocatable, intent(inout) :: array(:, :)
       integer, intent(in) :: columns
+      integer, intent(out), optional :: status
       logical, allocatable :: grown(:, :)
-      allocate (grown(size(array, 1), columns), source=.false.)
+      if (present(status)) then
+         allocate (grown(size(array, 1), columns), stat=status)
+         if (status /= 0) return
+         grown = .false.
+      else
+         allocate (grown(size(array, 1), columns), source=.false.)
+      end if
       grown(:, 1:size(array, 2)) = array
       call move_alloc(grown, array)
    end subroutine grow_logicals_2

@@ -10,6 +10,7 @@
 !> checks.
 module uniarc_deck
    use uniarc_kinds, only: dp
+   use uniarc_memory, only: allocation_failure
    use uniarc_error, only: error_t, make_error, error_input, add_context
    use uniarc_strings, only: field_t, is_name, same_text, integer_to_string
    use uniarc_growth, only: grow_integers
@@ -300,6 +301,10 @@ contains
       call check_track_names(source, deck, error)
       if (allocated(error)) return
       bad = unused_node(deck%model)
+      if (bad < 0) then
+         call allocation_failure(-bad, 'the nodes in use', 4.0_dp*deck%model%n_nodes, error_input, error)
+         return
+      end if
       if (bad > 0) then
          call raise(source, deck%node_line(bad), deck%node_column(bad), 'expected every node in an ' // &
                     'element, found node '//integer_to_string(deck%model%node_label(bad))//' in none', error)

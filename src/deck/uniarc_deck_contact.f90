@@ -5,7 +5,8 @@
 !> an obstacle) come back from there as codes that become positioned messages here.
 module uniarc_deck_contact
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, to_upper, is_name, same_text, integer_to_string, real_to_string
    use uniarc_growth, only: append_integers, grow_reals_2
    use uniarc_expression, only: sin_degrees, cos_degrees
@@ -151,6 +152,7 @@ contains
       ! The builder derives the candidates (uniarc_contact_law); its error is said here with the position.
       call add_foundation(deck%model, foundation, error, status, bad_node)
       if (.not. allocated(error)) return
+      if (error%out_of_memory) return   ! the model does not fit: said at the card (uniarc_deck)
       if (status == foundation_not_open_chain) then
          call raise(source, card%line, card%options(set_option)%value_column, 'expected one open chain of ' // &
                     'elements for TYPE=PASTERNAK (its shear layer couples consecutive nodes along one line: ' // &
@@ -175,7 +177,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, line, count
+      integer :: i, line, count, k, status
       real(dp) :: angle, stiffness
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:), spring_nodes(:)
@@ -221,23 +223,30 @@ contains
                        'law, is not implemented), found '//real_to_string(stiffness), error)
             return
          end if
+         ! the springs' arrays grow with stat= (a spring at every node of a large set)
+         status = 0
          if (count + size(nodes) > size(spring_nodes)) then
-            call grow_reals_2(directions, max(2*size(spring_nodes), count + size(nodes)))
-            call grow_reals_2(stiffnesses, max(2*size(spring_nodes), count + size(nodes)))
+            call grow_reals_2(directions, max(2*size(spring_nodes), count + size(nodes)), status)
+            if (status == 0) call grow_reals_2(stiffnesses, max(2*size(spring_nodes), count + size(nodes)), status)
          end if
-         call append_integers(spring_nodes, count, nodes)
-         directions(:, count - size(nodes) + 1:count) = spread([cos_degrees(angle), sin_degrees(angle)], 2, size(nodes))
+         if (status == 0) call append_integers(spring_nodes, count, nodes, status)
+         call allocation_failure(status, 'the springs of group '''//name//'''', &
+                                 28.0_dp*max(2*size(spring_nodes), count + size(nodes)), error_input, error)
+         if (allocated(error)) return
+         do k = count - size(nodes) + 1, count
+            directions(:, k) = [cos_degrees(angle), sin_degrees(angle)]
+         end do
          stiffnesses(1, count - size(nodes) + 1:count) = stiffness
       end do
       if (uplift > 0.0_dp) then
          call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
-                          .false., limit, uplift)
+                          .false., error, limit, uplift)
       else if (limit > 0.0_dp) then
          call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
-                          option_index(card, 'BILATERAL') > 0, limit)
+                          option_index(card, 'BILATERAL') > 0, error, limit)
       else
          call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
-                          option_index(card, 'BILATERAL') > 0)
+                          option_index(card, 'BILATERAL') > 0, error)
       end if
    end subroutine read_spring
 
@@ -426,6 +435,7 @@ contains
          call record_obstacle(deck, deck%model%n_contact_groups, gap_kind)
          return
       end if
+      if (error%out_of_memory) return   ! the model does not fit: said at the card (uniarc_deck)
       select case (gap_kind)
       case (gap_fixed_direction)
          surface = 'the plane'

@@ -213,7 +213,8 @@ contains
          if (allocated(error)) return
          call field_real(source, deck%parameters, line, fields(3), 'y', y, error)
          if (allocated(error)) return
-         call add_deck_node(deck, label, [x, y], line, fields(1)%column)
+         call add_deck_node(deck, label, [x, y], line, fields(1)%column, error)
+         if (allocated(error)) return
          created(i) = deck%model%n_nodes
       end do
       if (set_option > 0) call add_to_node_set(deck%model, card%options(set_option)%value, created, error)
@@ -280,7 +281,8 @@ contains
                        ' at the same point', error)
             return
          end if
-         call add_element(deck%model, label, ends, section)
+         call add_element(deck%model, label, ends, section, error)
+         if (allocated(error)) return
          created(i) = deck%model%n_elements
       end do
       call set_element_kind(deck%model, created, kind)
@@ -299,7 +301,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: set_option, section, line, n, i, field_n, nodes_layout, kind
+      integer :: set_option, section, line, n, i, field_n, nodes_layout, kind, status
       type(field_t), allocatable :: fields(:)
       real(dp) :: values(5), size_scale, angle, sweep, tolerance
       real(dp), allocatable :: points(:, :)
@@ -366,7 +368,9 @@ contains
       end if
       nodes_layout = n + 1
       if (closed) nodes_layout = n
-      allocate (points(2, nodes_layout))
+      allocate (points(2, nodes_layout), stat=status)
+      call allocation_failure(status, 'the points of the generator', 16.0_dp*nodes_layout, error_input, error)
+      if (allocated(error)) return
       select case (card%keyword)
       case ('ARC', 'RING')
          if (.not. values(3) > 0.0_dp) then
@@ -413,14 +417,18 @@ contains
       ! nodes cannot coincide, so the search stays linear in the size of the deck.
       tolerance = merge_tolerance*size_scale
       candidates = nodes_in_box(deck%model, minval(points, dim=2) - tolerance, maxval(points, dim=2) + tolerance)
-      allocate (nodes(nodes_layout), elements(n))
+      allocate (nodes(nodes_layout), elements(n), stat=status)
+      call allocation_failure(status, 'the node and element numbers of the generator', &
+                              4.0_dp*(real(nodes_layout, dp) + n), error_input, error)
+      if (allocated(error)) return
       do i = 1, nodes_layout
          nodes(i) = find_coincident_node(deck%model, candidates, points(:, i), tolerance)
          if (nodes(i) == 0 .and. i > 1) then
             nodes(i) = find_coincident_node(deck%model, nodes(1:1), points(:, i), tolerance)
          end if
          if (nodes(i) == 0) then
-            call add_deck_node(deck, deck%model%largest_node_label + 1, points(:, i), line, fields(1)%column)
+            call add_deck_node(deck, deck%model%largest_node_label + 1, points(:, i), line, fields(1)%column, error)
+            if (allocated(error)) return
             nodes(i) = deck%model%n_nodes
          end if
       end do
@@ -432,7 +440,8 @@ contains
                           ' with both ends at one node', error)
                return
             end if
-            call add_element(deck%model, deck%model%largest_element_label + 1, ends, section)
+            call add_element(deck%model, deck%model%largest_element_label + 1, ends, section, error)
+            if (allocated(error)) return
          end associate
          elements(i) = deck%model%n_elements
       end do

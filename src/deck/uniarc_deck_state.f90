@@ -8,7 +8,8 @@
 !> (a label or a set name) into values and internal indices, with positioned messages.
 module uniarc_deck_state
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, is_name, integer_to_string
    use uniarc_growth, only: grow_integers
    use uniarc_expression, only: parameter_table_t, find_parameter
@@ -78,14 +79,22 @@ module uniarc_deck_state
 contains
 
    !> Add node `label` at `point` to the model, remembering that it was defined at `line`, `column`.
-   subroutine add_deck_node(deck, label, point, line, column)
+   !> Errors: a growth of the node arrays that the system refuses (error_input: the model does not fit
+   !> in memory, uniarc_memory); no node is then added.
+   subroutine add_deck_node(deck, label, point, line, column, error)
       type(deck_t), intent(inout) :: deck
       integer, intent(in) :: label
       real(dp), intent(in) :: point(2)
       integer, intent(in) :: line, column
-      call add_node(deck%model, label, point)
-      call grow_integers(deck%node_line, deck%model%n_nodes)
-      call grow_integers(deck%node_column, deck%model%n_nodes)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: status
+      call add_node(deck%model, label, point, error)
+      if (allocated(error)) return
+      call grow_integers(deck%node_line, deck%model%n_nodes, status)
+      if (status == 0) call grow_integers(deck%node_column, deck%model%n_nodes, status)
+      call allocation_failure(status, 'the deck positions of the nodes', 16.0_dp*deck%model%n_nodes, &
+                              error_input, error)
+      if (allocated(error)) return
       deck%node_line(deck%model%n_nodes) = line
       deck%node_column(deck%model%n_nodes) = column
    end subroutine add_deck_node

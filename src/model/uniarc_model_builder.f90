@@ -24,6 +24,7 @@ module uniarc_model_builder
    use uniarc_strings, only: same_text, integer_to_string
    use uniarc_growth, only: grow_integers, grow_integers_2, grow_reals_2, grow_logicals_2
    use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array
    use uniarc_model, only: model_t, section_t, node_set_t, element_set_t, distributed_load_t, track_t, &
                            analysis_options_t, output_options_t, contact_candidate_t, contact_group_t, &
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
@@ -145,19 +146,39 @@ contains
    end subroutine set_section_alpha
 
    !> Add node `label` (a positive integer not used yet) at `point` (x, y): node `builder%n_nodes`, free
-   !> and unloaded.
-   pure subroutine add_node(builder, label, point)
+   !> and unloaded. With `error` present, a growth of the node arrays that the system refuses is
+   !> returned (error_input: the model does not fit in memory, uniarc_memory) and no node is added;
+   !> without it (small models of the unit tests) the runtime stops the program.
+   subroutine add_node(builder, label, point, error)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: label
       real(dp), intent(in) :: point(2)
-      integer :: capacity
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: capacity, status
       call start_nodes(builder)
       capacity = size(builder%node_label)
       if (builder%n_nodes == capacity) then
-         call grow_reals_2(builder%coordinates, 2*capacity)
-         call grow_reals_2(builder%nodal_load, 2*capacity)
-         call grow_logicals_2(builder%fixed, 2*capacity)
-         call grow_integers(builder%node_label, 2*capacity)
+         if (present(error)) then
+            call grow_reals_2(builder%coordinates, 2*capacity, status)
+            if (status == 0) call grow_reals_2(builder%nodal_load, 2*capacity, status)
+            if (status == 0) call grow_logicals_2(builder%fixed, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%node_label, 2*capacity, status)
+            call allocation_failure(status, 'the nodes of the model', &
+                                    real(2*capacity, dp)*(8.0_dp*(2 + dofs_per_node) + 4.0_dp*(dofs_per_node + 1)), &
+                                    error_input, error)
+            if (allocated(error)) return
+         else
+            call grow_reals_2(builder%coordinates, 2*capacity)
+            call grow_reals_2(builder%nodal_load, 2*capacity)
+            call grow_logicals_2(builder%fixed, 2*capacity)
+            call grow_integers(builder%node_label, 2*capacity)
+         end if
+      end if
+      call record_label(builder%node_of_label, label, builder%n_nodes + 1, status)
+      if (present(error)) then
+         call allocation_failure(status, 'the table of node labels', 4.0_dp*max(label, 2*builder%n_nodes), &
+                                 error_input, error)
+         if (allocated(error)) return
       end if
       builder%n_nodes = builder%n_nodes + 1
       builder%coordinates(:, builder%n_nodes) = point
@@ -165,22 +186,40 @@ contains
       builder%fixed(:, builder%n_nodes) = .false.
       builder%nodal_load(:, builder%n_nodes) = 0.0_dp
       builder%largest_node_label = max(builder%largest_node_label, label)
-      call record_label(builder%node_of_label, label, builder%n_nodes)
    end subroutine add_node
 
    !> Add element `label` (positive, not used yet) from node `ends(1)` to node `ends(2)` (internal
    !> indices) with section `section` (an index; 0 leaves it without one, which `finish_model` rejects).
-   pure subroutine add_element(builder, label, ends, section)
+   !> `error`: as add_node's, for the element arrays.
+   subroutine add_element(builder, label, ends, section, error)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: label, ends(2), section
-      integer :: capacity
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: capacity, status
       call start_elements(builder)
       capacity = size(builder%element_label)
       if (builder%n_elements == capacity) then
-         call grow_integers_2(builder%connectivity, 2*capacity)
-         call grow_integers_2(builder%load_index, 2*capacity)
-         call grow_integers(builder%element_label, 2*capacity)
-         call grow_integers(builder%element_section, 2*capacity)
+         if (present(error)) then
+            call grow_integers_2(builder%connectivity, 2*capacity, status)
+            if (status == 0) call grow_integers_2(builder%load_index, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%element_label, 2*capacity, status)
+            if (status == 0) call grow_integers(builder%element_section, 2*capacity, status)
+            call allocation_failure(status, 'the elements of the model', 4.0_dp*real(2*capacity, dp)* &
+                                    (size(builder%connectivity, 1) + size(builder%load_index, 1) + 2), &
+                                    error_input, error)
+            if (allocated(error)) return
+         else
+            call grow_integers_2(builder%connectivity, 2*capacity)
+            call grow_integers_2(builder%load_index, 2*capacity)
+            call grow_integers(builder%element_label, 2*capacity)
+            call grow_integers(builder%element_section, 2*capacity)
+         end if
+      end if
+      call record_label(builder%element_of_label, label, builder%n_elements + 1, status)
+      if (present(error)) then
+         call allocation_failure(status, 'the table of element labels', 4.0_dp*max(label, 2*builder%n_elements), &
+                                 error_input, error)
+         if (allocated(error)) return
       end if
       builder%n_elements = builder%n_elements + 1
       builder%connectivity(:, builder%n_elements) = ends
@@ -188,7 +227,6 @@ contains
       builder%element_section(builder%n_elements) = section
       builder%load_index(:, builder%n_elements) = 0
       builder%largest_element_label = max(builder%largest_element_label, label)
-      call record_label(builder%element_of_label, label, builder%n_elements)
    end subroutine add_element
 
    !> Make the elements `elements` (internal indices) of kind `kind` (element_beam_column or
@@ -509,6 +547,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
       integer :: n, e, bad, i, status
+      real(dp) :: bytes
 
       n = builder%n_nodes
       e = builder%n_elements
@@ -528,6 +567,8 @@ contains
          return
       end if
       bad = unused_node(builder)
+      if (bad < 0) call allocation_failure(-bad, 'the nodes in use', 4.0_dp*n, error_input, error)
+      if (allocated(error)) return
       if (bad > 0) then
          call make_error(error, 'model: expected every node in an element, found node '// &
                          integer_to_string(builder%node_label(bad))//' in none', error_input)
@@ -557,15 +598,23 @@ contains
       model%element_section = builder%element_section(1:e)
       if (allocated(builder%element_kind)) model%element_kind = element_kinds(builder, e)
       if (allocated(builder%end_joints)) then
-         allocate (model%end_joints(2, e))
+         allocate (model%end_joints(2, e), stat=status)
+         call allocation_failure(status, 'the end joints of the model', &
+                                 real(storage_size(model%end_joints)/8, dp)*2*e, error_input, error)
+         if (allocated(error)) return
          model%end_joints(:, 1:min(e, size(builder%end_joints, 2))) = &
             builder%end_joints(:, 1:min(e, size(builder%end_joints, 2)))
       end if
       model%sections = builder%sections(1:builder%n_sections)
+      ! the media's lists allocated with stat= (the candidates are of the model's length); the arrays
+      ! their records hold are copied with stat= below, not by an assignment of the records
       allocate (model%node_sets(builder%n_node_sets), model%element_sets(builder%n_element_sets), &
                 model%distributed_loads(builder%n_loads), model%tracks(builder%n_tracks), &
                 model%contacts(builder%n_contacts), model%contact_groups(builder%n_contact_groups), &
-                model%foundations(builder%n_foundations))
+                model%foundations(builder%n_foundations), stat=status)
+      call allocation_failure(status, 'the contact candidates of the model', &
+                              real(storage_size(builder%contacts)/8, dp)*builder%n_contacts, error_input, error)
+      if (allocated(error)) return
       do i = 1, builder%n_node_sets
          call copy_set(builder%node_sets(i)%nodes, builder%node_sets(i)%name, 'node', model%node_sets(i)%nodes, &
                        model%node_sets(i)%name, error)
@@ -578,15 +627,32 @@ contains
       end do
       if (builder%n_loads > 0) model%distributed_loads = builder%loads(1:builder%n_loads)
       if (builder%n_tracks > 0) model%tracks = builder%tracks(1:builder%n_tracks)
-      if (builder%n_contacts > 0) model%contacts = builder%contacts(1:builder%n_contacts)
-      if (builder%n_contact_groups > 0) model%contact_groups = builder%contact_groups(1:builder%n_contact_groups)
-      if (builder%n_foundations > 0) model%foundations = builder%foundations(1:builder%n_foundations)
+      ! a candidate's record: its scalars and a polyline's few vertices
+      if (builder%n_contacts > 0) model%contacts(:) = builder%contacts(1:builder%n_contacts)
+      bytes = 0.0_dp
+      do i = 1, builder%n_contact_groups
+         model%contact_groups(i)%name = builder%contact_groups(i)%name
+         call copy_array(builder%contact_groups(i)%candidates, model%contact_groups(i)%candidates, status, bytes)
+         call allocation_failure(status, 'the members of contact group '''//builder%contact_groups(i)%name// &
+                                 ''' in the model', bytes, error_input, error)
+         if (allocated(error)) return
+      end do
+      do i = 1, builder%n_foundations
+         call copy_foundation(builder%foundations(i), model%foundations(i), status, bytes)
+         call allocation_failure(status, 'the elements of foundation '''//builder%foundations(i)%name// &
+                                 ''' in the model', bytes, error_input, error)
+         if (allocated(error)) return
+      end do
       model%analysis = builder%analysis
       model%output = builder%output
       allocate (model%thermal_loads(builder%n_thermal))
       if (builder%n_thermal > 0) model%thermal_loads = builder%thermal(1:builder%n_thermal)
       if (builder%n_prescribed > 0) then
-         allocate (model%prescribed(dofs_per_node, n), source=0.0_dp)
+         allocate (model%prescribed(dofs_per_node, n), stat=status)
+         call allocation_failure(status, 'the prescribed displacements of the model', 8.0_dp*dofs_per_node*n, &
+                                 error_input, error)
+         if (allocated(error)) return
+         model%prescribed = 0.0_dp
          do i = 1, builder%n_prescribed
             model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
                model%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
@@ -597,6 +663,33 @@ contains
       if (allocated(builder%moves)) call move_obstacles(model, builder%moves, 1.0_dp, &
                                                         own=builder%analysis%kind /= analysis_linear)
    end subroutine finish_model
+
+   !> `dst` the foundation `src`: its element list with stat= (status, and its size in bytes), the rest
+   !> (names of a few characters, scalars) by assignment with no element list to copy. Every component
+   !> of foundation_t but `elements` is named here: one added to the type must be added too.
+   subroutine copy_foundation(src, dst, status, bytes)
+      type(foundation_t), intent(in) :: src
+      type(foundation_t), intent(inout) :: dst
+      integer, intent(out) :: status
+      real(dp), intent(inout) :: bytes
+      if (allocated(src%name)) dst%name = src%name
+      if (allocated(src%element_set)) dst%element_set = src%element_set
+      dst%law = src%law
+      dst%modulus = src%modulus
+      dst%side = src%side
+      dst%direction = src%direction
+      dst%bilateral = src%bilateral
+      dst%gap = src%gap
+      dst%scale = src%scale
+      dst%group = src%group
+      dst%tangential_modulus = src%tangential_modulus
+      dst%tangential_law = src%tangential_law
+      dst%bearing_limit = src%bearing_limit
+      dst%uplift_limit = src%uplift_limit
+      dst%shear_modulus = src%shear_modulus
+      dst%continues = src%continues
+      call copy_array(src%elements, dst%elements, status, bytes)
+   end subroutine copy_foundation
 
    !> `copy`, `copy_name` := `members`, `name` of a `kind` ('node', 'element') set, the members allocated
    !> with stat= (error_input when the system refuses them).
@@ -670,12 +763,18 @@ contains
    end function element_set_index
 
    !> The first node (index) that no element uses, 0 if every node is used.
+   !> Negative: its work array (one flag per node) refused by the system, minus the stat=.
    pure integer function unused_node(builder) result(node)
       type(model_builder_t), intent(in) :: builder
       logical, allocatable :: used(:)
-      integer :: i
+      integer :: i, status
       node = 0
-      allocate (used(builder%n_nodes), source=.false.)
+      allocate (used(builder%n_nodes), stat=status)
+      if (status /= 0) then
+         node = -abs(status)
+         return
+      end if
+      used = .false.
       do i = 1, builder%n_elements
          used(builder%connectivity(:, i)) = .true.
       end do
@@ -755,11 +854,15 @@ contains
    !> Remember that `label` is entry `index`, so that label look-ups are O(1) instead of a scan.
    !> Labels are kept in a direct table while they stay below 4 × (entries) + 1000; a table that would
    !> grow larger than that (very sparse labels) is dropped and look-ups fall back to the scan.
-   pure subroutine record_label(table, label, index)
+   !> status: the stat= of a growth the system refused (0 otherwise); the table is then dropped, as a
+   !> sparse one is, so that look-ups stay right (by the scan).
+   pure subroutine record_label(table, label, index, status)
       integer, allocatable, intent(inout) :: table(:)
       integer, intent(in) :: label, index
+      integer, intent(out) :: status
       integer, allocatable :: grown(:)
       integer :: capacity
+      status = 0
       if (.not. allocated(table)) then
          if (index > 1) return                   ! the table was dropped: stay with the scan
          allocate (table(1024), source=0)
@@ -770,7 +873,12 @@ contains
             deallocate (table)
             return
          end if
-         allocate (grown(capacity), source=0)
+         allocate (grown(capacity), stat=status)
+         if (status /= 0) then
+            deallocate (table)
+            return
+         end if
+         grown = 0
          grown(1:size(table)) = table
          call move_alloc(grown, table)
       end if

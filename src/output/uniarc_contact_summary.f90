@@ -9,10 +9,12 @@
 !> are one region that crosses the group's first node, counted once.
 module uniarc_contact_summary
    use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t
    implicit none
    private
-   public :: contact_summary_t, summarize_contact, summarize_group, summarize_groups, closed_group
+   public :: contact_summary_t, summarize_contacts, closed_group
 
    !> What the path file reports of the contact state of one group or of all of them.
    type :: contact_summary_t
@@ -31,18 +33,34 @@ module uniarc_contact_summary
 
 contains
 
-   !> The contact columns of all groups together at the candidates' `reactions` and working set
-   !> `active` (one each per candidate): counts and reactions summed (largest reaction: the largest of
-   !> all), and the first region the one lying first (smallest coordinate) over all groups.
-   pure function summarize_contact(model, reactions, active) result(summary)
+   !> The contact columns at the candidates' `reactions` and working set `active` (one each per
+   !> candidate): `summary` of all groups together — counts and reactions summed (largest reaction: the
+   !> largest of all), and the first region the one lying first (smallest coordinate) over all groups —
+   !> and `groups` (n_groups, none without contact groups) each group's alone.
+   !> The work arrays (the largest group's length) are allocated once, with stat=. Errors: they or
+   !> `groups` refused by the system (error_analysis, out of memory; docs/contracts.md, "Memory").
+   subroutine summarize_contacts(model, reactions, active, summary, groups, error)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: reactions(:)
       logical, intent(in) :: active(:)
-      type(contact_summary_t) :: summary
+      type(contact_summary_t), intent(out) :: summary
+      type(contact_summary_t), allocatable, intent(out) :: groups(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer, allocatable :: members(:)
+      logical, allocatable :: touching(:)
+      real(dp), allocatable :: s(:)
       type(contact_summary_t) :: group
-      integer :: g, k, c
-      if (.not. allocated(model%contact_groups)) return
-      do g = 1, size(model%contact_groups)
+      integer :: g, k, c, largest, n_groups, status
+      n_groups = 0
+      if (allocated(model%contact_groups)) n_groups = size(model%contact_groups)
+      largest = 0
+      do g = 1, n_groups
+         largest = max(largest, size(model%contact_groups(g)%candidates))
+      end do
+      allocate (groups(n_groups), members(largest), touching(largest), s(largest), stat=status)
+      call allocation_failure(status, 'the contact summary of the row', 16.0_dp*largest, error_analysis, error)
+      if (allocated(error)) return
+      do g = 1, n_groups
          ! the reactions summed in one sequence over all candidates, in group order
          do k = 1, size(model%contact_groups(g)%candidates)
             c = model%contact_groups(g)%candidates(k)
@@ -52,61 +70,43 @@ contains
             summary%reaction_max = max(summary%reaction_max, reactions(c))
             summary%reaction_sum = summary%reaction_sum + reactions(c)
          end do
-         group = summarize_group(model, g, reactions, active)
+         call summarize_group(model, g, reactions, active, members, touching, s, group)
+         groups(g) = group
          summary%regions = summary%regions + group%regions
          if (group%regions > 0 .and. group%first_key < summary%first_key) then
             summary%first_key = group%first_key
             summary%s_contact = group%s_contact
          end if
       end do
-   end function summarize_contact
+   end subroutine summarize_contacts
 
-   !> The contact columns of every contact group (summarize_group), one element per group (none when
-   !> the model has no contact groups).
-   pure function summarize_groups(model, reactions, active) result(groups)
-      type(model_t), intent(in) :: model
-      real(dp), intent(in) :: reactions(:)
-      logical, intent(in) :: active(:)
-      type(contact_summary_t), allocatable :: groups(:)
-      integer :: g
-      if (.not. allocated(model%contact_groups)) then
-         allocate (groups(0))
-         return
-      end if
-      allocate (groups(size(model%contact_groups)))
-      do g = 1, size(groups)
-         groups(g) = summarize_group(model, g, reactions, active)
-      end do
-   end function summarize_groups
-
-   !> The contact columns of contact group `g` alone (see summarize_contact and the module header).
-   pure function summarize_group(model, g, reactions, active) result(summary)
+   !> The contact columns of contact group `g` alone (see summarize_contacts and the module header).
+   !> members, touching, s: work space of at least the group's length.
+   pure subroutine summarize_group(model, g, reactions, active, members, touching, s, summary)
       type(model_t), intent(in) :: model
       integer, intent(in) :: g
       real(dp), intent(in) :: reactions(:)
       logical, intent(in) :: active(:)
-      type(contact_summary_t) :: summary
+      integer, intent(out) :: members(:)
+      logical, intent(out) :: touching(:)
+      real(dp), intent(out) :: s(:)
+      type(contact_summary_t), intent(out) :: summary
       integer :: k, c, m, run_start
-      logical, allocatable :: touching(:)
-      real(dp), allocatable :: s(:)
       logical :: wraps
 
-      associate (candidates => contacts_of_group(model, g))
-         allocate (touching(size(candidates)), s(size(candidates)))
-         m = size(candidates)
-         do k = 1, m
-            c = candidates(k)
-            touching(k) = active(c) .and. reactions(c) > 0.0_dp
-            s(k) = model%contacts(c)%coordinate
-            if (.not. touching(k)) cycle
-            summary%n_contact = summary%n_contact + 1
-            summary%reaction_max = max(summary%reaction_max, reactions(c))
-            summary%reaction_sum = summary%reaction_sum + reactions(c)
-         end do
-      end associate
+      call contacts_of_group(model, g, members, m)
+      do k = 1, m
+         c = members(k)
+         touching(k) = active(c) .and. reactions(c) > 0.0_dp
+         s(k) = model%contacts(c)%coordinate
+         if (.not. touching(k)) cycle
+         summary%n_contact = summary%n_contact + 1
+         summary%reaction_max = max(summary%reaction_max, reactions(c))
+         summary%reaction_sum = summary%reaction_sum + reactions(c)
+      end do
       if (m == 0) return
       ! A run at the end of a closed chain goes on at its start (module header).
-      wraps = touching(1) .and. touching(m) .and. .not. all(touching)
+      wraps = touching(1) .and. touching(m) .and. .not. all(touching(1:m))
       if (wraps) wraps = closed_group(model, g)
       k = 1
       do while (k <= m)
@@ -122,7 +122,7 @@ contains
          ! the run is candidates run_start..k
          if (wraps .and. run_start == 1) then
             ! counted with the run that ends the chain, which ends here
-            summary%first_key = minval(s)
+            summary%first_key = minval(s(1:m))
             summary%s_contact(2) = s(k)
          else if (wraps .and. k == m) then
             summary%regions = summary%regions + 1
@@ -136,20 +136,27 @@ contains
          end if
          k = k + 1
       end do
-   end function summarize_group
+   end subroutine summarize_group
 
    !> Whether the candidates of contact group `g` form a closed chain: more than two, and the nodes of
    !> the last and the first joined by an element of the model.
    pure logical function closed_group(model, g) result(closed)
       type(model_t), intent(in) :: model
       integer, intent(in) :: g
-      integer :: e, first, last
+      integer :: e, first, last, k, m, c
       closed = .false.
-      associate (candidates => contacts_of_group(model, g))
-         if (size(candidates) < 3) return
-         first = model%contacts(candidates(1))%node
-         last = model%contacts(candidates(size(candidates)))%node
-      end associate
+      ! the first and the last of its contacts (contacts_of_group), and how many there are
+      first = 0
+      last = 0
+      m = 0
+      do k = 1, size(model%contact_groups(g)%candidates)
+         c = model%contact_groups(g)%candidates(k)
+         if (model%contacts(c)%tangential) cycle
+         m = m + 1
+         if (m == 1) first = model%contacts(c)%node
+         last = model%contacts(c)%node
+      end do
+      if (m < 3) return
       do e = 1, model%n_elements
          associate (ends => model%connectivity(:, e))
             if ((ends(1) == first .and. ends(2) == last) .or. (ends(1) == last .and. ends(2) == first)) then
@@ -160,16 +167,22 @@ contains
       end do
    end function closed_group
 
-   !> The candidates of contact group `g` that are contacts, in the group's order: all of them but a
-   !> foundation's tangential springs (`KT=`), which carry shear along the surface, not contact.
-   pure function contacts_of_group(model, g) result(candidates)
+   !> The candidates of contact group `g` that are contacts, in the group's order, into members(1:m):
+   !> all of them but a foundation's tangential springs (`KT=`), which carry shear along the surface,
+   !> not contact.
+   pure subroutine contacts_of_group(model, g, members, m)
       type(model_t), intent(in) :: model
       integer, intent(in) :: g
-      integer, allocatable :: candidates(:)
-      integer :: k
-      candidates = pack(model%contact_groups(g)%candidates, &
-                        [(.not. model%contacts(model%contact_groups(g)%candidates(k))%tangential, &
-                          k=1, size(model%contact_groups(g)%candidates))])
-   end function contacts_of_group
+      integer, intent(out) :: members(:)   !< at least the group's length
+      integer, intent(out) :: m
+      integer :: k, c
+      m = 0
+      do k = 1, size(model%contact_groups(g)%candidates)
+         c = model%contact_groups(g)%candidates(k)
+         if (model%contacts(c)%tangential) cycle
+         m = m + 1
+         members(m) = c
+      end do
+   end subroutine contacts_of_group
 
 end module uniarc_contact_summary

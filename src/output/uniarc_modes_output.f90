@@ -18,7 +18,8 @@
 !> to their final names with the other files (uniarc_result_directory).
 module uniarc_modes_output
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string
    use uniarc_model, only: model_t
    use uniarc_text_file, only: text_file_t, create_text_file, put_line, close_text_file, discard_text_file
@@ -48,14 +49,34 @@ module uniarc_modes_output
 contains
 
    !> Append the block of one bifurcation: its kind (as in STEM.crit), fractional step `position`, λ and
-   !> nodal mode `mode` (dofs_per_node, n_nodes), dimensionless.
-   subroutine add_mode(table, kind, position, lambda, mode)
+   !> nodal mode `mode` (dofs_per_node, n_nodes), dimensionless; `mode` is moved into the table (left
+   !> unallocated). The blocks kept are moved, not copied. Errors: the grown list refused by the system
+   !> (error_analysis, out of memory, uniarc_memory); the table is then as it was.
+   subroutine add_mode(table, kind, position, lambda, mode, error)
       type(modes_table_t), intent(inout) :: table
       character(len=*), intent(in) :: kind
       real(dp), intent(in) :: position, lambda
-      real(dp), intent(in) :: mode(:, :)
-      if (.not. allocated(table%blocks)) allocate (table%blocks(0))
-      table%blocks = [table%blocks, mode_block_t(kind, position, lambda, mode)]
+      real(dp), allocatable, intent(inout) :: mode(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      type(mode_block_t), allocatable :: grown(:)
+      integer :: b, n, status
+      n = 0
+      if (allocated(table%blocks)) n = size(table%blocks)
+      allocate (grown(n + 1), stat=status)
+      call allocation_failure(status, 'the list of buckling modes', real(storage_size(grown)/8, dp)*(n + 1), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      do b = 1, n
+         call move_alloc(table%blocks(b)%kind, grown(b)%kind)
+         grown(b)%position = table%blocks(b)%position
+         grown(b)%lambda = table%blocks(b)%lambda
+         call move_alloc(table%blocks(b)%mode, grown(b)%mode)
+      end do
+      grown(n + 1)%kind = kind
+      grown(n + 1)%position = position
+      grown(n + 1)%lambda = lambda
+      call move_alloc(mode, grown(n + 1)%mode)
+      call move_alloc(grown, table%blocks)
    end subroutine add_mode
 
    !> Write `STEM.modes` (stem `stem`) in the run's work directory — header, provenance, the blocks —
@@ -124,11 +145,17 @@ contains
       type(text_file_t) :: file
       character(len=:), allocatable :: name
       character(len=12) :: digits
-      real(dp), allocatable :: vectors(:, :)
-      integer :: e
+      real(dp), allocatable :: reals(:)
+      integer, allocatable :: integers(:)
+      integer :: e, i, status
       write (digits, '(i2.2)') number
       if (number > 99) write (digits, '(i0)') number
       name = stem//'_mode_'//trim(digits)//'.vtp'
+      ! the file's arrays in work space allocated with stat= first (no temporary of the model's length)
+      allocate (reals(3*model%n_nodes), integers(2*model%n_elements), stat=status)
+      call allocation_failure(status, 'the arrays of the mode file '//name, &
+                              24.0_dp*model%n_nodes + 8.0_dp*model%n_elements, error_analysis, error)
+      if (allocated(error)) return
       call add_result_file(results, name)
       call create_text_file(file, work_path(results, name), final_path(results, name), error)
       if (allocated(error)) return
@@ -142,20 +169,28 @@ contains
       call put_line(file, '<Piece NumberOfPoints="'//integer_to_string(model%n_nodes)//'" NumberOfVerts="0" '// &
                     'NumberOfLines="'//integer_to_string(model%n_elements)//'" NumberOfStrips="0" NumberOfPolys="0">')
       call put_line(file, '<PointData Vectors="mode">')
-      allocate (vectors(3, model%n_nodes), source=0.0_dp)
-      vectors(1:2, :) = block%mode(1:2, :)
-      call write_xml_reals(file, 'mode', 3, reshape(vectors, [3*model%n_nodes]))
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [block%mode(1, i), block%mode(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'mode', 3, reals)
       call write_xml_reals(file, 'mode_rotation', 1, block%mode(3, :))
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
       call put_line(file, '<Points>')
-      vectors = 0.0_dp
-      vectors(1:2, :) = model%coordinates
-      call write_xml_reals(file, 'points', 3, reshape(vectors, [3*model%n_nodes]))
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [model%coordinates(1, i), model%coordinates(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'points', 3, reals)
       call put_line(file, '</Points>')
       call put_line(file, '<Lines>')
-      call write_xml_integers(file, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
-      call write_xml_integers(file, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      do e = 1, model%n_elements
+         integers(2*e - 1:2*e) = model%connectivity(:, e) - 1
+      end do
+      call write_xml_integers(file, 'connectivity', 'Int32', integers)
+      do e = 1, model%n_elements
+         integers(e) = 2*e
+      end do
+      call write_xml_integers(file, 'offsets', 'Int32', integers(1:model%n_elements))
       call put_line(file, '</Lines>')
       call put_line(file, '</Piece>')
       call put_line(file, '</PolyData>')

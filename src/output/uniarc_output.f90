@@ -16,7 +16,8 @@
 !> (uniarc_text_file): a failure is returned as an error naming the file and the system's words.
 module uniarc_output
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, tracked_values, gap_fixed_direction
    use uniarc_text_file, only: text_file_t, create_text_file, put_line, flush_text_file, close_text_file, &
@@ -28,7 +29,7 @@ module uniarc_output
    use uniarc_output_forces, only: element_end_forces, candidate_gaps, candidate_lengths, tangential_springs
    implicit none
    private
-   public :: step_record_t, output_files_t
+   public :: step_record_t, output_files_t, move_record
    public :: open_outputs, write_path_row, write_crit_row, write_shape, close_outputs, discard_outputs
    public :: path_header, format_number, nodal_reactions, surface_point
    public :: forces_due, write_forces, medium_name
@@ -87,6 +88,29 @@ module uniarc_output
    character(len=*), parameter :: number_format = '(es21.12e3)'
 
 contains
+
+   !> Record `from` moved into `to` (its arrays handed over, not copied; `from` left without them): what
+   !> `to = from` does without allocating, so without an allocation that could be refused
+   !> (docs/contracts.md, "Memory").
+   subroutine move_record(from, to)
+      type(step_record_t), intent(inout) :: from, to
+      type(step_record_t) :: aside
+      call move_record_arrays(from, aside)
+      to = from
+      call move_record_arrays(aside, to)
+   end subroutine move_record
+
+   !> Every allocatable component of a record moved from `from` to `to`; `to`'s are replaced.
+   subroutine move_record_arrays(from, to)
+      type(step_record_t), intent(inout) :: from, to
+      call move_alloc(from%displacement, to%displacement)
+      call move_alloc(from%reactions, to%reactions)
+      call move_alloc(from%bed_deflections, to%bed_deflections)
+      call move_alloc(from%groups, to%groups)
+      call move_alloc(from%joint_plastic, to%joint_plastic)
+      call move_alloc(from%slip, to%slip)
+      call move_alloc(from%yielding, to%yielding)
+   end subroutine move_record_arrays
 
    !> Start `STEM.path|crit|shape` in the run's work directory (and their `.csv` twins when `csv`)
    !> with their header and provenance lines, and write `STEM.surface` whole when the model has contact
@@ -305,10 +329,12 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal_reaction(:)
       character(len=:), allocatable :: line
-      integer :: i, k
-      ! allocate with source=, not an assignment: under -fcheck=bounds gfortran 12 compares the bounds of
-      ! the unallocated array before allocating it on assignment (valgrind: uninitialised values).
-      allocate (nodal_reaction, source=nodal_reactions(model, record%reactions))
+      integer :: i, k, status
+      allocate (nodal_reaction(model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal reactions of the shape of step '//integer_to_string(record%step), &
+                              8.0_dp*model%n_nodes, error_analysis, error)
+      if (allocated(error)) return
+      call nodal_reactions(model, record%reactions, nodal_reaction)
       do i = 1, model%n_nodes
          line = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '// &
                 integer_to_string(model%node_label(i))
@@ -370,22 +396,43 @@ contains
       integer, allocatable :: spring(:)
       logical, allocatable :: yielding(:)
       character(len=:), allocatable :: head, tail
-      integer :: e, c
+      real(dp) :: bytes
+      integer :: e, c, status, m
       logical :: plastic
       if (.not. files%with_forces .or. files%forces_last == record%step) return
+      ! Every array of the tables computed first, allocated with stat=: an allocation refused leaves no
+      ! row of this step in either table (error: out of memory, error_analysis).
+      bytes = 0.0_dp
+      if (allocated(record%joint_plastic) .and. allocated(record%reactions)) then
+         call element_end_forces(model, record%displacement, record%lambda, forces, status, bytes, record%joint_plastic, &
+                                 record%reactions)
+      else if (allocated(record%joint_plastic)) then
+         call element_end_forces(model, record%displacement, record%lambda, forces, status, bytes, record%joint_plastic)
+      else if (allocated(record%reactions)) then
+         call element_end_forces(model, record%displacement, record%lambda, forces, status, bytes, &
+                                 reactions=record%reactions)
+      else
+         call element_end_forces(model, record%displacement, record%lambda, forces, status, bytes)
+      end if
+      call allocation_failure(status, 'the section forces of step '//integer_to_string(record%step), bytes, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      if (files%with_contact) then
+         m = 0
+         if (allocated(model%contacts)) m = size(model%contacts)
+         bytes = 8.0_dp*m
+         call candidate_gaps(model, record%displacement, gaps, status, record%lambda)
+         if (status == 0) call candidate_lengths(model, lengths, status)
+         if (status == 0) call tangential_springs(model, spring, status)
+         if (status == 0) allocate (reactions(m), slip(m), yielding(m), stat=status)
+         call allocation_failure(status, 'the contact table of step '//integer_to_string(record%step), &
+                                 max(bytes, 8.0_dp*model%n_nodes), error_analysis, error)
+         if (allocated(error)) return
+      end if
       files%forces_last = record%step
       head = integer_to_string(record%step)//' '//trim(format_number(record%lambda))//' '
       tail = ''
       if (files%step_column) tail = ' '//integer_to_string(record%analysis_step)
-      if (allocated(record%joint_plastic) .and. allocated(record%reactions)) then
-         forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
-      else if (allocated(record%joint_plastic)) then
-         forces = element_end_forces(model, record%displacement, record%lambda, record%joint_plastic)
-      else if (allocated(record%reactions)) then
-         forces = element_end_forces(model, record%displacement, record%lambda, reactions=record%reactions)
-      else
-         forces = element_end_forces(model, record%displacement, record%lambda)
-      end if
       do e = 1, model%n_elements
          call put_row(files%forces, head//integer_to_string(model%element_label(e))//' '// &
                       integer_to_string(model%node_label(model%connectivity(1, e)))//' '// &
@@ -395,21 +442,18 @@ contains
       call put_row(files%forces, '')
       call flush_table(files%forces, error)
       if (allocated(error) .or. .not. files%with_contact) return
-      gaps = candidate_gaps(model, record%displacement, record%lambda)
       ! a moving obstacle's gap at the record's λ (docs/theory.md §3.11; the others untouched)
       where (model%contacts%gap_rate /= 0.0_dp) gaps = gaps + record%lambda*model%contacts%gap_rate
       ! a Pasternak bed point's gap is with the bed's surface (the others untouched, −0 included)
       if (allocated(record%bed_deflections)) then
          where (model%contacts%bed_stiffness(2) > 0.0_dp) gaps = gaps + record%bed_deflections
       end if
-      lengths = candidate_lengths(model)
-      allocate (reactions(size(model%contacts)), source=0.0_dp)
+      reactions = 0.0_dp
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
-      spring = tangential_springs(model)
       plastic = any(model%contacts%plastic)
-      allocate (slip(size(model%contacts)), source=0.0_dp)
-      allocate (yielding(size(model%contacts)), source=.false.)
+      slip = 0.0_dp
+      yielding = .false.
       if (allocated(record%slip)) slip(1:min(size(slip), size(record%slip))) = &
          record%slip(1:min(size(slip), size(record%slip)))
       if (allocated(record%yielding)) yielding(1:min(size(yielding), size(record%yielding))) = &
@@ -451,10 +495,11 @@ contains
 
    !> Sum of the contact reactions at each node (a node may carry candidates of several groups); the
    !> tangential springs of a foundation are not contact reactions and are left out.
-   pure function nodal_reactions(model, reactions) result(nodal)
+   !> nodal (n_nodes): the caller's (no function result of the model's length, docs/contracts.md "Memory").
+   pure subroutine nodal_reactions(model, reactions, nodal)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(in) :: reactions(:)
-      real(dp) :: nodal(model%n_nodes)
+      real(dp), intent(out) :: nodal(:)
       integer :: c
       nodal = 0.0_dp
       if (.not. (allocated(reactions) .and. allocated(model%contacts))) return
@@ -462,7 +507,7 @@ contains
          if (model%contacts(c)%tangential) cycle  ! a foundation's shear spring, not a contact reaction
          nodal(model%contacts(c)%node) = nodal(model%contacts(c)%node) + reactions(c)
       end do
-   end function nodal_reactions
+   end subroutine nodal_reactions
 
    !> Close every file; the first failure (of a close, or of a write not yet reported) as an error.
    !> Every file is closed either way.

@@ -50,23 +50,32 @@ contains
    !> `reactions` (optional, (n_contacts)): the reaction of every contact candidate at the state; with
    !> it, the elements of a foundation carry their share of the bed's distributed reaction (module
    !> header, bed_span_loads).
-   pure function element_end_forces(model, displacement, lambda, joint_plastic, reactions) result(forces)
+   !> status: the stat= of `forces` or of the work arrays (each of the elements' length) that the system
+   !> refused (0: `forces` complete); bytes (optional) their size, for uniarc_memory's allocation_failure.
+   pure subroutine element_end_forces(model, displacement, lambda, forces, status, bytes, joint_plastic, reactions)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
+      real(dp), allocatable, intent(out) :: forces(:, :)
+      integer, intent(out) :: status
+      real(dp), intent(out), optional :: bytes
       real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp), intent(in), optional :: reactions(:)
-      real(dp) :: forces(6, model%n_elements)
-      real(dp) :: thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements)
+      real(dp), allocatable :: thermal(:, :), span(:, :), held_thermal(:, :), held_span(:, :), bed(:, :)
       real(dp) :: deformation(3), q(3), end_forces(4), t(2), n(2), f(2*dofs_per_node)
       real(dp) :: k_unused(2*dofs_per_node, 2*dofs_per_node)
       type(element_response_t) :: response
       type(chord_t) :: chord
       integer :: e, i, transformation
-      logical :: loaded(model%n_elements), has_held
-      real(dp) :: held_thermal(3, model%n_elements), held_span(2*dofs_per_node, model%n_elements)
-      real(dp) :: bed(2*dofs_per_node, model%n_elements)
+      logical, allocatable :: loaded(:)
+      logical :: has_held
 
+      if (present(bytes)) bytes = 8.0_dp*(6 + 3 + 3*2*dofs_per_node + 3)*model%n_elements + &
+                                  4.0_dp*model%n_elements
+      allocate (forces(6, model%n_elements), thermal(3, model%n_elements), span(2*dofs_per_node, model%n_elements), &
+                loaded(model%n_elements), held_thermal(3, model%n_elements), &
+                held_span(2*dofs_per_node, model%n_elements), bed(2*dofs_per_node, model%n_elements), stat=status)
+      if (status /= 0) return
       transformation = analysis_transformation(model%analysis%kind)
       thermal = 0.0_dp
       span = 0.0_dp
@@ -106,7 +115,10 @@ contains
       end if
 
       bed = 0.0_dp
-      if (present(reactions)) call bed_span_loads(model, displacement, reactions, bed, loaded)
+      if (present(reactions)) then
+         call bed_span_loads(model, displacement, reactions, bed, loaded, status)
+         if (status /= 0) return
+      end if
 
       has_held = .false.
       if (allocated(model%held)) has_held = size(model%held) > 0
@@ -144,7 +156,7 @@ contains
          forces(5, e) = forces(5, e) + dot_product(f(4:5), n)
          forces(6, e) = forces(6, e) - f(6)
       end do
-   end function element_end_forces
+   end subroutine element_end_forces
 
    !> The share of the foundations' distributed reactions that each element of a bed carries on its
    !> span, as consistent nodal loads (6, global), added to `bed` (6, n_elements); those elements
@@ -165,19 +177,23 @@ contains
    !> pressure (a rigid sinking) cancels a uniform load exactly: M = 0. Only the radial candidates of
    !> a foundation (not its tangential springs, not *SPRING or obstacles, which are point supports),
    !> on the elements of its set whose two nodes are both its candidates.
-   pure subroutine bed_span_loads(model, displacement, reactions, bed, loaded)
+   pure subroutine bed_span_loads(model, displacement, reactions, bed, loaded, status)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :), reactions(:)
       real(dp), intent(inout) :: bed(:, :)
       logical, intent(inout) :: loaded(:)
+      integer, intent(out) :: status   !< the stat= of a work array (of the nodes' length) refused
       real(dp), allocatable :: lengths(:), line_load(:, :)
       integer, allocatable :: candidate_of(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), x(2, 2), t(2), n(2), h, qt(2), qn(2), f(2*dofs_per_node)
       integer :: i, j, e, c, group
+      status = 0
       if (.not. (allocated(model%foundations) .and. allocated(model%contacts))) return
       if (size(reactions) < size(model%contacts)) return
-      lengths = candidate_lengths(model)
-      allocate (line_load(2, model%n_nodes), candidate_of(model%n_nodes))
+      call candidate_lengths(model, lengths, status)
+      if (status /= 0) return
+      allocate (line_load(2, model%n_nodes), candidate_of(model%n_nodes), stat=status)
+      if (status /= 0) return
       do i = 1, size(model%foundations)
          group = model%foundations(i)%group
          line_load = 0.0_dp
@@ -259,44 +275,58 @@ contains
 
    !> The gap g of every contact candidate at nodal displacements `displacement` (3, n_nodes), in
    !> length units (uniarc_contact_law, candidate_gap): positive open; negative in contact with an
-   !> elastic medium, whose springs are then compressed by −g = r/k. `lambda`: the load factor, where a
-   !> moving curved obstacle stands (a plane's λ ∂g/∂λ is the caller's; docs/theory.md §3.11).
-   pure function candidate_gaps(model, displacement, lambda) result(gaps)
+   !> elastic medium, whose springs are then compressed by −g = r/k. `lambda` (default 0): the load
+   !> factor, where a moving curved obstacle stands (a plane's λ ∂g/∂λ is the caller's; docs/theory.md
+   !> §3.11).
+   !> status: the stat= of `gaps` (n_contacts) refused by the system (0: complete).
+   pure subroutine candidate_gaps(model, displacement, gaps, status, lambda)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
+      real(dp), allocatable, intent(out) :: gaps(:)
+      integer, intent(out) :: status
       real(dp), intent(in), optional :: lambda
-      real(dp), allocatable :: gaps(:)
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c
-      allocate (gaps(0))
-      if (.not. allocated(model%contacts)) return
-      deallocate (gaps)
-      allocate (gaps(size(model%contacts)))
+      status = 0
+      if (.not. allocated(model%contacts)) then
+         allocate (gaps(0))
+         return
+      end if
+      allocate (gaps(size(model%contacts)), stat=status)
+      if (status /= 0) return
       do c = 1, size(model%contacts)
          associate (node => model%contacts(c)%node)
             call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gaps(c), &
                                gradient, hessian, lambda)
          end associate
       end do
-   end function candidate_gaps
+   end subroutine candidate_gaps
 
    !> The tangential spring (`*FOUNDATION, KT=`) of every contact candidate: the index of the candidate
    !> that is its foundation's tangential spring at the same node (uniarc_contact_law: one per node of a
    !> bed with K_t > 0, gap g = t·u along the tangent t, the bed's direction n turned by +90°), 0 where
    !> the candidate has none (a bed without K_t, springs, obstacles; and the tangential springs
    !> themselves). Shape (n_contacts).
-   pure function tangential_springs(model) result(spring)
+   !> status: the stat= of an array refused by the system (0: `spring` complete).
+   pure subroutine tangential_springs(model, spring, status)
       type(model_t), intent(in) :: model
-      integer, allocatable :: spring(:)
+      integer, allocatable, intent(out) :: spring(:)
+      integer, intent(out) :: status
       integer, allocatable :: radial_at_node(:)
       integer :: g, k, c
-      allocate (spring(0))
-      if (.not. allocated(model%contacts)) return
-      deallocate (spring)
-      allocate (spring(size(model%contacts)), source=0)
+      status = 0
+      if (.not. allocated(model%contacts)) then
+         allocate (spring(0))
+         return
+      end if
+      allocate (spring(size(model%contacts)), stat=status)
+      if (status /= 0) return
+      spring = 0
       if (.not. allocated(model%contact_groups)) return
       if (.not. any(model%contacts%tangential)) return
-      allocate (radial_at_node(model%n_nodes), source=0)
+      allocate (radial_at_node(model%n_nodes), stat=status)
+      if (status /= 0) return
+      radial_at_node = 0
       do g = 1, size(model%contact_groups)
          associate (members => model%contact_groups(g)%candidates)
             do k = 1, size(members)
@@ -313,7 +343,7 @@ contains
             end do
          end associate
       end do
-   end function tangential_springs
+   end subroutine tangential_springs
 
    !> The tributary length of every contact candidate (initial geometry, length units), over which
    !> its reaction is spread as a contact pressure: for a foundation's candidate, half the lengths of
@@ -322,32 +352,45 @@ contains
    !> for a spring's or an obstacle's candidate, half the lengths of all the elements that meet at its
    !> node (the share of the structure's length the node stands for), so that reaction/length is the
    !> mean line load that the contact puts on the structure there.
-   pure function candidate_lengths(model) result(lengths)
+   !> status: the stat= of an array refused by the system (0: `lengths` (n_contacts) complete).
+   pure subroutine candidate_lengths(model, lengths, status)
       type(model_t), intent(in) :: model
-      real(dp), allocatable :: lengths(:)
+      real(dp), allocatable, intent(out) :: lengths(:)
+      integer, intent(out) :: status
       real(dp), allocatable :: structure(:), per_node(:)
       integer, allocatable :: every_node(:), every_element(:)
       integer :: c, i, group
-      allocate (lengths(0))
-      if (.not. allocated(model%contacts)) return
-      every_node = [(i, i = 1, model%n_nodes)]
-      every_element = [(i, i = 1, model%n_elements)]
-      structure = tributary_lengths(model%coordinates, model%connectivity, every_element, every_node)
-      deallocate (lengths)
-      allocate (lengths(size(model%contacts)))
+      status = 0
+      if (.not. allocated(model%contacts)) then
+         allocate (lengths(0))
+         return
+      end if
+      allocate (every_node(model%n_nodes), every_element(model%n_elements), stat=status)
+      if (status /= 0) return
+      do i = 1, model%n_nodes
+         every_node(i) = i
+      end do
+      do i = 1, model%n_elements
+         every_element(i) = i
+      end do
+      call tributary_lengths(model%coordinates, model%connectivity, every_element, every_node, structure, status)
+      if (status /= 0) return
+      allocate (lengths(size(model%contacts)), stat=status)
+      if (status /= 0) return
       do c = 1, size(model%contacts)
          lengths(c) = structure(model%contacts(c)%node)
       end do
       if (.not. allocated(model%foundations)) return
       do i = 1, size(model%foundations)
          group = model%foundations(i)%group
-         per_node = tributary_lengths(model%coordinates, model%connectivity, model%foundations(i)%elements, &
-                                      every_node)
+         call tributary_lengths(model%coordinates, model%connectivity, model%foundations(i)%elements, every_node, &
+                                per_node, status)
+         if (status /= 0) return
          do c = 1, size(model%contacts)
             if (model%contacts(c)%group == group) lengths(c) = per_node(model%contacts(c)%node)
          end do
       end do
-   end function candidate_lengths
+   end subroutine candidate_lengths
 
    !> The change (6, global) of the consistent nodal loads `f` (6) of a load on the span of element `e`
    !> from its end joints (uniarc_released_loads, released_span_correction): on the initial geometry,

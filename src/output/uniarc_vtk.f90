@@ -38,7 +38,8 @@
 !> name. Every write and close is checked (uniarc_text_file).
 module uniarc_vtk
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_text_file, only: text_file_t, create_text_file, put_line, close_text_file, discard_text_file
    use uniarc_result_directory, only: result_directory_t, work_path, final_path, add_result_file
    use uniarc_strings, only: integer_text => integer_to_string
@@ -132,14 +133,27 @@ contains
       character(len=*), intent(in) :: stem
       type(error_t), allocatable, intent(out) :: error
       type(text_file_t) :: file
+      real(dp), allocatable :: reaction(:), forces(:, :), reals(:)
+      integer, allocatable :: integers(:)
+      integer :: status
+      ! The arrays of the snapshot first, allocated with stat= (the writers then make no array of the
+      ! model's length): refused, no file of this snapshot (out of memory, error_analysis).
+      allocate (reaction(model%n_nodes), reals(max(3*model%n_nodes, model%n_elements)), &
+                integers(2*model%n_elements), stat=status)
+      if (status == 0) call element_forces(model, record%displacement, record%lambda, forces, status, &
+                                           record%joint_plastic, record%reactions)
+      call allocation_failure(status, 'the arrays of the VTK snapshot of step '//integer_text(record%step), &
+                              8.0_dp*(4*model%n_nodes + 10*model%n_elements), error_analysis, error)
+      if (allocated(error)) return
+      call nodal_reactions(model, record%reactions, reaction)
       call add_result_file(results, name)
       call create_text_file(file, work_path(results, name), final_path(results, name), error)
       if (allocated(error)) return
       select case (file_format)
       case (legacy_format)
-         call write_legacy_vtk(file, model, record, stem)
+         call write_legacy_vtk(file, model, record, stem, reaction, forces, reals)
       case default
-         call write_xml_vtp(file, model, record)
+         call write_xml_vtp(file, model, record, reaction, forces, reals, integers)
       end select
       call close_text_file(file, error)
       if (allocated(error)) call discard_text_file(file)
@@ -172,28 +186,37 @@ contains
    !> with a moment limit): their committed plastic rotations.
    !> `reactions` (optional, (n_contacts); absent or unallocated: none): the contact reactions, whose
    !> share on the span of a foundation's elements the forces include (element_end_forces).
-   pure function element_forces(model, displacement, lambda, joint_plastic, reactions) result(forces)
+   !> status: the stat= of `forces` or of the end forces refused by the system (0: `forces` complete).
+   pure subroutine element_forces(model, displacement, lambda, forces, status, joint_plastic, reactions)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), intent(in) :: lambda
+      real(dp), allocatable, intent(out) :: forces(:, :)
+      integer, intent(out) :: status
       real(dp), intent(in), optional :: joint_plastic(:, :)
       real(dp), intent(in), optional :: reactions(:)
-      real(dp) :: forces(4, model%n_elements)
-      real(dp) :: ends(6, model%n_elements)
-      ends = element_end_forces(model, displacement, lambda, joint_plastic, reactions)
+      real(dp), allocatable :: ends(:, :)
+      call element_end_forces(model, displacement, lambda, ends, status, joint_plastic=joint_plastic, &
+                              reactions=reactions)
+      if (status /= 0) return
+      allocate (forces(4, model%n_elements), stat=status)
+      if (status /= 0) return
       forces(1, :) = 0.5_dp*(ends(1, :) + ends(4, :))
       forces(2, :) = 0.5_dp*(ends(2, :) + ends(5, :))
       forces(3, :) = ends(3, :)
       forces(4, :) = ends(6, :)
-   end function element_forces
+   end subroutine element_forces
 
    !> The legacy VTK file of one snapshot (ASCII, DATASET POLYDATA with LINES).
-   subroutine write_legacy_vtk(file, model, record, stem)
+   !> reaction (n_nodes) and forces (4, n_elements): the snapshot's (nodal_reactions, element_forces);
+   !> reals: work space of at least n_elements.
+   subroutine write_legacy_vtk(file, model, record, stem, reaction, forces, reals)
       type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
       character(len=*), intent(in) :: stem
-      real(dp), allocatable :: reaction(:), forces(:, :)
+      real(dp), intent(in) :: reaction(:), forces(:, :)
+      real(dp), intent(inout) :: reals(:)
       character(len=:), allocatable :: title
       integer :: i, e
 
@@ -226,7 +249,6 @@ contains
             integer_text(model%connectivity(2, e) - 1))
       end do
 
-      reaction = nodal_reactions(model, record%reactions)
       call put_line(file, 'POINT_DATA '//integer_text(model%n_nodes))
       call put_line(file, 'VECTORS displacement double')
       do i = 1, model%n_nodes
@@ -241,11 +263,11 @@ contains
          call put_line(file, integer_text(model%node_label(i)))
       end do
 
-      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
       call put_line(file, 'CELL_DATA '//integer_text(model%n_elements))
       call write_scalars(file, 'axial_force', forces(1, :))
       call write_scalars(file, 'shear_force', forces(2, :))
-      call write_scalars(file, 'bending_moment', 0.5_dp*(forces(3, :) + forces(4, :)))
+      reals(1:model%n_elements) = 0.5_dp*(forces(3, :) + forces(4, :))
+      call write_scalars(file, 'bending_moment', reals(1:model%n_elements))
       call write_scalars(file, 'bending_moment_start', forces(3, :))
       call write_scalars(file, 'bending_moment_end', forces(4, :))
       call put_line(file, 'SCALARS element_label int 1')
@@ -257,12 +279,16 @@ contains
 
    !> The XML file of one snapshot (VTKFile type PolyData, ASCII data arrays): the same lines and
    !> arrays as the legacy file, in VTK's order FieldData, Piece → PointData, CellData, Points, Lines.
-   subroutine write_xml_vtp(file, model, record)
+   !> reaction (n_nodes) and forces (4, n_elements): the snapshot's; reals (at least 3 n_nodes and
+   !> n_elements) and integers (2 n_elements): work space.
+   subroutine write_xml_vtp(file, model, record, reaction, forces, reals, integers)
       type(text_file_t), intent(inout) :: file
       type(model_t), intent(in) :: model
       type(step_record_t), intent(in) :: record
-      real(dp), allocatable :: forces(:, :), deformed(:, :), vectors(:, :)
-      integer :: e
+      real(dp), intent(in) :: reaction(:), forces(:, :)
+      real(dp), intent(inout) :: reals(:)
+      integer, intent(inout) :: integers(:)
+      integer :: e, i
 
       call put_line(file, '<?xml version="1.0"?>')
       call put_line(file, '<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">')
@@ -275,35 +301,45 @@ contains
          'NumberOfLines="'//integer_text(model%n_elements)//'" NumberOfStrips="0" NumberOfPolys="0">')
 
       call put_line(file, '<PointData Vectors="displacement" Scalars="contact_reaction">')
-      allocate (vectors(3, model%n_nodes), source=0.0_dp)
-      vectors(1:2, :) = record%displacement(1:2, :)
-      call write_xml_reals(file, 'displacement', 3, reshape(vectors, [3*model%n_nodes]))
+      ! (ux, uy, 0) of every node, one after the other
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [record%displacement(1, i), record%displacement(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'displacement', 3, reals(1:3*model%n_nodes))
       call write_xml_reals(file, 'rotation', 1, record%displacement(3, :))
-      call write_xml_reals(file, 'contact_reaction', 1, nodal_reactions(model, record%reactions))
+      call write_xml_reals(file, 'contact_reaction', 1, reaction)
       call write_xml_integers(file, 'node_label', 'Int32', model%node_label)
       call put_line(file, '</PointData>')
 
-      forces = element_forces(model, record%displacement, record%lambda, record%joint_plastic, record%reactions)
       call put_line(file, '<CellData Scalars="bending_moment">')
       call write_xml_reals(file, 'axial_force', 1, forces(1, :))
       call write_xml_reals(file, 'shear_force', 1, forces(2, :))
-      call write_xml_reals(file, 'bending_moment', 1, 0.5_dp*(forces(3, :) + forces(4, :)))
+      reals(1:model%n_elements) = 0.5_dp*(forces(3, :) + forces(4, :))
+      call write_xml_reals(file, 'bending_moment', 1, reals(1:model%n_elements))
       call write_xml_reals(file, 'bending_moment_start', 1, forces(3, :))
       call write_xml_reals(file, 'bending_moment_end', 1, forces(4, :))
       call write_xml_integers(file, 'element_label', 'Int32', model%element_label)
       call put_line(file, '</CellData>')
 
       call put_line(file, '<Points>')
-      allocate (deformed(3, model%n_nodes), source=0.0_dp)
-      deformed(1:2, :) = model%coordinates + record%displacement(1:2, :)
-      call write_xml_reals(file, 'points', 3, reshape(deformed, [3*model%n_nodes]))
+      do i = 1, model%n_nodes
+         reals(3*i - 2:3*i) = [model%coordinates(1, i) + record%displacement(1, i), &
+                               model%coordinates(2, i) + record%displacement(2, i), 0.0_dp]
+      end do
+      call write_xml_reals(file, 'points', 3, reals(1:3*model%n_nodes))
       call put_line(file, '</Points>')
 
       ! Lines as VTK stores cells: the point indices (from 0) of all lines one after the other, and
       ! the offset just past each line's last index.
       call put_line(file, '<Lines>')
-      call write_xml_integers(file, 'connectivity', 'Int32', reshape(model%connectivity - 1, [2*model%n_elements]))
-      call write_xml_integers(file, 'offsets', 'Int32', [(2*e, e=1, model%n_elements)])
+      do e = 1, model%n_elements
+         integers(2*e - 1:2*e) = model%connectivity(:, e) - 1
+      end do
+      call write_xml_integers(file, 'connectivity', 'Int32', integers(1:2*model%n_elements))
+      do e = 1, model%n_elements
+         integers(e) = 2*e
+      end do
+      call write_xml_integers(file, 'offsets', 'Int32', integers(1:model%n_elements))
       call put_line(file, '</Lines>')
       call put_line(file, '</Piece>')
       call put_line(file, '</PolyData>')

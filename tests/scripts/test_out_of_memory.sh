@@ -31,6 +31,17 @@
 # -O2 allocates unchecked, located with gdb). Exactly asserted: the bed under 30 MB is refused at its
 # element count (its estimate, 41.9 MB, exceeds the 15 MB left), under 300 MB it runs (exit 0, 10 rows);
 # the many-step deck under 60 MB is refused while its steps are read (at `steps.inp:LINE`).
+# Three more reach the analysis' other checked allocations (docs/contracts.md, "Memory"): Walker's arch
+# of 2,000 elements whose imperfection is computed by a first run (*IMPERFECTION without FILE=: copies
+# of the model for the perfect and the imperfect structure, the nodal mode), limits 30 to 46 MB; the
+# pinned strut of 2,000 elements on a tensionless bed followed onto its secondary branch (*PATH,
+# SWITCH=1: the state at the bifurcation, Riks' corrections, the mode table of *OUTPUT, MODES, the
+# lift-off stability test), limits 36 to 52 MB. Both fit the memory estimate with its margin (16 MB
+# for the program itself), so their sweeps end at the estimate (exit code 2) or run (exit code 0): the
+# contract is asserted there, and under 300 MB that each does what it is for (a limit point of the
+# imperfect arch; a branch switch and its mode in STEM.modes). Only growth that the estimate does not
+# count (the analysis steps of `paths`) reaches the analysis' refusals: the same 120 steps on a
+# tensionless bed would reach the contact LCP's, but take 80 s a run (Release), too long for the suite.
 # Further binaries (the other build type) may follow WORKDIR; the sweep runs with each.
 #
 # AddressSanitizer reserves terabytes of shadow memory and ignores such limits: with an ASan build the
@@ -130,14 +141,69 @@ DECK
   done
 } > steps.inp
 # paths: 120 path steps of the same cantilever, whose deck fits in about 60 MB; under 103 and 108 MB the
-# analysis starts and runs out of memory after some 50 to 70 steps (each step's model holds the earlier
-# steps' load patterns: 240 kB more per step), the exit-1 case with rows kept (Release: at the support
-# reactions of steps 57 and 67, measured; SIGSEGV there before they were checked).
+# analysis starts and runs out of memory after some 55 to 75 steps (each step's model holds the earlier
+# steps' load patterns: 240 kB more per step), the exit-1 case with rows kept (measured: at the band
+# matrix of the next analysis step, steps 56 and 67 with the Debug build, 63 and 73 with the Release
+# one; before the rows were moved instead of copied, at the support reactions of steps 57 and 67, and
+# a SIGSEGV there before those were checked).
 head -n 8 steps.inp > paths.inp
 for ((k = 1; k <= 120; k++)); do
   printf '%s\n' "*STEP" "*CLOAD" "beam_end, FY, -1e-6" "*PATH, CONTROL=LOAD" "increment = 1" "lambda_max = 1" \
     "*END STEP" >> paths.inp
 done
+
+# imperfect: Walker's arch (tests/regression/decks/walker_arch_full_imperfect_computed.inp) of 2,000
+# elements, its imperfection computed by a first run to its first bifurcation
+cat > imperfect.inp <<'DECK'
+*PARAMETER
+R = 100
+alpha = 10
+EI = 1.4
+EA = 420
+n = 2000
+rise = R*(1 - cosd(alpha))
+*SECTION, NAME=arch, STIFFNESS
+EA, EI
+*ARC, ELSET=arch, SECTION=arch
+0, 0, R, 90 + alpha, 90 - alpha, n
+*IMPERFECTION, BIFURCATION=1
+1e-3
+*BOUNDARY
+arch_start, PINNED
+arch_end, PINNED
+*CLOAD
+arch_mid, FY, -EI/R**2
+*TRACK
+w_crown, arch_mid, UY, -1
+*PATH, CONTROL=ARCLENGTH, ITERATION=CHAN
+increment = 5
+steps = 12
+lambda_max = 200
+DECK
+# switch: the pinned strut on a tensionless bed (tests/regression/decks/strut_on_tensionless_bed_switch.inp)
+# of 2,000 elements, onto its secondary branch at the lift-off bifurcation
+cat > switch.inp <<'DECK'
+*PARAMETER
+n = 2000
+*SECTION, NAME=s, STIFFNESS
+1e4, 1
+*LINE, ELSET=strut, SECTION=s
+0, 0, 10, 0, n
+*BOUNDARY
+strut_start, PINNED
+strut_end, ROLLER_X
+*FOUNDATION, ELSET=strut, MODULUS=1, DIRECTION=90, NAME=bed
+*CLOAD
+strut_end, FX, -1
+*TRACK
+w_mid, strut_mid, UY
+*OUTPUT, MODES
+*PATH, SWITCH=1
+increment = 0.01
+max_increment = 1e5
+steps = 6
+lambda_max = 0.5
+DECK
 
 # contract BINARY DECK LIMIT_MB: the run's outcome is one the contract allows; prints it
 contract() {
@@ -188,5 +254,13 @@ for bin in "$uniarc" "${others[@]}"; do
   contract "$bin" steps 60 > /dev/null
   grep -Eq "^error: steps\.inp:[0-9]+: the model does not fit in memory: cannot allocate the (load pattern|supports)" steps.err \
     || fail "steps under 60 MB ($bin): not refused while its steps are read: $(head -c 400 steps.err)"
+  for ((limit = 30; limit <= 46; limit += 2)); do contract "$bin" imperfect $limit; done
+  for ((limit = 36; limit <= 52; limit += 4)); do contract "$bin" switch $limit; done
+  contract "$bin" imperfect 300 > /dev/null
+  [ -s out_imperfect/imperfect.crit ] && grep -q '^limit_max ' out_imperfect/imperfect.crit \
+    || fail "imperfect under 300 MB ($bin): no limit point of the imperfect arch: $(head -c 400 imperfect.err)"
+  contract "$bin" switch 300 > /dev/null
+  grep -q '^branch_switch ' out_switch/switch.crit && [ -s out_switch/switch.modes ] \
+    || fail "switch under 300 MB ($bin): no branch switch with its mode: $(head -c 400 switch.err)"
 done
 echo "PASS"

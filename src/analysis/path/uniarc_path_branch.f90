@@ -14,15 +14,17 @@
 module uniarc_path_branch
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: reserve
    use uniarc_strings, only: real_to_string
-   use uniarc_model, only: model_t, dofs_per_node, iteration_riks
+   use uniarc_model, only: model_t, dofs_per_node, iteration_riks, analysis_options_t
    use uniarc_assembly, only: gather_nodal
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, bifurcation_state_t, masked_dot, &
                                 masked_norm, nodal_displacements, accept_trial
    use uniarc_path_newton, only: attempt_step
-   use uniarc_path_state_copy, only: copy_state
+   use uniarc_path_state_copy, only: copy_state, move_state
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    implicit none
@@ -31,25 +33,30 @@ module uniarc_path_branch
 
 contains
 
-   !> The buckling mode `mode` (n equations) as nodal displacements (dofs_per_node, n_nodes), scaled
-   !> so that the largest nodal translation sqrt(ux² + uy²) is 1 (a rotation-only mode: the largest
-   !> rotation is 1) and signed so that the largest component is positive. Dimensionless shape.
-   function nodal_mode(model, map, mode) result(nodal)
+   !> The buckling mode `mode` (n equations) as nodal displacements `nodal` (dofs_per_node, n_nodes),
+   !> scaled so that the largest nodal translation sqrt(ux² + uy²) is 1 (a rotation-only mode: the
+   !> largest rotation is 1) and signed so that the largest component is positive. Dimensionless shape.
+   !> Errors: `nodal` refused by the system (error_analysis, out of memory, uniarc_memory).
+   subroutine nodal_mode(model, map, mode, nodal, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: mode(:)
-      real(dp), allocatable :: nodal(:, :)
+      real(dp), allocatable, intent(out) :: nodal(:, :)
+      type(error_t), allocatable, intent(out) :: error
       real(dp) :: largest
-      integer :: where(2)
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      integer :: where(2), status
+      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal buckling mode', 8.0_dp*dofs_per_node*model%n_nodes, &
+                              error_analysis, error)
+      if (allocated(error)) return
       call gather_nodal(map, mode, nodal)
       largest = maxval(sqrt(nodal(1, :)**2 + nodal(2, :)**2))
       if (.not. largest > 0.0_dp) largest = maxval(abs(nodal))
       if (.not. largest > 0.0_dp) return
       where = maxloc(abs(nodal))
       if (nodal(where(1), where(2)) < 0.0_dp) largest = -largest
-      nodal = nodal/largest
-   end function nodal_mode
+      nodal(:, :) = nodal/largest
+   end subroutine nodal_mode
 
    !> One step from the bifurcation kept in state%bifurcation onto the secondary branch: predictor
    !> x_c + ξφ at λ_c (φ orthogonal to the primary tangent, unit in the displacement norm; at a lift-off
@@ -69,10 +76,10 @@ contains
       type(path_state_t) :: critical
       type(path_system_t), allocatable :: system
       type(step_trial_t) :: trial
-      type(model_t) :: riks_model
-      real(dp), allocatable :: phi(:), primary(:)
-      real(dp) :: xi, t_norm
-      integer :: step
+      type(analysis_options_t) :: riks
+      real(dp), allocatable :: phi(:), primary(:), start(:)
+      real(dp) :: xi, t_norm, bytes
+      integer :: step, status
       cuts = 0
       state%switch_due = .false.
       if (.not. allocated(state%bifurcation)) then
@@ -95,9 +102,19 @@ contains
       if (allocated(state%bifurcation%joint_plastic)) critical%joint_plastic = state%bifurcation%joint_plastic
       system%holds_committed = .false.
       system%holds_converged = .false.
+      ! The vectors of the switch allocated with stat= (the assignments below then allocate nothing).
+      bytes = 0.0_dp
+      call reserve(primary, size(state%last_increment), status, bytes)
+      if (status == 0) call reserve(phi, size(state%bifurcation%mode), status, bytes)
+      if (status == 0) call reserve(start, size(state%bifurcation%mode), status, bytes)
+      call allocation_failure(status, 'a vector of the branch switch', bytes, error_analysis, error)
+      if (allocated(error)) then
+         call move_alloc(system, state%system)
+         return
+      end if
       ! φ without reactions, orthogonal to the primary path, unit, signed.
-      primary = merge(state%last_increment, 0.0_dp, critical%map%metric > 0.0_dp)
-      phi = merge(state%bifurcation%mode, 0.0_dp, critical%map%metric > 0.0_dp)
+      primary(:) = merge(state%last_increment, 0.0_dp, critical%map%metric > 0.0_dp)
+      phi(:) = merge(state%bifurcation%mode, 0.0_dp, critical%map%metric > 0.0_dp)
       t_norm = masked_norm(critical%map, primary)
       if (t_norm > 0.0_dp) phi = phi - masked_dot(critical%map, phi, primary)/t_norm**2*primary
       if (.not. masked_norm(critical%map, phi) > 1.0e-3_dp*masked_norm(critical%map, state%bifurcation%mode)) then
@@ -108,13 +125,14 @@ contains
       end if
       phi = phi/masked_norm(critical%map, phi)
       phi = phi*mode_sign(model, critical, state%bifurcation%liftoff, phi)
-      ! Riks' updated normal plane for the corrections of this step only.
-      riks_model = model
-      riks_model%analysis%iteration = iteration_riks
+      ! Riks' updated normal plane for the corrections of this step only (its options: no copy of the model).
+      riks = model%analysis
+      riks%iteration = iteration_riks
       xi = state%step_length
       do
          trial%length = xi
-         call attempt_step(riks_model, critical, system, trial, start=xi*phi)
+         start(:) = xi*phi
+         call attempt_step(model, critical, system, trial, start=start, analysis=riks)
          if (allocated(trial%fatal)) then
             ! Out of memory (fail_attempt): no shorter step is tried; the run ends.
             call move_alloc(system, state%system)
@@ -132,7 +150,7 @@ contains
          end if
       end do
       ! Commit: the first point of the secondary branch, numbered after the last one of the primary.
-      state = critical
+      call move_state(critical, state)
       call accept_trial(model, state, trial)
       state%step_length = xi
       call commit_tangent(model, state, system, .false., error)
@@ -147,11 +165,13 @@ contains
       else
          state%direction = 1
       end if
-      call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots)
+      call describe_point(model, state, step + 1, trial%iterations, trial%lcp_pivots, error)
+      if (allocated(error)) return
       state%point%switched = .true.
       state%point%switch_lambda = critical%lambda
       state%point%limit_fraction = -1.0_dp
       state%point%bifurcation_fraction = -1.0_dp
+      state%point%bifurcation_multiplicity = 0
       state%point%stability_by_contact = .false.
       state%point%limit_by_contact = .false.
    end subroutine switch_branch

@@ -7,11 +7,13 @@
 !> next set. The committed state is read for the equation numbering and the scales, never written.
 module uniarc_path_contact_set
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set
-   use uniarc_contact_plastic, only: slip_shift, plastic_violation, limit_force
+   use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -56,24 +58,34 @@ contains
       logical, intent(in), optional :: yielding(:)
       type(contact_linearization_t) :: linearization
       type(contact_selection_t) :: selection
-      linearization%x = lin%x
-      linearization%nodal = lin%nodal
-      linearization%residual = lin%residual
-      linearization%reference = lin%reference
+      integer :: n, status
+      real(dp) :: bytes
+      ! The LCP's copies of the linearisation allocated with stat= (docs/contracts.md, "Memory").
+      n = size(lin%x)
+      bytes = 0.0_dp
+      call copy_array(lin%x, linearization%x, status, bytes)
+      if (status == 0) call copy_array(lin%nodal, linearization%nodal, status, bytes)
+      if (status == 0) call copy_array(lin%residual, linearization%residual, status, bytes)
+      if (status == 0) call copy_array(lin%reference, linearization%reference, status, bytes)
+      if (status == 0) call reserve(linearization%du_residual, n, status, bytes)
+      if (status == 0) call reserve(linearization%du_tangent, n, status, bytes)
+      if (status == 0 .and. present(yielding) .and. allocated(state%slip)) then
+         call copy_array(state%slip, linearization%slip, status, bytes)
+         if (status == 0) call reserve(linearization%yielding, size(yielding), status, bytes)
+         if (status == 0) linearization%yielding(:) = yielding
+      end if
+      call allocation_failure(status, 'a vector of the contact LCP''s linearisation', bytes, error_analysis, error)
+      if (allocated(error)) return
       linearization%lambda = lin%lambda
-      linearization%du_residual = lin%rhs(:, 1)
-      linearization%du_tangent = lin%rhs(:, 2)
+      linearization%du_residual(:) = lin%rhs(:, 1)
+      linearization%du_tangent(:) = lin%rhs(:, 2)
       linearization%constraint = constraint
       linearization%units = units_at(model, state, lin%x, lin%nodal, active)
-      if (present(yielding) .and. allocated(state%slip)) then
-         allocate (linearization%slip, source=state%slip)
-         allocate (linearization%yielding, source=yielding)
-      end if
       call select_contact_set(model, state%map, linearization, active, system%assembled, system%tangent, &
                               selection, error)
-      update%active = selection%active
+      call move_alloc(selection%active, update%active)
       update%kept = selection%kept
-      if (selection%kept) update%du_tangent = selection%du_tangent
+      if (selection%kept) call move_alloc(selection%du_tangent, update%du_tangent)
       update%pivots = selection%report%pivots
       update%degenerate = selection%degenerate
       if (allocated(error)) return
@@ -237,7 +249,7 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
                             hessian, lambda)
-         if (model%contacts(c)%plastic) gap(c) = gap(c) + slip_shift(model, c, slip)
+         if (shifts_gap(model, c, present(slip))) gap(c) = gap(c) + slip_shift(model, c, slip)
          gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) &
             gap(c) = gap(c) + lambda*model%contacts(c)%gap_rate
@@ -253,7 +265,9 @@ contains
       end do
    end subroutine candidate_state
 
-   !> Candidates that touch (|g| within round-off of the model size) or are bonded.
+   !> Candidates that touch (|g| within round-off of the model size) or are bonded; a tangential spring
+   !> that follows a radial partner acts where its partner touches (its status along the path,
+   !> docs/theory.md §3.8).
    pure subroutine touching_candidates(model, state, nodal, active)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -267,6 +281,10 @@ contains
                             state%lambda)
          active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
+      end do
+      ! the partners come first (uniarc_contact_law: the radial candidates, then the tangential ones)
+      do c = 1, size(state%map%candidate_equation)
+         if (model%contacts(c)%partner > 0) active(c) = active(c) .and. active(model%contacts(c)%partner)
       end do
    end subroutine touching_candidates
 

@@ -20,14 +20,18 @@
 !> toggled set (Newton with its usual complementarity checks), halving its length on failure.
 module uniarc_path_corner
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, equilibrium_at, factorize_and_solve, candidate_reactions
+                                nodal_displacements, equilibrium_at, factorize_and_solve, candidate_reactions, &
+                                fail_attempt
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_newton, only: attempt_step
+   use uniarc_path_state_copy, only: copy_state, move_trial
    implicit none
    private
    public :: step_past_corner
@@ -52,21 +56,27 @@ contains
    !> `system` is overwritten (its committed factors are not kept).
    subroutine step_past_corner(model, state, system, trial, length, passed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       logical, intent(out) :: passed
       type(path_state_t) :: corner
       type(step_trial_t) :: attempt
+      type(error_t), allocatable :: error
       integer, allocatable :: chosen(:)
       logical, allocatable :: toggled(:, :)
-      real(dp), allocatable :: ut(:), best_ut(:), nodal(:, :)
-      real(dp) :: best_cosine, cosine, sign_of, best_sign, size_ut, dl
-      integer :: a, best, h
+      real(dp), allocatable :: ut(:), best_ut(:), nodal(:, :), start(:)
+      real(dp) :: best_cosine, cosine, sign_of, best_sign, size_ut, dl, bytes
+      integer :: a, best, h, status
       passed = .false.
+      bytes = 0.0_dp
       if (size(state%active) == 0) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the corner''s displacements', error)
+         return
+      end if
       call pick_candidates(state, chosen)
       if (size(chosen) == 0) return
       call tie_groups(state, chosen, toggled)
@@ -76,7 +86,11 @@ contains
       best_cosine = -huge(1.0_dp)
       best_sign = 1.0_dp
       do a = 1, size(toggled, 2)
-         call set_tangent(model, state, system, nodal, state%active .neqv. toggled(:, a), ut)
+         call set_tangent(model, state, system, nodal, state%active .neqv. toggled(:, a), ut, error)
+         if (allocated(error)) then
+            call fail_attempt(trial, 'no memory for the tangents at a corner', error)
+            return
+         end if
          if (.not. allocated(ut)) cycle
          if (degenerate_tangent(state, ut)) cycle
          call consistent_sign(model, state, nodal, toggled(:, a), ut, sign_of)
@@ -90,29 +104,44 @@ contains
             best = a
             best_cosine = cosine
             best_sign = sign_of
-            best_ut = ut
+            call copy_array(ut, best_ut, status, bytes)
+            call allocation_failure(status, 'the tangent at a corner', bytes, error_analysis, error)
+            if (allocated(error)) then
+               call fail_attempt(trial, 'no memory for the tangents at a corner', error)
+               return
+            end if
          end if
       end do
       if (best == 0) return
-      corner = state
+      call copy_state(state, corner, 'the state at a corner of the path', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the corner''s state', error)
+         return
+      end if
       corner%active = state%active .neqv. toggled(:, best)
       size_ut = masked_norm(state%map, best_ut)
+      call reserve(start, size(best_ut), status, bytes)
+      call allocation_failure(status, 'the start of the step past a corner', bytes, error_analysis, error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the step past a corner', error)
+         return
+      end if
       dl = max(state%step_length, state%first_length)
       do h = 0, corner_halvings
          attempt%length = dl
-         call attempt_step(model, corner, system, attempt, start=best_sign*dl*best_ut/size_ut, &
-                           start_dlambda=best_sign*dl/size_ut)
+         start(:) = best_sign*dl*best_ut/size_ut
+         call attempt_step(model, corner, system, attempt, start=start, start_dlambda=best_sign*dl/size_ut)
          if (attempt%converged) then
             ! the new piece: the converged set differs from the committed one (or it was the old corner)
             if (any(attempt%active .neqv. state%active)) then
-               trial = attempt
+               call move_trial(attempt, trial)
                length = dl
                passed = .true.
                return
             end if
          end if
          if (allocated(attempt%fatal)) then
-            trial = attempt
+            call move_trial(attempt, trial)
             return
          end if
          dl = 0.5_dp*dl
@@ -202,24 +231,33 @@ contains
    end subroutine tie_groups
 
    !> K_S⁻¹R at the committed state with the working set `active`; unallocated if K_S is singular.
-   subroutine set_tangent(model, state, system, nodal, active, ut)
+   !> memory_error: a vector refused by the system (error_analysis, out of memory).
+   subroutine set_tangent(model, state, system, nodal, active, ut, memory_error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: nodal(:, :)
       logical, intent(in) :: active(:)
       real(dp), allocatable, intent(out) :: ut(:)
+      type(error_t), allocatable, intent(out) :: memory_error
       real(dp), allocatable :: internal(:), reference(:), rhs(:, :)
       type(error_t), allocatable :: error
       real(dp) :: element_scale
-      integer :: n
+      integer :: n, status
       n = size(state%u)
-      allocate (internal(n), reference(n), rhs(n, 2))
+      allocate (internal(n), reference(n), rhs(n, 2), stat=status)
+      call allocation_failure(status, 'the vectors of a tangent at a corner', 32.0_dp*n, error_analysis, memory_error)
+      if (allocated(memory_error)) return
       call equilibrium_at(model, state, system, state%u, state%lambda, active, nodal, internal, reference, &
-                          element_scale)
-      call factorize_and_solve(system%tangent, state%lambda*reference - internal, reference, rhs, error)
+                          element_scale, memory_error)
+      if (allocated(memory_error)) return
+      internal = state%lambda*reference - internal   ! the residual, in place: no temporary
+      call factorize_and_solve(system%tangent, internal, reference, rhs, error)
       if (allocated(error)) return
-      ut = rhs(:, 2)
+      allocate (ut(n), stat=status)
+      call allocation_failure(status, 'the tangent at a corner', 8.0_dp*n, error_analysis, memory_error)
+      if (allocated(memory_error)) return
+      ut(:) = rhs(:, 2)
    end subroutine set_tangent
 
    !> The sign s of the direction s·(ut, 1) along which every toggled candidate moves into its

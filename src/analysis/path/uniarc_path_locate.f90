@@ -65,7 +65,9 @@ contains
    !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). A failure leaves the fields at −1; the only errors are
    !> out of memory (error_analysis, flagged out_of_memory: the run ends).
-   !> A located bifurcation also sets after%bifurcation: the converged state at the located point (one
+   !> A located bifurcation also sets after%point%bifurcation_multiplicity, the change of the count
+   !> across the final bracket once it is narrowed to its tolerance (2 at a double eigenvalue; 0 if
+   !> a re-solution failed first), and after%bifurcation: the converged state at the located point (one
    !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
    !> magnitude) and its least eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
@@ -101,6 +103,7 @@ contains
       logical, allocatable :: set_a(:), set_b(:)
       after%point%limit_fraction = -1.0_dp
       after%point%bifurcation_fraction = -1.0_dp
+      after%point%bifurcation_multiplicity = 0
       after%point%stability_by_contact = .false.
       after%point%limit_by_contact = .false.
       left_branch = .false.
@@ -250,6 +253,12 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+         ! How many eigenvalues vanish there: the change of the count across the final bracket, once
+         ! it is narrowed to its tolerance (a double eigenvalue changes it by two at one point; two
+         ! simple bifurcations inside the step leave a probe between them with the count changed by
+         ! one, and the bracket narrows onto the first).
+         if (hb - ha <= tolerance*length) &
+            after%point%bifurcation_multiplicity = abs(pb%neg_pivots - pa%neg_pivots)
          ! The state at the located point itself, re-solved, for its mode and branch switching
          ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
          call re_solve(ha + t*(hb - ha), probe, probe_state, converged)

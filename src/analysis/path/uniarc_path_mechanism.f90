@@ -22,11 +22,12 @@
 !> (stage 3: the nodes and elements it takes).
 module uniarc_path_mechanism
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
-   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_multiply, band_allocate, &
+   use uniarc_band, only: band_matrix_t, band_weakest_pivot, band_row_terms, band_product, band_allocate, &
                           band_add, band_get, band_copy, band_factorize, band_solve
    use uniarc_assembly, only: assemble_linear_stiffness
    use uniarc_contact, only: assemble_contact
@@ -48,7 +49,8 @@ contains
    !> The path's check at the unloaded state: the tangent with every contact candidate closed (held
    !> as if bonded), so that a model that contacts will hold once they touch (a liner floating in a
    !> cavity) passes. `system` is work space (its tangent is overwritten); nodal (dofs_per_node,
-   !> n_nodes) the displacements of state%u. Errors: find_mechanism's.
+   !> n_nodes) the displacements of state%u. Errors: find_mechanism's; its arrays refused by the
+   !> system (error_analysis, out of memory).
    subroutine check_mechanism(model, state, system, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -58,11 +60,20 @@ contains
       real(dp), allocatable :: internal(:), reference(:)
       logical, allocatable :: closed(:)
       real(dp) :: element_scale
-      integer :: c
-      allocate (internal(state%map%n_equations), reference(state%map%n_equations))
-      closed = [(candidate_live(state%map, c), c=1, size(state%map%candidate_equation))]
-      call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale)
-      call find_mechanism(model, state%map, system%tangent, error)
+      integer :: c, status
+      allocate (internal(state%map%n_equations), reference(state%map%n_equations), &
+                closed(size(state%map%candidate_equation)), stat=status)
+      call allocation_failure(status, 'the vectors of the mechanism check', &
+                              16.0_dp*state%map%n_equations + 4.0_dp*size(state%map%candidate_equation), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      do c = 1, size(closed)
+         closed(c) = candidate_live(state%map, c)
+      end do
+      call equilibrium_at(model, state, system, state%u, 0.0_dp, closed, nodal, internal, reference, element_scale, &
+                          error)
+      if (allocated(error)) return
+      call find_mechanism(model, state%map, system%tangent, error, error_analysis)
    end subroutine check_mechanism
 
    !> The rigid motions (n, k ≤ 3) that `stiffness` (unfactorised, n × n: the structure with its supports
@@ -71,21 +82,27 @@ contains
    !> moves most, at which the tangent holds it while no contact does. Found one at a time by the
    !> module's test (free_rigid_motion), each held at its equation (a spring of the size of the
    !> diagonal there) before the next is looked for. `motions` unallocated: none.
-   subroutine floating_motions(model, map, stiffness, motions, equations)
+   !> Errors: a copy or a vector refused by the system (error_analysis, out of memory).
+   subroutine floating_motions(model, map, stiffness, motions, equations, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
       real(dp), allocatable, intent(out) :: motions(:, :)
       integer, allocatable, intent(out) :: equations(:)
+      type(error_t), allocatable, intent(out) :: error
       type(band_matrix_t) :: work
       real(dp), allocatable :: motion(:), found(:, :)
       real(dp) :: ratio, diagonal
       character(len=:), allocatable :: what
-      integer :: row, k, j
-      work = stiffness
-      allocate (found(map%n_equations, 3), equations(0))
+      integer :: row, k, j, status
+      call band_copy(stiffness, work, error, error_analysis)
+      if (allocated(error)) return
+      allocate (found(map%n_equations, 3), equations(0), stat=status)
+      call allocation_failure(status, 'the floating motions', 24.0_dp*map%n_equations, error_analysis, error)
+      if (allocated(error)) return
       do k = 1, 3
-         call free_rigid_motion(model, map, work, motion, ratio, row, what)
+         call free_rigid_motion(model, map, work, motion, ratio, row, what, error, error_analysis)
+         if (allocated(error)) return
          if (.not. allocated(motion)) exit
          j = maxloc(abs(map%metric*motion), 1)
          found(:, k) = motion
@@ -98,28 +115,39 @@ contains
          deallocate (equations)
          return
       end if
-      motions = found(:, 1:size(equations))
+      allocate (motions(map%n_equations, size(equations)), stat=status)
+      call allocation_failure(status, 'the floating motions', 8.0_dp*map%n_equations*size(equations), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      motions(:, :) = found(:, 1:size(equations))
    end subroutine floating_motions
 
    !> Refuse a model whose unfactorised stiffness `stiffness` (n × n, n = map%n_equations, with the
    !> supports, springs and contacts that hold the model) lets it move as a rigid body.
    !> Errors (error_input): the model is a mechanism: which rigid motion, the node it moves most and
-   !> the component there.
-   subroutine find_mechanism(model, map, stiffness, error)
+   !> the component there. A work array refused by the system: out of memory, of `category`
+   !> (error_input, the default, before the analysis: the model does not fit in memory; error_analysis
+   !> once it has started).
+   subroutine find_mechanism(model, map, stiffness, error, category)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
       type(error_t), allocatable, intent(out) :: error
+      integer, intent(in), optional :: category
       real(dp), allocatable :: motion(:)
       real(dp) :: ratio
       character(len=:), allocatable :: what, deck
-      integer :: row, node, dof, largest, label
-      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+      integer :: row, node, dof, largest, label, memory_category
+      memory_category = error_input
+      if (present(category)) memory_category = category
+      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, memory_category)
+      if (allocated(error)) return
       if (.not. allocated(motion)) then
          ! Stage 3: a weak pivot that no rigid motion of the whole explains may be a mechanism inside
          ! the model (a chain of hinges, a part held by nothing of its own).
          if (row == 0 .or. ratio > pivot_tolerance) return
-         call free_internal_motion(map, stiffness, motion)
+         call free_internal_motion(map, stiffness, motion, error, memory_category)
+         if (allocated(error)) return
          if (.not. allocated(motion)) return
          call internal_mechanism_error(model, map, motion, ratio, row, error)
          return
@@ -161,7 +189,8 @@ contains
 
    !> The linear stiffness of the unloaded structure (n × n, unfactorised, n = map%n_equations > 0)
    !> with every contact candidate closed (held as if bonded; augmented rows for those with a reaction
-   !> unknown). Errors: a band matrix that cannot be allocated (band_allocate).
+   !> unknown). Errors: a band matrix or a vector that cannot be allocated (error_input: the model does
+   !> not fit in memory).
    subroutine closed_linear_stiffness(model, map, stiffness, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -169,15 +198,23 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: at_rest(:, :), no_reactions(:), internal(:)
       logical, allocatable :: closed(:)
-      integer :: c
+      integer :: c, status
       call band_allocate(stiffness, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
       if (allocated(error)) return
       call assemble_linear_stiffness(model, map, stiffness)
       if (size(map%candidate_equation) > 0) then
-         allocate (at_rest(dofs_per_node, model%n_nodes), source=0.0_dp)
-         allocate (no_reactions(size(map%candidate_equation)), source=0.0_dp)
-         allocate (internal(map%n_equations), source=0.0_dp)
-         closed = [(candidate_live(map, c), c=1, size(map%candidate_equation))]
+         allocate (at_rest(dofs_per_node, model%n_nodes), no_reactions(size(map%candidate_equation)), &
+                   internal(map%n_equations), closed(size(map%candidate_equation)), stat=status)
+         call allocation_failure(status, 'the vectors of the closed structure''s stiffness', &
+                                 8.0_dp*(dofs_per_node*model%n_nodes + map%n_equations) + &
+                                 12.0_dp*size(map%candidate_equation), error_input, error)
+         if (allocated(error)) return
+         at_rest = 0.0_dp
+         no_reactions = 0.0_dp
+         internal = 0.0_dp
+         do c = 1, size(closed)
+            closed(c) = candidate_live(map, c)
+         end do
          call assemble_contact(model, map, at_rest, no_reactions, closed, stiffness, internal)
       end if
    end subroutine closed_linear_stiffness
@@ -185,7 +222,8 @@ contains
    !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
    !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
-   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what)
+   !> Errors: its vectors refused by the system (out of memory, of `category`, uniarc_memory).
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
@@ -193,9 +231,11 @@ contains
       real(dp), intent(out) :: ratio
       integer, intent(out) :: row
       character(len=:), allocatable, intent(out) :: what
-      real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(in) :: category
+      real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:), rotation(:), product(:), magnitude(:)
       real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force
-      integer :: below, node, dof, status
+      integer :: below, node, dof, status, n
       what = ''
       ratio = huge(1.0_dp)
       row = 0
@@ -206,7 +246,12 @@ contains
       ! The rigid motions about the centroid: translation x, translation y, rotation (Przemieniecki
       ! 1968, §2: u = a − θ(y − y_c), v = b + θ(x − x_c), rz = θ), on the free equations.
       centre = sum(model%coordinates, 2)/real(max(1, model%n_nodes), dp)
-      allocate (modes(map%n_equations, 3), forces(map%n_equations, 3), source=0.0_dp)
+      n = map%n_equations
+      allocate (modes(n, 3), forces(n, 3), candidate(n), rotation(n), product(n), magnitude(n), stat=status)
+      call allocation_failure(status, 'the vectors of the mechanism search', 80.0_dp*n, category, error)
+      if (allocated(error)) return
+      modes = 0.0_dp
+      forces = 0.0_dp
       do node = 1, model%n_nodes
          call put(1, node, 1, 1.0_dp)
          call put(2, node, 2, 1.0_dp)
@@ -215,7 +260,7 @@ contains
          call put(3, node, 3, 1.0_dp)
       end do
       do dof = 1, 3
-         forces(:, dof) = band_multiply(stiffness, modes(:, dof))
+         call band_product(stiffness, modes(:, dof), forces(:, dof))
       end do
       ! One common scale for the three force vectors: the angle and the shift below are ratios of
       ! their products (invariant under it), and stiffnesses up to the accepted 1e150 per element
@@ -229,7 +274,7 @@ contains
       gram(2, 2) = dot_product(forces(:, 2), forces(:, 2))
       gram(1, 2) = dot_product(forces(:, 1), forces(:, 2))
       angle = 0.5_dp*atan2(2.0_dp*gram(1, 2), gram(1, 1) - gram(2, 2)) + 2.0_dp*atan(1.0_dp)
-      candidate = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
+      candidate(:) = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
       best = held(candidate)
       what = 'a translation in the direction ('//trim(adjustl(real_to_string(cos(angle), '(f6.3)')))// &
              ', '//trim(adjustl(real_to_string(sin(angle), '(f6.3)')))//')'
@@ -244,23 +289,26 @@ contains
          shift(2) = -(gram(1, 1)*dot_product(forces(:, 2), forces(:, 3)) - gram(1, 2)*dot_product(forces(:, 1), &
                       forces(:, 3)))/det
       end if
-      residual = held(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))
+      rotation(:) = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
+      residual = held(rotation)
       ! A rotation about the one point where every free DOF is (a single free node whose rotation is
       ! held, as a truss node's) moves none of them: no motion of the model, whatever it holds. Its
       ! free components are the distances to that point (lengths) and unit rotations; below √ε of the
       ! model's extent they are the round-off of the least-squares centre.
-      extent = maxval(abs(model%coordinates - spread(centre, 2, model%n_nodes)))
+      extent = -huge(1.0_dp)
+      do node = 1, model%n_nodes
+         extent = max(extent, abs(model%coordinates(1, node) - centre(1)), abs(model%coordinates(2, node) - centre(2)))
+      end do
       if (.not. (extent > 0.0_dp)) extent = 1.0_dp
-      if (maxval(abs(modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2))) <= &
-          sqrt(epsilon(1.0_dp))*extent) residual = huge(1.0_dp)
+      if (maxval(abs(rotation)) <= sqrt(epsilon(1.0_dp))*extent) residual = huge(1.0_dp)
       if (residual < best) then
          best = residual
-         candidate = modes(:, 3) + shift(1)*modes(:, 1) + shift(2)*modes(:, 2)
+         candidate(:) = rotation
          what = 'a rotation about ('//trim(real_to_string(centre(1) - shift(2), '(es10.3)'))//', '// &
                 trim(real_to_string(centre(2) + shift(1), '(es10.3)'))//')'
       end if
       if (best > 1.0_dp) return
-      motion = candidate
+      call move_alloc(candidate, motion)
 
    contains
 
@@ -273,10 +321,8 @@ contains
       !> that round-off for its rotation and translation; an arch with no support 0.024 and 0.15.
       real(dp) function held(v)
          real(dp), intent(in) :: v(:)
-         real(dp), allocatable :: product(:), magnitude(:)
          real(dp) :: local, noise
          integer :: i
-         allocate (product(size(v)), magnitude(size(v)))
          call band_row_terms(stiffness, v, product, magnitude)
          local = 0.0_dp
          do i = 1, size(v)
@@ -304,27 +350,35 @@ contains
    !> free (`motion` allocated, n) when the module's round-off test (`free_by_roundoff`) finds that no
    !> row holds it; a held model's softest mode stores energy far above that round-off. Rows with no
    !> diagonal (rigid contact rows of the augmented system) are not shifted.
-   subroutine free_internal_motion(map, stiffness, motion)
+   !> Errors: its copy or vectors refused by the system (out of memory, of `category`).
+   subroutine free_internal_motion(map, stiffness, motion, error, category)
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
       real(dp), allocatable, intent(out) :: motion(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(in) :: category
       type(band_matrix_t) :: shifted
       type(error_t), allocatable :: failure
-      real(dp), allocatable :: diagonal(:), x(:, :)
-      integer :: i, k
-      allocate (diagonal(map%n_equations), x(map%n_equations, 1))
+      real(dp), allocatable :: diagonal(:), x(:, :), product(:), magnitude(:)
+      integer :: i, k, status
+      allocate (diagonal(map%n_equations), x(map%n_equations, 1), product(map%n_equations), &
+                magnitude(map%n_equations), stat=status)
+      call allocation_failure(status, 'the vectors of the mechanism search', 32.0_dp*map%n_equations, category, error)
+      if (allocated(error)) return
       do i = 1, map%n_equations
          diagonal(i) = abs(band_get(stiffness, i, i))
       end do
-      call band_copy(stiffness, shifted, failure)
-      if (allocated(failure)) return
+      call band_copy(stiffness, shifted, error, category)
+      if (allocated(error)) return
       do i = 1, map%n_equations
          if (diagonal(i) > 0.0_dp) call band_add(shifted, i, i, 1.0e-14_dp*diagonal(i))
       end do
       call band_factorize(shifted, failure)
       if (allocated(failure)) return
       ! A generic start with a component along every motion (no symmetry of the model can hide one).
-      x(:, 1) = [(1.0_dp + 0.5_dp*sin(1.7_dp*real(i, dp)), i=1, map%n_equations)]
+      do i = 1, map%n_equations
+         x(i, 1) = 1.0_dp + 0.5_dp*sin(1.7_dp*real(i, dp))
+      end do
       do k = 1, 4
          x(:, 1) = diagonal*x(:, 1)
          call band_solve(shifted, x, failure)
@@ -335,20 +389,24 @@ contains
          if (maxval(abs(x)) <= 0.0_dp) return
          x = x/maxval(abs(x))
       end do
-      if (free_by_roundoff(stiffness, x(:, 1))) motion = x(:, 1)
+      if (.not. free_by_roundoff(stiffness, x(:, 1), product, magnitude)) return
+      allocate (motion(map%n_equations), stat=status)
+      call allocation_failure(status, 'the motion of a mechanism', 8.0_dp*map%n_equations, category, error)
+      if (allocated(error)) return
+      motion(:) = x(:, 1)
    end subroutine free_internal_motion
 
    !> Whether a motion v (n) passes through `stiffness` as round-off only: no row keeps a term it does
    !> not cancel beyond 1e3 ε of the row's terms (or of ε times the largest row's, for rows the motion
    !> hardly reaches), and its energy vᵀKv is at most 3 times the random
    !> walk of the rows' round-off (the criteria of `held` in free_rigid_motion; Higham 2002, §3.1).
-   logical function free_by_roundoff(stiffness, v) result(free)
+   !> product, magnitude (size(v)): work space of the caller.
+   logical function free_by_roundoff(stiffness, v, product, magnitude) result(free)
       type(band_matrix_t), intent(in) :: stiffness
       real(dp), intent(in) :: v(:)
-      real(dp), allocatable :: product(:), magnitude(:)
+      real(dp), intent(out) :: product(:), magnitude(:)
       real(dp) :: noise, floor
       integer :: i
-      allocate (product(size(v)), magnitude(size(v)))
       call band_row_terms(stiffness, v, product, magnitude)
       free = .true.
       ! A row whose terms are all round-off of the largest (the axial DOFs of a transverse mechanism,

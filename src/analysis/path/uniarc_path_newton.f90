@@ -13,6 +13,8 @@
 module uniarc_path_newton
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: reserve
    use uniarc_model, only: model_t, analysis_options_t
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_solve, band_copy, band_factorize
@@ -146,13 +148,18 @@ contains
    !> the committed λ (the predictor along a buckling mode onto a secondary branch, uniarc_path_branch),
    !> or at λ + `start_dlambda` (optional; along the tangent of the next piece at a corner of the path,
    !> uniarc_path_corner).
-   subroutine attempt_step(model, state, system, trial, start, start_dlambda)
+   subroutine attempt_step(model, state, system, trial, start, start_dlambda, analysis)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(in), optional :: start(:)
       real(dp), intent(in), optional :: start_dlambda
+      !> the analysis options of the attempt, for model%analysis (Riks' normal plane of a branch switch,
+      !> uniarc_path_branch; load control to land on lambda_max, uniarc_path_following): no copy of the
+      !> model is made for them
+      type(analysis_options_t), intent(in), optional :: analysis
+      type(analysis_options_t) :: options_used
       type(linearization_t) :: lin
       type(newton_test_t) :: test
       type(path_constraint_t) :: constraint
@@ -161,16 +168,36 @@ contains
       real(dp), allocatable :: predictor(:)
       logical, allocatable :: new_active(:)
       character(len=:), allocatable :: reason
-      real(dp) :: lambda, dl, force_scale
-      logical :: contacts, predicted, reuse_factors, in_equilibrium, update_set, solved, fresh_set
+      real(dp) :: lambda, dl, force_scale, bytes
+      integer :: n, m, status
+      logical :: contacts, predicted, reuse_factors, in_equilibrium, update_set, solved, fresh_set, lands
       trial%converged = .false.
       system%holds_converged = .false.
       trial%reason = 'iteration limit'
-      trial%active = state%active
+      ! The attempt's vectors allocated with stat= first: the assignments below then allocate nothing
+      ! (reallocation on assignment is not checked; docs/contracts.md, "Memory").
+      n = state%map%n_equations
+      m = size(state%active)
+      bytes = 0.0_dp
+      call reserve(trial%active, m, status, bytes)
+      if (status == 0) call reserve(trial%yielding, m, status, bytes)
+      if (status == 0) call reserve(trial%increment, n, status, bytes)
+      if (status == 0) call reserve(trial%predictor, n, status, bytes)
+      if (status == 0) call reserve(predictor, n, status, bytes)
+      if (status == 0) call reserve(new_active, m, status, bytes)
+      if (status == 0) call reserve(system%converged_internal, n, status, bytes)
+      if (status == 0) call reserve(system%converged_reference, n, status, bytes)
+      call allocation_failure(status, 'a work vector of a Newton attempt', bytes, error_analysis, error)
+      if (.not. allocated(error)) call new_linearization(model, state%map, lin, error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the work vectors of the attempt', error)
+         return
+      end if
+      trial%active(:) = state%active
       if (allocated(state%yielding)) then
-         trial%yielding = state%yielding
+         trial%yielding(:) = state%yielding
       else
-         allocate (trial%yielding(size(state%active)), source=.false.)
+         trial%yielding(:) = .false.
       end if
       trial%yield_changes = 0
       trial%lcp_pivots = 0
@@ -179,23 +206,26 @@ contains
       trial%dlambda = 0.0_dp
       trial%load_step = .false.
       trial%floating_slide = .false.
+      trial%release = .false.
       contacts = has_contacts(state)
-      lin = new_linearization(model, state%map)
-      allocate (new_active(size(trial%active)))
       reuse_factors = .false.
       fresh_set = .false.
+      if (present(analysis)) then
+         options_used = analysis
+      else
+         options_used = model%analysis
+      end if
       if (present(start)) then
          system%holds_committed = .false.
-         trial%increment = start
+         trial%increment(:) = start
          if (present(start_dlambda)) trial%dlambda = start_dlambda
       else
-         call predict(model, state, system, lin, trial, predicted)
+         call predict(model, options_used, state, system, lin, trial, predicted)
+         if (allocated(trial%fatal)) return
          if (.not. predicted) return
       end if
-      associate (options => model%analysis)
-         ! allocate (source=) rather than an assignment to the unallocated array (GCC bug 77504:
-         ! gfortran 12 reads its unset bounds first, an overflow under -fsanitize=undefined).
-         allocate (predictor, source=trial%increment)
+      associate (options => options_used)
+         predictor(:) = trial%increment
          trial%predictor = predictor
          trial%predictor_dlambda = trial%dlambda
          test = new_newton_test(options, state%length_scale)
@@ -204,7 +234,11 @@ contains
             lin%x = state%u + trial%increment
             call gather_nodal(state%map, lin%x, lin%nodal)
             call equilibrium_at(model, state, system, lin%x, lambda, trial%active, lin%nodal, lin%internal, &
-                                lin%reference, lin%element_scale, lin%roundoff, trial%yielding)
+                                lin%reference, lin%element_scale, error, lin%roundoff, trial%yielding)
+            if (allocated(error)) then
+               call fail_attempt(trial, 'no memory for the equilibrium', error)
+               exit
+            end if
             lin%lambda = lambda
             lin%rhs(:, 1) = lambda*lin%reference - lin%internal
             force_scale = max(state%load_norm, norm2(lambda*lin%reference), lin%element_scale)
@@ -233,7 +267,12 @@ contains
                   exit
                end if
                if (complementary(model, state, lin%x, lin%nodal, trial%active, trial%yielding, lambda)) then
-                  if (.not. lands_degenerate(model, state, system, lin, trial)) then
+                  call lands_degenerate(options, state, system, lin, trial, lands, error)
+                  if (allocated(error)) then
+                     call fail_attempt(trial, 'no memory for the load step''s test', error)
+                     exit
+                  end if
+                  if (.not. lands) then
                      trial%reason = 'the arc-length step cannot be solved with this contact set (contact LCP: '// &
                                     'no solution), and as a load step it does not end where the contacts carry the load'
                      exit
@@ -418,29 +457,42 @@ contains
    !> meeting its first contact (trial%floating_slide, docs/theory.md §2.8): it is taken in λ because the
    !> slide along its free motion has no length for the arc length to measure, wherever it lands. `system%tangent` holds K_S at the state of `lin`,
    !> unfactorised, and is left so (a copy is factorised).
-   logical function lands_degenerate(model, state, system, lin, trial) result(ok)
-      type(model_t), intent(in) :: model
+   !> Errors: the copy of the tangent or the solve's vector refused by the system (error_analysis, out
+   !> of memory; `ok` false).
+   subroutine lands_degenerate(options, state, system, lin, trial, ok, error)
+      type(analysis_options_t), intent(in) :: options   !< the attempt's (its control)
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(in) :: system
       type(linearization_t), intent(in) :: lin
       type(step_trial_t), intent(in) :: trial
+      logical, intent(out) :: ok
+      type(error_t), allocatable, intent(out) :: error
       type(band_matrix_t) :: factors
-      type(error_t), allocatable :: error
       real(dp), allocatable :: response(:, :)
+      integer :: status
       ok = .true.
-      if (.not. trial%load_step .or. model%analysis%control /= control_arclength) return
-      if (trial%floating_slide) return
+      if (.not. trial%load_step .or. options%control /= control_arclength) return
+      if (trial%floating_slide .or. trial%release) return
       if (degenerate_tangent(state, state%tangent_displacement)) return
       ok = .false.
-      call band_copy(system%tangent, factors)
-      call band_factorize(factors, error)
+      call band_copy(system%tangent, factors, error, error_analysis)
       if (allocated(error)) return
-      allocate (response(size(lin%reference), 1))
+      call band_factorize(factors, error)
+      if (allocated(error)) then
+         deallocate (error)   ! singular: not a degenerate landing
+         return
+      end if
+      allocate (response(size(lin%reference), 1), stat=status)
+      call allocation_failure(status, 'the load step''s solve', 8.0_dp*size(lin%reference), error_analysis, error)
+      if (allocated(error)) return
       response(:, 1) = lin%reference
       call band_solve(factors, response, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         deallocate (error)
+         return
+      end if
       ok = degenerate_tangent(state, response(:, 1))
-   end function lands_degenerate
+   end subroutine lands_degenerate
 
    !> The committed state linearised with the working set `active`: K_T assembled (its copy kept in
    !> system%assembled) and factorised, the residual λR − F and the solves K⁻¹[residual, R] in lin%rhs.
@@ -453,7 +505,8 @@ contains
       logical, intent(in) :: active(:)
       type(error_t), allocatable, intent(out) :: error
       call equilibrium_at(model, state, system, state%u, state%lambda, active, lin%nodal, &
-                          lin%internal, lin%reference, lin%element_scale)
+                          lin%internal, lin%reference, lin%element_scale, error)
+      if (allocated(error)) return
       lin%lambda = state%lambda
       lin%residual = state%lambda*lin%reference - lin%internal
       call band_copy(system%tangent, system%assembled, error, error_analysis)
@@ -466,8 +519,9 @@ contains
    !> with contact, the contact LCP at the committed state first chooses the working set trial%active
    !> and the tangent is that of the set. `predicted` is false (and trial%reason says why) if a tangent
    !> is singular or the LCP fails.
-   subroutine predict(model, state, system, lin, trial, predicted)
+   subroutine predict(model, options, state, system, lin, trial, predicted)
       type(model_t), intent(in) :: model
+      type(analysis_options_t), intent(in) :: options   !< the attempt's (model%analysis or its own)
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       type(linearization_t), intent(inout) :: lin
@@ -478,18 +532,33 @@ contains
       type(set_update_t) :: update
       type(error_t), allocatable :: error
       logical :: ready
+      integer :: status
+      real(dp) :: bytes
       predicted = .false.
+      bytes = 0.0_dp
+      call reserve(ut, size(state%tangent_displacement), status, bytes)
+      call allocation_failure(status, 'the tangent of the predictor', bytes, error_analysis, error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the predictor', error)
+         return
+      end if
       ! Only while the system holds the committed state's factors can the predictor use them; from
       ! here on this attempt assembles into system%tangent (or lends it to the contact LCP).
       ready = system%holds_committed
       system%holds_committed = .false.
-      associate (options => model%analysis)
-         ut = state%tangent_displacement
+         ut(:) = state%tangent_displacement
          trial%dlambda = predictor_dlambda(options, state, ut, trial%length)
          ! A degenerate tangent (the contacts carry the whole reference load) makes the step a load
          ! step of Δλ = Δl/ψ (predictor_dlambda; docs/theory.md §2.7).
          trial%load_step = options%control == control_arclength .and. degenerate_tangent(state, ut)
-         if (options%control == control_displacement) then
+         if (state%release_due) then
+            ! The last commit switched tangential springs off (docs/theory.md §3.8): their dropped forces
+            ! are balanced at the same λ before the path goes on, a load step of Δλ = 0.
+            trial%release = .true.
+            trial%load_step = .true.
+            trial%dlambda = 0.0_dp
+         end if
+         if (options%control == control_displacement .and. .not. trial%release) then
             if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
                ! The contacts carry the reference load at the controlled DOF: no Δλ moves it.
                trial%reason = 'the reference load does not move the controlled displacement with this contact '// &
@@ -545,7 +614,11 @@ contains
                   ut = update%du_tangent
                else
                   call equilibrium_at(model, state, system, state%u, state%lambda, trial%active, lin%nodal, &
-                                      lin%internal, lin%reference, lin%element_scale)
+                                      lin%internal, lin%reference, lin%element_scale, error)
+                  if (allocated(error)) then
+                     call fail_attempt(trial, 'no memory for the equilibrium', error)
+                     return
+                  end if
                   lin%lambda = state%lambda
                   call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
                                            lin%reference, lin%rhs, error)
@@ -570,7 +643,6 @@ contains
             end if
          end if
          trial%increment = trial%dlambda*ut
-      end associate
       predicted = .true.
    end subroutine predict
 

@@ -4,7 +4,11 @@
 !> rate of that value along the path.
 module uniarc_path_point
    use uniarc_kinds, only: dp
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: reserve
    use uniarc_model, only: model_t
+   use uniarc_strings, only: integer_to_string
    use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, masked_norm, nodal_displacements
@@ -18,14 +22,27 @@ contains
 
    !> Fill the point record of the committed state (step number, Newton iterations and Lemke pivots of
    !> the step that reached it), and the committed reactions. The inertia and the least eigenvalue are
-   !> the commit's (uniarc_path_stability).
-   subroutine describe_point(model, state, step, iterations, lcp_pivots)
+   !> the commit's (uniarc_path_stability). Errors: an array of the record refused by the system
+   !> (error_analysis, out of memory; docs/contracts.md, "Memory").
+   subroutine describe_point(model, state, step, iterations, lcp_pivots, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       integer, intent(in) :: step, iterations, lcp_pivots
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
-      real(dp) :: norm, g, gradient(2), hessian(2, 2), rate
-      integer :: m, c, row, node
+      real(dp) :: norm, g, gradient(2), hessian(2, 2), rate, bytes
+      integer :: m, c, row, node, status
+      ! The record's arrays allocated with stat= (the assignments below then allocate nothing).
+      m = size(state%map%candidate_equation)
+      bytes = 0.0_dp
+      call reserve(state%point%rate, size(state%tangent_displacement), status, bytes)
+      if (status == 0) call reserve(state%point%in_contact, m, status, bytes)
+      if (status == 0) call reserve(state%point%contact_value, m, status, bytes)
+      if (status == 0) call reserve(state%point%contact_rate, m, status, bytes)
+      if (status == 0 .and. m > 0) call reserve(state%reactions, m, status, bytes)
+      call allocation_failure(status, 'an array of the point of step '//integer_to_string(step), bytes, &
+                              error_analysis, error)
+      if (allocated(error)) return
       state%point%step = step
       state%point%lambda = state%lambda
       state%point%iterations = iterations
@@ -45,12 +62,12 @@ contains
       end if
       state%point%dlambda_ds = real(state%direction, dp)/norm
       state%point%lcp_residual = 0.0_dp
-      m = size(state%map%candidate_equation)
-      state%point%in_contact = [(.false., c=1, m)]
-      state%point%contact_value = [(0.0_dp, c=1, m)]
-      state%point%contact_rate = [(0.0_dp, c=1, m)]
+      state%point%in_contact = .false.
+      state%point%contact_value = 0.0_dp
+      state%point%contact_rate = 0.0_dp
       if (m > 0) then
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, state%slip, &
                               state%yielding, state%lambda)
          state%reactions = reaction

@@ -54,7 +54,8 @@ contains
             probe%direction = 1
          end if
       end if
-      call describe_point(model, probe, before%point%step + 1, trial%iterations, trial%lcp_pivots)
+      call describe_point(model, probe, before%point%step + 1, trial%iterations, trial%lcp_pivots, error)
+      if (allocated(error)) ok = .false.
    end subroutine re_solve_step
 
    !> Put the committed tangent of `state` back into `system` after probes (its factors, K⁻¹R and

@@ -7,6 +7,7 @@ module uniarc_path_stability
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_band, only: band_matrix_t, band_solve, band_inertia, band_inertia_from_factors, band_copy, &
                           band_factorize, band_get, band_add
@@ -47,24 +48,35 @@ contains
    !> `mode` (n) is the start vector and returns the last iterate: started from the mode of the last
    !> converged step, which changes little from step to step, the iteration settles in a few solves.
    !> Returns 0 for an empty matrix, a failed solve or an infinite quotient.
-   function least_eigenvalue(matrix, mode) result(mu)
+   !> Errors: its work vectors refused by the system (error_analysis, out of memory; mu 0).
+   subroutine least_eigenvalue(matrix, mode, mu, memory_error)
       type(band_matrix_t), intent(in) :: matrix
       real(dp), allocatable, intent(inout) :: mode(:)
-      real(dp) :: mu
+      real(dp), intent(out) :: mu
+      type(error_t), allocatable, intent(out) :: memory_error
       real(dp), allocatable :: x(:, :), y(:)
       real(dp) :: nu, previous
       type(error_t), allocatable :: error
-      integer :: k, i, first_check
+      integer :: k, i, first_check, status
       mu = 0.0_dp
       if (matrix%n == 0) return
-      allocate (x(matrix%n, 1))
+      allocate (x(matrix%n, 1), y(matrix%n), stat=status)
+      call allocation_failure(status, 'the vectors of the least eigenvalue', 16.0_dp*matrix%n, error_analysis, &
+                              memory_error)
+      if (allocated(memory_error)) return
       ! No usable last mode (first step, another size, or a zero vector): a fixed generic start.
       if (allocated(mode)) then
          if (size(mode) /= matrix%n .or. .not. (norm2(mode) > 0.0_dp)) deallocate (mode)
       end if
       first_check = 1
       if (.not. allocated(mode)) then
-         mode = [(1.0_dp + 0.1_dp*sin(real(i, dp)), i=1, matrix%n)]
+         allocate (mode(matrix%n), stat=status)
+         call allocation_failure(status, 'the mode of the least eigenvalue', 8.0_dp*matrix%n, error_analysis, &
+                                 memory_error)
+         if (allocated(memory_error)) return
+         do i = 1, matrix%n
+            mode(i) = 1.0_dp + 0.1_dp*sin(real(i, dp))
+         end do
          first_check = 2
       end if
       x(:, 1) = mode/norm2(mode)
@@ -87,7 +99,7 @@ contains
       end do
       if (all(abs(x(:, 1)) <= huge(1.0_dp))) mode = x(:, 1)
       if (abs(nu) > tiny(1.0_dp)) mu = 1.0_dp/nu
-   end function least_eigenvalue
+   end subroutine least_eigenvalue
 
    !> Stability with contacts that touch without force (docs/theory.md §2.2; Klarbring 1988; Cottle,
    !> Pang & Stone 1992, §3.8 on copositivity). Such a contact (weak: in the working set with a
@@ -116,8 +128,8 @@ contains
    !> medium is neutral, not unstable. Costs one band LU per piece tested at the states that have weak
    !> contacts, nothing at the others. Sets state%point%liftoff when the count and least eigenvalue
    !> are a piece's other than K_S, with its least eigenvector in state%liftoff_mode.
-   !> memory_error: reserved for an allocation of a copy the system refuses (error_analysis); the
-   !> pieces' copies do not check it yet (docs/contracts.md, "Memory").
+   !> memory_error: a copy of a piece or a vector of the test that the system refuses (error_analysis,
+   !> out of memory: it ends the run, docs/contracts.md "Memory").
    subroutine liftoff_stability(model, state, assembled, tolerance, unloaded, memory_error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -129,24 +141,32 @@ contains
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), mode(:), along(:), norms(:)
       logical, allocatable :: released(:), pressed_plus(:), pressed_minus(:)
       real(dp), allocatable :: direction(:)
-      real(dp) :: force_unit, mu, size_mode, mu_shifted
-      integer :: c, negative, round, negative_shifted
+      real(dp) :: force_unit, mu, size_mode, mu_shifted, bytes
+      integer :: c, negative, round, negative_shifted, status
       logical :: ok, have_direction
       state%point%liftoff = .false.
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, memory_error)
+      if (allocated(memory_error)) return
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
-      allocate (released(size(reaction)))
+      allocate (released(size(reaction)), pressed_plus(size(reaction)), pressed_minus(size(reaction)), stat=status)
+      call allocation_failure(status, 'the contacts of the lift-off stability test', 12.0_dp*size(reaction), &
+                              error_analysis, memory_error)
+      if (allocated(memory_error)) return
       do c = 1, size(reaction)
          released(c) = state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral &
                        .and. reaction(c) <= tolerance*force_unit
       end do
       if (.not. any(released)) return
-      if (allocated(state%liftoff_mode)) mode = state%liftoff_mode
+      bytes = 0.0_dp
+      call copy_array(state%liftoff_mode, mode, status, bytes)
+      call allocation_failure(status, 'the mode of the lift-off stability test', bytes, error_analysis, memory_error)
+      if (allocated(memory_error)) return
       do round = 1, count(released)
-         call piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok)
+         call piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok, &
+                              memory_error)
          if (.not. ok) return
          ! The one negative direction φ of the piece: the least eigenvector when its eigenvalue is the
          ! negative one; else (a positive eigenvalue nearer zero) found by inverse iteration shifted
@@ -155,12 +175,16 @@ contains
          ! eigenvalue and its mode (the locator's indicator, the warm start, the buckling mode).
          have_direction = .false.
          if (negative == 1 .and. mu < 0.0_dp .and. allocated(mode)) then
-            direction = mode
+            call copy_array(mode, direction, status, bytes)
+            call allocation_failure(status, 'the direction of the lift-off stability test', bytes, error_analysis, &
+                                    memory_error)
+            if (allocated(memory_error)) return
             have_direction = .true.
          else if (negative == 1) then
             if (allocated(direction)) deallocate (direction)
             call piece_stability(model, state, assembled, nodal, reaction, released, negative_shifted, &
-                                 mu_shifted, direction, have_direction, negative_mode=.true.)
+                                 mu_shifted, direction, have_direction, memory_error, negative_mode=.true.)
+            if (allocated(memory_error)) return
          end if
          if (have_direction) then
             ! Admissible for a sign if it presses no released contact (a_cᵀφ below −1e-6 |a_c| max|φ|:
@@ -185,7 +209,7 @@ contains
       state%point%neg_pivots = max(state%point%neg_pivots, negative)
       state%point%min_eigenvalue = mu
       state%point%liftoff = .true.
-      if (allocated(mode)) state%liftoff_mode = mode
+      if (allocated(mode)) call move_alloc(mode, state%liftoff_mode)
    end subroutine liftoff_stability
 
    !> One piece of the lift-off test: K_S (`assembled`) with the contacts `released` released, the
@@ -195,8 +219,9 @@ contains
    !> With `negative_mode` (for a piece with one negative eigenvalue that is not the least in
    !> magnitude): `mu` and `mode` are that negative eigenvalue and its eigenvector instead
    !> (negative_eigenpair).
+   !> memory_error: a copy or a vector refused by the system (error_analysis, out of memory; ok false).
    subroutine piece_stability(model, state, assembled, nodal, reaction, released, negative, mu, mode, ok, &
-                              negative_mode)
+                              memory_error, negative_mode)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(band_matrix_t), intent(in) :: assembled
@@ -206,18 +231,23 @@ contains
       real(dp), intent(out) :: mu
       real(dp), allocatable, intent(inout) :: mode(:)
       logical, intent(out) :: ok
+      type(error_t), allocatable, intent(out) :: memory_error
       logical, intent(in), optional :: negative_mode
       type(band_matrix_t) :: piece
       real(dp), allocatable :: scratch(:)
       real(dp) :: g, gradient(2), hessian(2, 2)
-      integer :: c, node, row, n_rows
+      integer :: c, node, row, n_rows, status
       logical :: singular
       type(error_t), allocatable :: error
       ok = .false.
       negative = 0
       mu = 0.0_dp
-      call band_copy(assembled, piece)
-      allocate (scratch(size(assembled%ab, 2)))
+      call band_copy(assembled, piece, memory_error, error_analysis)
+      if (allocated(memory_error)) return
+      allocate (scratch(size(assembled%ab, 2)), stat=status)
+      call allocation_failure(status, 'a vector of the lift-off stability test', 8.0_dp*size(assembled%ab, 2), &
+                              error_analysis, memory_error)
+      if (allocated(memory_error)) return
       n_rows = count(state%active .and. state%map%candidate_equation > 0)
       do c = 1, size(released)
          if (.not. released(c)) cycle
@@ -237,14 +267,14 @@ contains
       negative = max(0, negative - n_rows)
       if (present(negative_mode)) then
          if (negative_mode .and. negative == 1) then
-            call negative_eigenpair(piece, state%map%metric, n_rows, mu, mode, ok)
+            call negative_eigenpair(piece, state%map%metric, n_rows, mu, mode, ok, memory_error)
             return
          end if
       end if
       call band_factorize(piece, error)
       if (allocated(error)) return
-      mu = least_eigenvalue(piece, mode)
-      ok = .true.
+      call least_eigenvalue(piece, mode, mu, memory_error)
+      ok = .not. allocated(memory_error)
    end subroutine piece_stability
 
    !> The negative eigenvalue `mu` and eigenvector `mode` of an unfactorised piece with exactly one
@@ -256,13 +286,15 @@ contains
    !> 1998, The Symmetric Eigenvalue Problem, §3.3, spectrum slicing) and inverse iteration with that
    !> shift, which converges to the negative eigenvalue, the one nearest the shift (§4.2). `ok` false:
    !> no shift found or a failed factorisation.
-   subroutine negative_eigenpair(piece, metric, n_rows, mu, mode, ok)
+   !> memory_error: a shifted copy or a vector refused by the system (error_analysis; ok false).
+   subroutine negative_eigenpair(piece, metric, n_rows, mu, mode, ok, memory_error)
       type(band_matrix_t), intent(in) :: piece
       real(dp), intent(in) :: metric(:)
       integer, intent(in) :: n_rows
       real(dp), intent(out) :: mu
       real(dp), allocatable, intent(inout) :: mode(:)
       logical, intent(out) :: ok
+      type(error_t), allocatable, intent(out) :: memory_error
       type(band_matrix_t) :: shifted
       type(error_t), allocatable :: error
       real(dp) :: scale, below, above, sigma, nu
@@ -277,6 +309,9 @@ contains
       ! below: a shift with no eigenvalue under it; above: one with the negative eigenvalue under it.
       above = 0.0_dp
       below = 1.0_dp
+      ! The shifted copy allocated once, checked (shifted_copy then reuses its storage).
+      call band_copy(piece, shifted, memory_error, error_analysis)
+      if (allocated(memory_error)) return
       do k = -12, 2
          sigma = -(10.0_dp**k)*scale
          if (count_below(sigma) == 0) then
@@ -299,7 +334,8 @@ contains
       call shifted_copy(below)
       call band_factorize(shifted, error)
       if (allocated(error)) return
-      nu = least_eigenvalue(shifted, mode)
+      call least_eigenvalue(shifted, mode, nu, memory_error)
+      if (allocated(memory_error)) return
       mu = nu + below
       ok = mu < 0.0_dp .and. allocated(mode)
 
@@ -360,25 +396,35 @@ contains
       logical, intent(in) :: unloaded   !< the unloaded state of path_initialize
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), internal(:), reference(:), rhs(:, :)
-      real(dp) :: element_scale
+      real(dp) :: element_scale, bytes
       integer :: n, status
       system%holds_committed = .false.
+      bytes = 0.0_dp
       n = state%map%n_equations
-      allocate (internal(n), reference(n), rhs(n, 1))
+      allocate (internal(n), reference(n), rhs(n, 1), stat=status)
+      call allocation_failure(status, 'the vectors of the commit of a step', 24.0_dp*n, error_analysis, error)
+      if (allocated(error)) return
+      if (status == 0) call reserve(state%reference, n, status, bytes)
+      if (status == 0) call reserve(state%committed_residual, n, status, bytes)
+      if (status == 0) call reserve(state%tangent_displacement, n, status, bytes)
+      call allocation_failure(status, 'a vector of the committed state', bytes, error_analysis, error)
+      if (allocated(error)) return
       if (system%holds_converged) then
          ! The attempt's last assembly is this very state (the same u, λ and working set).
          internal = system%converged_internal
          reference = system%converged_reference
          system%holds_converged = .false.
       else
-         call nodal_displacements(model, state, nodal)
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
          call equilibrium_at(model, state, system, state%u, state%lambda, state%active, nodal, internal, &
-                             reference, element_scale)
+                             reference, element_scale, error)
+         if (allocated(error)) return
       end if
       state%reference = reference
       ! The unfactorised tangent and the residual stay for the predictor of the next step (its contact
       ! LCP needs both): the step's first attempt does not assemble and factorise them again.
-      call band_copy(system%tangent, system%assembled, error)
+      call band_copy(system%tangent, system%assembled, error, error_analysis)
       if (allocated(error)) return
       state%committed_residual = state%lambda*state%reference - internal
       call band_factorize(system%tangent, error)
@@ -393,7 +439,8 @@ contains
       if (allocated(error)) return
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
-      state%point%min_eigenvalue = least_eigenvalue(system%tangent, state%eigenvector)
+      call least_eigenvalue(system%tangent, state%eigenvector, state%point%min_eigenvalue, error)
+      if (allocated(error)) return
       call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded, error)
    end subroutine commit_tangent
 

@@ -12,15 +12,16 @@
 !> a later attempt assembles K_T at the committed state again.
 module uniarc_path_state
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
    use uniarc_strings, only: integer_to_string
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
-   use uniarc_dof_map, only: dof_map_t, candidate_live
+   use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact, candidate_gap, bed_values
+   use uniarc_contact, only: assemble_contact, candidate_gap
    use uniarc_contact_plastic, only: has_plastic, commit_slip
    implicit none
    private
@@ -55,6 +56,11 @@ module uniarc_path_state
       !> (uniarc_path_locate): the fraction of that interval (−1: none located) and λ there.
       real(dp) :: limit_fraction = -1.0_dp, limit_lambda = 0.0_dp
       real(dp) :: bifurcation_fraction = -1.0_dp, bifurcation_lambda = 0.0_dp
+      !> The change of neg_pivots across the located bifurcation's final bracket (uniarc_path_locate),
+      !> when that bracket was narrowed to its tolerance: 2 where two eigenvalues of K_T vanish together
+      !> (a double eigenvalue of a symmetric structure, the whole ring's oval modes cos 2θ and sin 2θ);
+      !> 0 when no bifurcation was located or its bracket could not be narrowed.
+      integer :: bifurcation_multiplicity = 0
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
@@ -151,6 +157,9 @@ module uniarc_path_state
       integer :: bifurcations = 0               !< bifurcations located so far
       !> The next step leaves the primary path along the mode of `bifurcation` (*PATH, SWITCH=n).
       logical :: switch_due = .false.
+      !> The last commit switched off a tangential spring that follows its radial partner (its force
+      !> is dropped, commit_tangential): the next step is a release step, Δλ = 0 (docs/theory.md §3.8).
+      logical :: release_due = .false.
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.
@@ -166,6 +175,10 @@ module uniarc_path_state
       !> the load step is that of a floating structure meeting its first contact (docs/theory.md §2.8),
       !> not of a degenerate tangent: it need not land where the contacts carry the load
       logical :: floating_slide = .false.
+      !> the attempt is a release step (path_state_t%release_due): a load step of Δλ = 0 that finds the
+      !> equilibrium without the tangential springs switched off by the last commit — the jump of a law
+      !> that drops a force (docs/theory.md §3.8); no direction of the path, no critical point located
+      logical :: release = .false.
       logical, allocatable :: active(:)         !< (candidates) working set of the attempt
       logical, allocatable :: yielding(:)       !< (candidates) those of the set at their bearing limit
       integer :: yield_changes = 0              !< exchanges of the yield pairs within Newton
@@ -203,15 +216,19 @@ contains
    !> Work arrays for a model and its equation numbering, all allocated (x and residual too: an
    !> assignment to an unallocated array makes gfortran 12 read its unset bounds first, GCC bug 77504,
    !> an integer overflow under -fsanitize=undefined; docs/testing.md, "Sanitizers").
-   function new_linearization(model, map) result(lin)
+   !> Errors: an array refused by the system (error_analysis, out of memory, uniarc_memory).
+   subroutine new_linearization(model, map, lin, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
-      type(linearization_t) :: lin
-      integer :: n
+      type(linearization_t), intent(out) :: lin
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n, status
       n = map%n_equations
       allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2), &
-                lin%x(n), lin%residual(n))
-   end function new_linearization
+                lin%x(n), lin%residual(n), stat=status)
+      call allocation_failure(status, 'the work vectors of a Newton attempt', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n), error_analysis, error)
+   end subroutine new_linearization
 
    !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
    pure logical function has_contacts(state)
@@ -223,8 +240,9 @@ contains
    !> (n), load λ, working set `active`; nodal (dofs_per_node, n_nodes) are the displacements of x.
    !> Plastic media: the committed slip state%slip, and the candidates at their limit `yielding`
    !> (default: the committed state%yielding).
+   !> Errors: a work array refused by the system (error_analysis, out of memory, uniarc_memory).
    subroutine equilibrium_at(model, state, system, x, lambda, active, nodal, internal, reference, &
-                             element_scale, roundoff, yielding)
+                             element_scale, error, roundoff, yielding)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
@@ -232,36 +250,54 @@ contains
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       real(dp), intent(out) :: internal(:), reference(:), element_scale
+      type(error_t), allocatable, intent(out) :: error
       real(dp), intent(out), optional :: roundoff
       logical, intent(in), optional :: yielding(:)
+      real(dp), allocatable :: values(:), deflections(:)
+      logical, allocatable :: holding(:)
+      integer :: m, c, status
       if (allocated(state%joint_plastic)) then
          call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
-                                   internal, reference, element_scale, roundoff, state%joint_plastic)
+                                   internal, reference, element_scale, error, roundoff, state%joint_plastic)
       else
          call assemble_equilibrium(model, state%map, nodal, lambda, state%fixed_load, system%tangent, &
-                                   internal, reference, element_scale, roundoff)
+                                   internal, reference, element_scale, error, roundoff)
       end if
-      if (size(state%map%candidate_equation) > 0) then
+      if (allocated(error)) return
+      m = size(state%map%candidate_equation)
+      if (m > 0) then
+         ! the candidates' unknowns and bed deflections in work vectors of their own, checked (function
+         ! results of this length are not, in the Release build)
+         allocate (values(m), deflections(m), holding(m), stat=status)
+         call allocation_failure(status, 'the contact vectors of the equilibrium', 20.0_dp*m, error_analysis, error)
+         if (allocated(error)) return
+         values = 0.0_dp
+         do c = 1, m
+            if (state%map%candidate_equation(c) > 0) values(c) = x(state%map%candidate_equation(c))
+            deflections(c) = bed_deflection(state%map, c, x)
+         end do
          if (present(yielding)) then
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+            call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, yielding, &
-                                  deflections=bed_values(state%map, x), reference=reference, lambda=lambda)
+                                  deflections=deflections, reference=reference, lambda=lambda)
          else if (allocated(state%yielding)) then
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
+            call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, state%yielding, &
-                                  deflections=bed_values(state%map, x), reference=reference, lambda=lambda)
+                                  deflections=deflections, reference=reference, lambda=lambda)
          else
-            call assemble_contact(model, state%map, nodal, candidate_values(state%map, x), active, &
-                                  system%tangent, internal, deflections=bed_values(state%map, x), &
+            call assemble_contact(model, state%map, nodal, values, active, &
+                                  system%tangent, internal, deflections=deflections, &
                                   reference=reference, lambda=lambda)
          end if
       end if
       if (allocated(state%floating_equation)) then
          ! a candidate at its bearing limit has no stiffness: it holds no motion (docs/theory.md §3.9)
          if (present(yielding)) then
-            call hold_floating(model, state, active .and. .not. yielding, nodal, system%tangent)
+            holding = active .and. .not. yielding
+            call hold_floating(model, state, holding, nodal, system%tangent)
          else if (allocated(state%yielding)) then
-            call hold_floating(model, state, active .and. .not. state%yielding, nodal, system%tangent)
+            holding = active .and. .not. state%yielding
+            call hold_floating(model, state, holding, nodal, system%tangent)
          else
             call hold_floating(model, state, active, nodal, system%tangent)
          end if
@@ -514,11 +550,45 @@ contains
       state%lambda = state%lambda + trial%dlambda
       if (present(lambda)) state%lambda = lambda
       state%active = trial%active
+      call commit_tangential(model, state)
       call commit_plastic(model, state, trial%yielding)
       state%last_increment = trial%increment
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
       call commit_joint_state(model, state)
    end subroutine accept_trial
+
+   !> The commit of the tangential springs that follow a radial partner (*FOUNDATION, KT=,
+   !> TANGENTIAL=CONTACT; docs/theory.md §3.8), after state%u and state%active have become the
+   !> converged state and working set of a trial: each spring's status for the next step is its
+   !> partner's membership of the committed set (the trial held it as committed before, never
+   !> switching it within the step), and a spring that comes on is anchored where its node is,
+   !> a_c = t·u (slip −a_c, uniarc_contact_plastic: slip_shift), so that it starts stress-free; one
+   !> that stays on keeps its anchor. A spring switched off drops its force: the next step is a
+   !> release step (state%release_due). Nothing without such springs.
+   subroutine commit_tangential(model, state)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      logical :: on
+      integer :: c, node
+      state%release_due = .false.
+      if (.not. allocated(model%contacts)) return
+      if (.not. any(model%contacts%partner > 0)) return
+      call nodal_displacements(model, state, nodal)
+      do c = 1, size(state%active)
+         if (model%contacts(c)%partner == 0) cycle
+         on = state%active(model%contacts(c)%partner)
+         if (on .and. .not. state%active(c)) then
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, &
+                               gradient, hessian)
+            state%slip(c) = -gap
+         end if
+         if (state%active(c) .and. .not. on) state%release_due = .true.
+         state%active(c) = on
+      end do
+   end subroutine commit_tangential
 
    !> The commit of plastic media (docs/theory.md §3.9), after state%u has become the converged state of
    !> a trial with the candidates `yielding` at their limit: the slip of each of them moves on by its
@@ -535,12 +605,29 @@ contains
       state%yielding = yielding
    end subroutine commit_plastic
 
-   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state.
-   subroutine nodal_displacements(model, state, nodal)
+   !> Nodal displacements (dofs_per_node, n_nodes) of the committed state; `nodal` keeps its storage
+   !> when it has that shape already. With `error` present the allocation is checked (error_analysis,
+   !> out of memory); without it (the joints' and the slip's updates, a lift-off mode's sign and the
+   !> element-load norm, which have no error to return) a refusal stops the program.
+   subroutine nodal_displacements(model, state, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
-      real(dp), allocatable, intent(out) :: nodal(:, :)
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      real(dp), allocatable, intent(inout) :: nodal(:, :)
+      type(error_t), allocatable, intent(out), optional :: error
+      integer :: status
+      if (allocated(nodal)) then
+         if (size(nodal, 1) /= dofs_per_node .or. size(nodal, 2) /= model%n_nodes) deallocate (nodal)
+      end if
+      if (.not. allocated(nodal)) then
+         if (present(error)) then
+            allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+            call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, &
+                                    error_analysis, error)
+            if (allocated(error)) return
+         else
+            allocate (nodal(dofs_per_node, model%n_nodes))
+         end if
+      end if
       call gather_nodal(state%map, state%u, nodal)
    end subroutine nodal_displacements
 

@@ -14,10 +14,10 @@ module uniarc_path_state_copy
    use uniarc_memory, only: allocation_failure
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t
-   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, bifurcation_state_t
+   use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, bifurcation_state_t, step_trial_t
    implicit none
    private
-   public :: copy_state, move_state, copy_point_record, move_point
+   public :: copy_state, move_state, copy_point_record, move_point, move_trial, move_map
 
 contains
 
@@ -75,6 +75,49 @@ contains
       to = from
       call move_state_arrays(aside, to)
    end subroutine move_state
+
+   !> Attempt `from` moved into `to` (its arrays handed over, not copied; `from` left without them): what
+   !> `to = from` does without allocating, so without an allocation that could be refused.
+   subroutine move_trial(from, to)
+      type(step_trial_t), intent(inout) :: from, to
+      type(step_trial_t) :: aside
+      call move_trial_arrays(from, aside)
+      to = from
+      call move_trial_arrays(aside, to)
+   end subroutine move_trial
+
+   !> Numbering `from` moved into `to` (its arrays handed over, not copied): `to = from` without an
+   !> allocation.
+   subroutine move_map(from, to)
+      type(dof_map_t), intent(inout) :: from, to
+      type(dof_map_t) :: aside
+      call move_map_arrays(from, aside)
+      to = from
+      call move_map_arrays(aside, to)
+   end subroutine move_map
+
+   subroutine move_map_arrays(from, to)
+      type(dof_map_t), intent(inout) :: from, to
+      call move_alloc(from%equation, to%equation)
+      call move_alloc(from%node_order, to%node_order)
+      call move_alloc(from%candidate_equation, to%candidate_equation)
+      call move_alloc(from%condensed, to%condensed)
+      call move_alloc(from%bed_equation, to%bed_equation)
+      call move_alloc(from%metric, to%metric)
+   end subroutine move_map_arrays
+
+   !> Every allocatable component of the attempt moved from `from` to `to`; `to`'s are replaced.
+   subroutine move_trial_arrays(from, to)
+      type(step_trial_t), intent(inout) :: from, to
+      call move_alloc(from%increment, to%increment)
+      call move_alloc(from%predictor, to%predictor)
+      call move_alloc(from%active, to%active)
+      call move_alloc(from%yielding, to%yielding)
+      if (allocated(to%reason)) deallocate (to%reason)
+      if (allocated(from%reason)) call move_alloc(from%reason, to%reason)
+      if (allocated(to%fatal)) deallocate (to%fatal)
+      if (allocated(from%fatal)) call move_alloc(from%fatal, to%fatal)
+   end subroutine move_trial_arrays
 
    !> Every allocatable component of the state (and of its map and point) moved from `from` to `to`:
    !> no copy, no allocation; `to`'s are replaced.
