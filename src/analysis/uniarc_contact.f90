@@ -50,8 +50,10 @@ contains
    !> and a `yielding` candidate of the set has the row r = q (augmented) or the constant force q along
    !> a_c without stiffness (condensed), its bearing limit q (docs/theory.md §3.9).
    !> `deflections` (one per candidate, default 0): the Pasternak bed's surface deflections d_c.
+   !> `lambda` (default 0): the load factor of the state, where a moving curved obstacle stands
+   !> (contact_candidate_t%motion; docs/theory.md §3.11).
    subroutine assemble_contact(model, map, displacement, reactions, active, tangent, internal, slip, yielding, &
-                               deflections, reference)
+                               deflections, reference, lambda)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: displacement(:, :)
@@ -64,13 +66,19 @@ contains
       real(dp), intent(in), optional :: deflections(:)
       !> R (n): a moving obstacle's row in the set gets ∂g/∂λ (contact_candidate_t%gap_rate), so that the
       !> residual λR − F_aug of the row is its gap g(u) + λ ∂g/∂λ + t r (docs/theory.md §3.11)
+      !> a moving curved obstacle's gap is exact in λ (candidate_gap), so its rows keep
+      !> λR − F_aug = g(u, λ) + t r with R = ∂g/∂λ at the state, and its equilibrium rows get the
+      !> λ-derivative of −a r in R likewise (the residual unchanged, the tangent exact)
+      real(dp), intent(in), optional :: lambda
       real(dp), intent(inout), optional :: reference(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2)
+      real(dp) :: gap, gradient(2), hessian(2, 2), rate, at, swing(2)
       real(dp), allocatable :: d(:)
       integer :: c, i, j, row, node, eq(2), bed
-      logical :: yields
+      logical :: yields, curved
       allocate (d(size(reactions)), source=0.0_dp)
       if (present(deflections)) d = deflections
+      at = 0.0_dp
+      if (present(lambda)) at = lambda
       do c = 1, size(map%candidate_equation)
          bed = map%bed_equation(c)
          if (bed > 0) call add_bed_row(model%contacts(c), map, c, d, reactions(c), tangent, internal)
@@ -90,13 +98,21 @@ contains
             node = candidate%node
             eq = map%equation(1:2, node)
             call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
-                               gradient, hessian)
+                               gradient, hessian, at, rate)
+            curved = any(candidate%motion /= 0.0_dp)
             if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
             gap = gap + d(c)
+            ! a moving curved obstacle: ∂(a r)/∂λ = −r h d, moved from F_aug into R (module header)
+            swing = 0.0_dp
+            if (curved .and. present(reference)) swing = -reactions(c)*matmul(hessian, candidate%motion)
             do i = 1, 2
                if (eq(i) == 0) cycle
                ! Equilibrium rows: −a_c r_c in F_aug; its derivative −r ∂a/∂u in the tangent.
                internal(eq(i)) = internal(eq(i)) - gradient(i)*reactions(c)
+               if (curved .and. present(reference)) then
+                  internal(eq(i)) = internal(eq(i)) + at*swing(i)
+                  reference(eq(i)) = reference(eq(i)) + swing(i)
+               end if
                call band_add(tangent, eq(i), row, -gradient(i))
                do j = 1, 2
                   if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), -reactions(c)*hessian(i, j))
@@ -114,6 +130,11 @@ contains
                call band_add(tangent, row, row, -candidate%flexibility)
                if (bed > 0) call band_add(tangent, row, bed, -1.0_dp)
                if (present(reference) .and. candidate%gap_rate /= 0.0_dp) reference(row) = candidate%gap_rate
+               if (present(reference) .and. curved) then
+                  ! g(u, λ) is in F_aug whole: R = ∂g/∂λ there, and λR taken back out of F_aug
+                  reference(row) = rate
+                  internal(row) = internal(row) + at*rate
+               end if
             else
                internal(row) = reactions(c)
                call band_add(tangent, row, row, 1.0_dp)
@@ -143,7 +164,7 @@ contains
       !> ∂g/∂λ in the set, 0 out of it (assemble_contact)
       real(dp), intent(in), optional :: lambda
       real(dp), intent(inout), optional :: reference(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2)
+      real(dp) :: gap, gradient(2), hessian(2, 2), rate
       logical, allocatable :: before(:)
       logical :: entering
       integer :: c, row, node
@@ -156,14 +177,15 @@ contains
          if (row == 0 .and. .not. map%condensed(c)) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, &
-                            gradient, hessian)
+                            gradient, hessian, lambda, rate)
          if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
          if (present(deflections)) gap = gap + deflections(c)
          if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) gap = gap + lambda*model%contacts(c)%gap_rate
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
                              reactions(c), entering, tangent, residual, map%bed_equation(c))
-         if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(reference) .and. row > 0) &
-            reference(row) = merge(model%contacts(c)%gap_rate, 0.0_dp, entering)
+         ! ∂g/∂λ: a plane's gap_rate, a curved obstacle's −a·d at the state (candidate_gap)
+         if (rate /= 0.0_dp .and. present(reference) .and. row > 0) &
+            reference(row) = merge(rate, 0.0_dp, entering)
       end do
    end subroutine toggle_contacts
 

@@ -62,15 +62,36 @@ contains
    !> and e = d/|d|: inside a cavity g = R − |d| (a = −e, h = −(I − e eᵀ)/|d|), outside a cylinder
    !> g = |d| − R (a = e, h = (I − e eᵀ)/|d|). Ellipse (inside or outside) and polyline: the signed
    !> distance to the surface and its derivatives (uniarc_obstacle_shapes: ellipse_gap, polyline_gap).
-   pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian)
+   !>
+   !> A moving curved obstacle (contact_candidate_t%motion = d ≠ 0, *MOVE; docs/theory.md §3.11) at load
+   !> factor `lambda` stands translated by λ d: its gap is the shape's at the shifted point x0 + u − λ d,
+   !> exactly, with a and h there. `rate` (optional): ∂g/∂λ at the state, gap_rate − a·d (a plane's
+   !> constant gap_rate, which the callers add as λ gap_rate; a curved obstacle's −a·d). Without
+   !> `lambda` the curved obstacle stands where the step began (λ = 0).
+   pure subroutine candidate_gap(candidate, x0, u, gap, gradient, hessian, lambda, rate)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
+      real(dp), intent(out) :: gap, gradient(2), hessian(2, 2)
+      real(dp), intent(in), optional :: lambda
+      real(dp), intent(out), optional :: rate
+      real(dp) :: x(2)
+      x = x0 + u
+      if (present(lambda) .and. any(candidate%motion /= 0.0_dp)) x = x - lambda*candidate%motion
+      call shape_gap(candidate, x, u, gap, gradient, hessian)
+      if (present(rate)) rate = candidate%gap_rate - dot_product(gradient, candidate%motion)
+   end subroutine candidate_gap
+
+   !> candidate_gap's shapes at the point x (2) = x0 + u, shifted for a moving curved obstacle (a plane's
+   !> gap g0 + n·u is of u itself).
+   pure subroutine shape_gap(candidate, x, u, gap, gradient, hessian)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: x(2), u(2)
       real(dp), intent(out) :: gap, gradient(2), hessian(2, 2)
       real(dp) :: d(2), distance, n(2), projector(2, 2)
       hessian = 0.0_dp
       select case (candidate%gap_kind)
       case (gap_circle_inside, gap_circle_outside)
-         d = x0 + u - candidate%centre
+         d = x - candidate%centre
          distance = max(norm2(d), tiny(1.0_dp))
          n = d/distance
          projector = reshape([1.0_dp - n(1)**2, -n(1)*n(2), -n(1)*n(2), 1.0_dp - n(2)**2], [2, 2])
@@ -84,15 +105,15 @@ contains
             hessian = projector/distance
          end if
       case (gap_ellipse_inside, gap_ellipse_outside)
-         call ellipse_gap(candidate%centre, candidate%axis, candidate%semi_axes, x0 + u, &
+         call ellipse_gap(candidate%centre, candidate%axis, candidate%semi_axes, x, &
                           candidate%gap_kind == gap_ellipse_inside, gap, gradient, hessian)
       case (gap_polyline)
-         call polyline_gap(candidate%vertices, x0 + u, gap, gradient, hessian)
+         call polyline_gap(candidate%vertices, x, gap, gradient, hessian)
       case default
          gap = candidate%offset + dot_product(candidate%direction, u)
          gradient = candidate%direction
       end select
-   end subroutine candidate_gap
+   end subroutine shape_gap
 
    !> The gap of a candidate in the initial geometry (u = 0): negative when its node starts inside the
    !> obstacle.

@@ -331,10 +331,10 @@ contains
          lcp%flexibility(j) = model%contacts(c)%flexibility
          lcp%active(j) = active(c)
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), lcp%gap(j), &
-                            lcp%gradient(:, j), lcp%hessian(:, :, j))
+                            lcp%gradient(:, j), lcp%hessian(:, :, j), lambda, lcp%rate(j))
          lcp%gap(j) = lcp%gap(j) + bed_deflection(map, c, x)
-         lcp%rate(j) = model%contacts(c)%gap_rate
-         if (lcp%rate(j) /= 0.0_dp) lcp%gap(j) = lcp%gap(j) + lambda*lcp%rate(j)
+         ! a plane's λ ∂g/∂λ (a moving curved obstacle's gap is exact in λ already: candidate_gap)
+         if (model%contacts(c)%gap_rate /= 0.0_dp) lcp%gap(j) = lcp%gap(j) + lambda*lcp%rate(j)
          if (lcp%row(j) > 0) then
             lcp%reaction(j) = x(lcp%row(j))
          else if (lcp%active(j)) then

@@ -114,6 +114,7 @@ contains
                if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
                ! a moving obstacle keeps its row: its ∂g/∂λ is that row's reference load (theory §3.11)
                map%condensed(c) = candidate%flexibility > 0.0_dp .and. candidate%gap_rate == 0.0_dp .and. &
+                                  all(candidate%motion == 0.0_dp) .and. &
                                   candidate%flexibility*stiffness(candidate%node) >= 1.0_dp
             end associate
          end do

@@ -222,6 +222,11 @@ contains
                return
             end if
             state%load_norm = abs(options%first_increment)*norm2(model%contacts%gap_rate)
+            ! a moving curved obstacle: its rate −a·d is at most |d| (|a| = 1)
+            if (any(model%contacts%motion(1) /= 0.0_dp) .or. any(model%contacts%motion(2) /= 0.0_dp)) &
+               state%load_norm = abs(options%first_increment)*sqrt(sum(model%contacts%gap_rate**2) + &
+                                                                    sum(model%contacts%motion(1)**2) + &
+                                                                    sum(model%contacts%motion(2)**2))
          end if
          if (state%first_length <= 0.0_dp .or. state%load_norm <= 0.0_dp) then
             call make_error(error, 'the first increment or the reference load is zero: nothing to follow', &
@@ -282,7 +287,9 @@ contains
    pure logical function moving_obstacles(model)
       type(model_t), intent(in) :: model
       moving_obstacles = .false.
-      if (allocated(model%contacts)) moving_obstacles = any(model%contacts%gap_rate /= 0.0_dp)
+      if (allocated(model%contacts)) moving_obstacles = any(model%contacts%gap_rate /= 0.0_dp) .or. &
+                                                       any(model%contacts%motion(1) /= 0.0_dp) .or. &
+                                                       any(model%contacts%motion(2) /= 0.0_dp)
    end function moving_obstacles
 
    !> The rigid motions that only the contacts can hold (a structure floating in a cavity until a
@@ -615,6 +622,7 @@ contains
                   error%message = error%message//'; under load control this is where the load reaches a '// &
                                   'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
                end if
+               call add_crest_hint(model, state, error)
                call add_mechanism_hint(model, state, error)
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                return
@@ -954,6 +962,40 @@ contains
       end if
    end function off_branch
 
+   !> A step that fails where a moving curved obstacle (contact_candidate_t%motion) carries a node in
+   !> contact over its crest: there ∂g/∂λ = −a·d vanishes (|a·d| below 2 % of |d|), so the motion pushes
+   !> nothing and du/dλ turns, which the branch checks in displacement take for a reversal and the arc
+   !> length cannot measure (docs/theory.md §3.11). The message names the node; the path is not traced past
+   !> the crest. Its nodal displacements refused by the system: no hint.
+   subroutine add_crest_hint(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      type(error_t), intent(inout) :: error
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2), rate
+      integer :: c, node, status
+      if (.not. allocated(model%contacts) .or. .not. allocated(state%u) .or. .not. allocated(state%active)) return
+      if (all(model%contacts%motion(1) == 0.0_dp) .and. all(model%contacts%motion(2) == 0.0_dp)) return
+      ! refused by the system: no hint (the step's own error stands; docs/contracts.md, "Memory")
+      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+      if (status /= 0) return
+      call gather_nodal(state%map, state%u, nodal)
+      do c = 1, size(model%contacts)
+         if (all(model%contacts(c)%motion == 0.0_dp) .or. .not. state%active(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
+                            state%lambda, rate)
+         if (abs(rate) >= 0.02_dp*norm2(model%contacts(c)%motion)) cycle
+         error%message = error%message//'; node '//integer_to_string(model%node_label(node))// &
+                         ' is at the crest of the moving obstacle '''//group_name(model, c)//''' (its motion '// &
+                         'no longer pushes it: dg/dlambda = '//real_to_string(rate, message_edit)//'), where '// &
+                         'the path in the displacements turns, which the path following does not pass (its '// &
+                         'steps are measured in the displacements): end the step before the crest '// &
+                         '(docs/theory.md 3.11)'
+         return
+      end do
+   end subroutine add_crest_hint
+
    !> A step that fails from a state whose joints are at their moment limit (`*RELEASE, MY=`): with them
    !> as hinges the structure may be a mechanism — a plastic collapse, past which no equilibrium holds
    !> a higher load (docs/theory.md §1.11). The message names them, and the contact points at their
@@ -1051,8 +1093,10 @@ contains
       do c = 1, size(model%contacts)
          if (model%contacts(c)%gap_kind /= gap_polyline) cycle
          node = model%contacts(c)%node
-         x = model%coordinates(:, node) + nodal(1:2, node)
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         ! a moving polyline stands translated by λ d (docs/theory.md §3.11): the node against it at rest
+         x = model%coordinates(:, node) + nodal(1:2, node) - state%lambda*model%contacts(c)%motion
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
+                            state%lambda)
          if (gap > reach) cycle
          corner = polyline_concave_corner(model%contacts(c)%vertices, x, reach)
          if (corner == 0) cycle

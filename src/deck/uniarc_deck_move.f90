@@ -1,6 +1,6 @@
-!> *MOVE, OBSTACLE=name: a rigid translation of a plane obstacle as part of a load pattern
-!> (docs/input.md, *MOVE; docs/theory.md §3.11) — a punch, a plate pushed onto a pipe, an obstacle
-!> pressed into a beam. The translation d is a reference value scaled by λ like the loads: inside a
+!> *MOVE, OBSTACLE=name: a rigid translation of an obstacle (plane, circle, ellipse or polyline) as part
+!> of a load pattern (docs/input.md, *MOVE; docs/theory.md §3.11) — a punch, a plate pushed onto a pipe,
+!> a roller pressed into a beam, an oval die, a displaced trench profile. The translation d is a reference value scaled by λ like the loads: inside a
 !> *STEP it is the step's own (held at λ_end d in the steps after), in a deck without steps the deck's.
 module uniarc_deck_move
    use uniarc_kinds, only: dp
@@ -9,7 +9,6 @@ module uniarc_deck_move
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, require_option, data_fields, &
                                  require_field_count, field_real
    use uniarc_deck_state, only: deck_t, require_one_data_line
-   use uniarc_model, only: gap_fixed_direction
    use uniarc_model_contacts, only: add_move
    use uniarc_model_builder, only: contact_group_index
    implicit none
@@ -32,8 +31,8 @@ contains
       deck%obstacle_kind(group) = gap_kind
    end subroutine record_obstacle
 
-   !> *MOVE, OBSTACLE=name with one data line `dx, dy`: the obstacle `name` (an *OBSTACLE, TYPE=PLANE
-   !> above, by its group name) translated by (dx, dy) times λ. Rotations are not a part of it.
+   !> *MOVE, OBSTACLE=name with one data line `dx, dy`: the obstacle `name` (an *OBSTACLE above of any
+   !> TYPE, by its group name) translated by (dx, dy) times λ. Rotations are not a part of it.
    subroutine read_move(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -62,11 +61,6 @@ contains
       if (kind == 0) then
          call raise(source, card%line, card%options(option)%value_column, 'expected the name of an '// &
                     '*OBSTACLE, found '''//clip(name)//''', a foundation or spring (only obstacles move)', error)
-         return
-      end if
-      if (kind /= gap_fixed_direction) then
-         call raise(source, card%line, card%options(option)%value_column, 'expected an obstacle of '// &
-                    'TYPE=PLANE, found '''//clip(name)//''' of another type (only planes move)', error)
          return
       end if
       call require_one_data_line(source, card, error)

@@ -165,6 +165,11 @@ module uniarc_model
       !> translation d, so that the gap at load factor λ is g(u) + λ gap_rate (moves of earlier steps are
       !> in `offset`); 0: the obstacle does not move in the step
       real(dp) :: gap_rate = 0.0_dp
+      !> a moving curved obstacle (circle, ellipse, polyline; *MOVE, docs/theory.md §3.11): the analysis
+      !> step's own translation d (length), so that at load factor λ the obstacle stands translated by
+      !> λ d and the gap is the shape's at the shifted point, g(x0 + u − λ d), exactly (moves of earlier
+      !> steps are in its `centre` or `vertices`); 0: it does not move in the step. Planes use `gap_rate`.
+      real(dp) :: motion(2) = 0.0_dp
    end type contact_candidate_t
 
    !> A foundation or obstacle of the deck: its name and the candidates it made, in order.
@@ -350,20 +355,33 @@ contains
    !> groups' translations d, *MOVE): with `own` the step's own pattern, scaled by the step's λ, each
    !> candidate's gap gets the rate ∂g/∂λ = −factor n·d (gap_rate); else the translation is held, the
    !> gap's offset lowered by factor n·d (a plane moved by d toward the node closes g = offset + n·u by
-   !> n·d; docs/theory.md §3.11). Only fixed-direction gaps move (the deck refuses other shapes).
+   !> n·d; docs/theory.md §3.11). A curved obstacle (circle, ellipse, polyline) is moved exactly: with
+   !> `own` its candidates get the motion factor d (contact_candidate_t%motion, the gap evaluated at the
+   !> point shifted by −λ d); else its centre or vertices are translated by factor d.
    pure subroutine move_obstacles(model, moves, factor, own)
       type(model_t), intent(inout) :: model
       real(dp), intent(in) :: moves(:, :)
       real(dp), intent(in) :: factor
       logical, intent(in) :: own
       real(dp) :: closing
-      integer :: g, i, c
+      integer :: g, i, c, k
       if (.not. allocated(model%contact_groups)) return
       do g = 1, min(size(moves, 2), size(model%contact_groups))
          if (all(moves(:, g) == 0.0_dp)) cycle
          do i = 1, size(model%contact_groups(g)%candidates)
             c = model%contact_groups(g)%candidates(i)
-            if (model%contacts(c)%gap_kind /= gap_fixed_direction) cycle
+            if (model%contacts(c)%gap_kind /= gap_fixed_direction) then
+               if (own) then
+                  model%contacts(c)%motion = model%contacts(c)%motion + factor*moves(:, g)
+               else if (allocated(model%contacts(c)%vertices)) then
+                  do k = 1, size(model%contacts(c)%vertices, 2)
+                     model%contacts(c)%vertices(:, k) = model%contacts(c)%vertices(:, k) + factor*moves(:, g)
+                  end do
+               else
+                  model%contacts(c)%centre = model%contacts(c)%centre + factor*moves(:, g)
+               end if
+               cycle
+            end if
             closing = factor*dot_product(model%contacts(c)%direction, moves(:, g))
             if (own) then
                model%contacts(c)%gap_rate = model%contacts(c)%gap_rate - closing

@@ -431,7 +431,7 @@ contains
          m = 0
          if (allocated(model%contacts)) m = size(model%contacts)
          bytes = 8.0_dp*m
-         call candidate_gaps(model, record%displacement, gaps, status)
+         call candidate_gaps(model, record%displacement, gaps, status, record%lambda)
          if (status == 0) call candidate_lengths(model, lengths, status)
          if (status == 0) call tangential_springs(model, spring, status)
          if (status == 0) allocate (reactions(m), slip(m), yielding(m), stat=status)

@@ -275,13 +275,16 @@ contains
 
    !> The gap g of every contact candidate at nodal displacements `displacement` (3, n_nodes), in
    !> length units (uniarc_contact_law, candidate_gap): positive open; negative in contact with an
-   !> elastic medium, whose springs are then compressed by −g = r/k.
+   !> elastic medium, whose springs are then compressed by −g = r/k. `lambda` (default 0): the load
+   !> factor, where a moving curved obstacle stands (a plane's λ ∂g/∂λ is the caller's; docs/theory.md
+   !> §3.11).
    !> status: the stat= of `gaps` (n_contacts) refused by the system (0: complete).
-   pure subroutine candidate_gaps(model, displacement, gaps, status)
+   pure subroutine candidate_gaps(model, displacement, gaps, status, lambda)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
       real(dp), allocatable, intent(out) :: gaps(:)
       integer, intent(out) :: status
+      real(dp), intent(in), optional :: lambda
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c
       status = 0
@@ -294,7 +297,7 @@ contains
       do c = 1, size(model%contacts)
          associate (node => model%contacts(c)%node)
             call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gaps(c), &
-                               gradient, hessian)
+                               gradient, hessian, lambda)
          end associate
       end do
    end subroutine candidate_gaps

@@ -197,7 +197,7 @@ contains
             if (.not. state%active(c) .or. .not. candidate_live(state%map, c)) cycle
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
-                               hessian)
+                               hessian, state%lambda)
             opening = opening + dot_product(gradient, shape(1:2, node)) + bed_deflection(state%map, c, phi)
          end do
          if (opening < 0.0_dp) sign_of = -1.0_dp

@@ -101,7 +101,7 @@ contains
          do c = 1, n_c
             if (.not. candidate_live(state%map, c)) cycle
             node = model%contacts(c)%node
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, state%lambda)
             rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
             if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
          end do

@@ -251,7 +251,7 @@ contains
       do c = 1, size(map%candidate_equation)
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &
-                            hessian)
+                            hessian, lambda)
          if (shifts_gap(model, c, present(slip))) gap(c) = gap(c) + slip_shift(model, c, slip)
          gap(c) = gap(c) + bed_deflection(map, c, x)   ! a Pasternak bed point: the gap with the surface
          if (model%contacts(c)%gap_rate /= 0.0_dp .and. present(lambda)) &
@@ -280,7 +280,8 @@ contains
       integer :: c, node
       do c = 1, size(state%map%candidate_equation)
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
+                            state%lambda)
          active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
       end do

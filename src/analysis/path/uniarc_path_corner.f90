@@ -302,7 +302,7 @@ contains
       real(dp) :: g, gradient(2), hessian(2, 2)
       integer :: i, node
       node = model%contacts(c)%node
-      call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+      call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian, state%lambda)
       along = 0.0_dp
       do i = 1, 2
          if (state%map%equation(i, node) > 0) along = along + gradient(i)*v(state%map%equation(i, node))

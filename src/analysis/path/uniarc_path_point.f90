@@ -30,7 +30,7 @@ contains
       integer, intent(in) :: step, iterations, lcp_pivots
       type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), reaction(:), gap(:)
-      real(dp) :: norm, g, gradient(2), hessian(2, 2), bytes, sense
+      real(dp) :: norm, g, gradient(2), hessian(2, 2), rate, bytes, sense
       integer :: m, c, row, node, status
       ! The record's arrays allocated with stat= (the assignments below then allocate nothing).
       m = size(state%map%candidate_equation)
@@ -87,7 +87,7 @@ contains
             if (.not. candidate_live(state%map, c)) cycle
             node = model%contacts(c)%node
             call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
-                               hessian)
+                               hessian, state%lambda, rate)
             g = gap(c)   ! with the plastic slip (docs/theory.md §3.9) and a Pasternak bed's surface
             state%point%in_contact(c) = state%active(c) .and. reaction(c) > 0.0_dp
             if (state%point%in_contact(c)) then
@@ -106,8 +106,8 @@ contains
                state%point%contact_value(c) = g
                state%point%contact_rate(c) = sense*along(state%tangent_displacement)/norm
                ! a moving obstacle closes the gap with λ too (docs/theory.md §3.11)
-               if (model%contacts(c)%gap_rate /= 0.0_dp) state%point%contact_rate(c) = &
-                  sense*(along(state%tangent_displacement) + model%contacts(c)%gap_rate)/norm
+               if (rate /= 0.0_dp) state%point%contact_rate(c) = &
+                  sense*(along(state%tangent_displacement) + rate)/norm
             end if
          end do
       end if

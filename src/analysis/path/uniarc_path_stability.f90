@@ -253,7 +253,7 @@ contains
          if (.not. released(c)) cycle
          node = model%contacts(c)%node
          row = state%map%candidate_equation(c)
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian, state%lambda)
          g = g + bed_deflection(state%map, c, state%u)
          ! Released as if leaving the set (its residual is not needed here).
          call set_membership(row, state%map%equation(1:2, node), g, gradient, hessian, &
@@ -376,7 +376,7 @@ contains
       do c = 1, size(along)
          if (.not. candidate_live(state%map, c)) cycle
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian, state%lambda)
          norms(c) = norm2(gradient)
          do k = 1, 2
             if (state%map%equation(k, node) > 0) along(c) = along(c) + gradient(k)*v(state%map%equation(k, node))

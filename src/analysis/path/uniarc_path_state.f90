@@ -279,15 +279,15 @@ contains
          if (present(yielding)) then
             call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, yielding, &
-                                  deflections=deflections, reference=reference)
+                                  deflections=deflections, reference=reference, lambda=lambda)
          else if (allocated(state%yielding)) then
             call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, state%slip, state%yielding, &
-                                  deflections=deflections, reference=reference)
+                                  deflections=deflections, reference=reference, lambda=lambda)
          else
             call assemble_contact(model, state%map, nodal, values, active, &
                                   system%tangent, internal, deflections=deflections, &
-                                  reference=reference)
+                                  reference=reference, lambda=lambda)
          end if
       end if
       if (allocated(state%floating_equation)) then
@@ -398,7 +398,7 @@ contains
       do c = 1, size(active)
          if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian, state%lambda)
          along = 0.0_dp
          do k = 1, 2
             if (state%map%equation(k, node) > 0) along = along + &
