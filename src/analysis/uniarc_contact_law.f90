@@ -92,7 +92,10 @@ contains
       select case (candidate%gap_kind)
       case (gap_circle_inside, gap_circle_outside)
          d = x - candidate%centre
-         distance = max(norm2(d), tiny(1.0_dp))
+         ! At the centre itself the normal is undefined (n = 0 there) and the curvature term 1/distance
+         ! of the Hessian would overflow with any reaction: floored at ε R, a node a radius deep in the
+         ! obstacle, where no equilibrium is sought and the step fails as any other instead.
+         distance = max(norm2(d), epsilon(1.0_dp)*candidate%radius, tiny(1.0_dp))
          n = d/distance
          projector = reshape([1.0_dp - n(1)**2, -n(1)*n(2), -n(1)*n(2), 1.0_dp - n(2)**2], [2, 2])
          if (candidate%gap_kind == gap_circle_inside) then

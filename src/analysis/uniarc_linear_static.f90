@@ -14,9 +14,10 @@
 !> (add_settlement_load) and are reported as the displacements of those DOFs (docs/theory.md §3.6).
 module uniarc_linear_static
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, add_context, make_error, error_analysis
+   use uniarc_error, only: error_t, add_context, make_error, error_analysis, error_input
    use uniarc_memory, only: allocation_failure
-   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside
+   use uniarc_strings, only: integer_to_string
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
                           band_multiply, band_zero, band_add, band_get
@@ -96,6 +97,8 @@ contains
                               error_analysis, error)
       if (allocated(error)) return
       zero_nodal = 0.0_dp
+      call centre_on_node(model, error)
+      if (allocated(error)) return
       call assemble_reference_load(model, map, .true., reference)
       applied = reference
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
@@ -261,6 +264,31 @@ contains
          call scatter_add(element_equations(model, map, e), -matmul(response%tangent, settled), reference)
       end do
    end subroutine add_settlement_load
+
+   !> A circular obstacle whose centre, moved whole by the deck's *MOVE (docs/theory.md §3.11), lies on
+   !> a node that is its candidate: the gap |x − c| − R has no normal there (a node a radius deep), so
+   !> no contact force has a direction. Errors (error_input): that node and obstacle.
+   subroutine centre_on_node(model, error)
+      type(model_t), intent(in) :: model
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: deck
+      integer :: c, node
+      if (.not. allocated(model%contacts)) return
+      do c = 1, size(model%contacts)
+         associate (contact => model%contacts(c))
+            if (contact%gap_kind /= gap_circle_inside .and. contact%gap_kind /= gap_circle_outside) cycle
+            node = contact%node
+            if (norm2(model%coordinates(:, node) - contact%centre) > epsilon(1.0_dp)*contact%radius) cycle
+            deck = ''
+            if (allocated(model%deck_path)) deck = model%deck_path//': '
+            call make_error(error, deck//'linear static analysis: node '//integer_to_string(model%node_label(node))// &
+                            ' lies at the centre of the circular obstacle it touches (after the obstacle''s '// &
+                            '*MOVE, applied whole): its gap has no normal there; move the obstacle less', &
+                            error_input)
+            return
+         end associate
+      end do
+   end subroutine centre_on_node
 
    !> A linear result that failed the equilibrium check (uniarc_static_balance) of `model`: when the
    !> load lifts the structure off every contact that could hold it (docs/theory.md §3.12: a couple on a

@@ -211,6 +211,12 @@ contains
       if (present(edit)) then
          write (buffer, edit) value
          text = trim(adjustl(buffer))
+         ! An E or D edit of an exponent of three digits drops the letter (Fortran 2008, 10.7.2.3.2:
+         ! 1.000+100): it is put back, so that the text reads as a number.
+         if (scan(text, 'EeDd') == 0) then
+            e_position = scan(text(2:), '+-', back=.true.)
+            if (e_position > 0) text = text(1:e_position)//'E'//text(e_position + 1:)
+         end if
          return
       end if
       if (abs(value) < tiny(1.0_dp)) then
