@@ -1084,10 +1084,12 @@ contains
       type(error_t), intent(inout) :: error
       real(dp), allocatable :: nodal(:, :)
       real(dp) :: reach, x(2), gap, gradient(2), hessian(2, 2)
-      integer :: c, node, corner
+      integer :: c, node, corner, status
       if (.not. allocated(model%contacts) .or. .not. allocated(state%u)) return
       if (.not. any(model%contacts%gap_kind == gap_polyline)) return
-      allocate (nodal(dofs_per_node, model%n_nodes))
+      ! refused, no hint: the step's own error stands (as for the mechanism and crest hints)
+      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+      if (status /= 0) return
       call gather_nodal(state%map, state%u, nodal)
       reach = 1.0e-3_dp*norm2(maxval(model%coordinates, dim=2) - minval(model%coordinates, dim=2))
       do c = 1, size(model%contacts)
