@@ -616,9 +616,11 @@ contains
                                error_analysis)
                call add_concave_corner_hint(model, state, error)
                if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
-                   index(error%message, 'concave corner') == 0) then
+                   index(error%message, 'concave corner') == 0 .and. .not. at_bearing_limit(state)) then
                   ! Under load control the path cannot pass a limit point: past it there is no
-                  ! equilibrium near the last one (docs/contracts.md, exit code 1).
+                  ! equilibrium near the last one (docs/contracts.md, exit code 1). Not said where
+                  ! contacts are at their bearing limit: arc length meets the same plateau there
+                  ! (add_mechanism_hint and the collapse test say what is known, docs/theory.md §3.9).
                   error%message = error%message//'; under load control this is where the load reaches a '// &
                                   'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
                end if
@@ -1070,6 +1072,15 @@ contains
       if (.not. allocated(text)) return
       call make_error(error, text//' (at lambda = '//real_to_string(lambda, message_edit)//')', error_analysis)
    end subroutine lift_off_error
+
+   !> Whether a contact of the working set of `state` is at its bearing (or uplift) limit.
+   logical function at_bearing_limit(state) result(at_limit)
+      type(path_state_t), intent(in) :: state
+      at_limit = .false.
+      if (.not. (allocated(state%yielding) .and. allocated(state%active))) return
+      if (size(state%yielding) /= size(state%active)) return
+      at_limit = any(state%yielding .and. state%active)
+   end function at_bearing_limit
 
    !> A step that does not converge with a node of a polyline obstacle at a concave corner of it
    !> (within 1e-3 of the model's size, in contact or about to be: its gap below that too): the cause
