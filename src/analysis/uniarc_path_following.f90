@@ -25,14 +25,12 @@ module uniarc_path_following
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
-                           dofs_per_node, gap_polyline, analysis_options_t
-   use uniarc_contact_law, only: candidate_gap
-   use uniarc_obstacle_shapes, only: polyline_concave_corner
+                           dofs_per_node, analysis_options_t
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, candidate_reactions, equilibrium_at, yielded_joints, &
+                                nodal_displacements, candidate_reactions, equilibrium_at, &
                                 accept_trial, fail_attempt
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_contact_set, only: touching_candidates
@@ -48,7 +46,8 @@ module uniarc_path_following
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_approach, only: rigid_approach
    use uniarc_path_state_copy, only: copy_state, move_state, move_trial
-   use uniarc_lift_off, only: describe_lift_off
+   use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
+                                  add_concave_corner_hint
    implicit none
    private
    public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
@@ -963,180 +962,6 @@ contains
          off_branch = off_branch .or. masked_dot(map, increment, last) < 0.0_dp
       end if
    end function off_branch
-
-   !> A step that fails where a moving curved obstacle (contact_candidate_t%motion) carries a node in
-   !> contact over its crest: there ∂g/∂λ = −a·d vanishes (|a·d| below 2 % of |d|), so the motion pushes
-   !> nothing and du/dλ turns, which the branch checks in displacement take for a reversal and the arc
-   !> length cannot measure (docs/theory.md §3.11). The message names the node; the path is not traced past
-   !> the crest. Its nodal displacements refused by the system: no hint.
-   subroutine add_crest_hint(model, state, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      type(error_t), intent(inout) :: error
-      real(dp), allocatable :: nodal(:, :)
-      real(dp) :: gap, gradient(2), hessian(2, 2), rate
-      integer :: c, node, status
-      if (.not. allocated(model%contacts) .or. .not. allocated(state%u) .or. .not. allocated(state%active)) return
-      if (all(model%contacts%motion(1) == 0.0_dp) .and. all(model%contacts%motion(2) == 0.0_dp)) return
-      ! refused by the system: no hint (the step's own error stands; docs/contracts.md, "Memory")
-      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
-      if (status /= 0) return
-      call gather_nodal(state%map, state%u, nodal)
-      do c = 1, size(model%contacts)
-         if (all(model%contacts(c)%motion == 0.0_dp) .or. .not. state%active(c)) cycle
-         node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
-                            state%lambda, rate)
-         if (abs(rate) >= 0.02_dp*norm2(model%contacts(c)%motion)) cycle
-         error%message = error%message//'; node '//integer_to_string(model%node_label(node))// &
-                         ' is at the crest of the moving obstacle '''//group_name(model, c)//''' (its motion '// &
-                         'no longer pushes it: dg/dlambda = '//real_to_string(rate, message_edit)//'), where '// &
-                         'the path in the displacements turns, which the path following does not pass (its '// &
-                         'steps are measured in the displacements): end the step before the crest '// &
-                         '(docs/theory.md 3.11)'
-         return
-      end do
-   end subroutine add_crest_hint
-
-   !> A step that fails from a state whose joints are at their moment limit (`*RELEASE, MY=`): with them
-   !> as hinges the structure may be a mechanism — a plastic collapse, past which no equilibrium holds
-   !> a higher load (docs/theory.md §1.11). The message names them, and the contact points at their
-   !> bearing limit QU (not as a collapse: that is the certificate's, uniarc_path_collapse).
-   subroutine add_mechanism_hint(model, state, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      type(error_t), intent(inout) :: error
-      character(len=:), allocatable :: labels
-      integer :: count, c
-      call yielded_joints(model, state, count, labels)
-      if (count > 0) error%message = error%message//'; '//integer_to_string(count)// &
-                                     ' joint(s) at the moment limit MY ('//labels//'): with them as hinges the '// &
-                                     'structure may be a mechanism (plastic collapse at lambda = '// &
-                                     real_to_string(state%lambda, message_edit)//')'
-      ! Beds and springs at their bearing limit (QU=, docs/theory.md §3.9): named, not called a collapse
-      ! (the path driver adds what the collapse certificate found: uniarc_path_collapse).
-      if (.not. (allocated(state%yielding) .and. allocated(state%active))) return
-      count = 0
-      labels = ''
-      do c = 1, size(state%yielding)
-         if (.not. (state%yielding(c) .and. state%active(c))) cycle
-         count = count + 1
-         if (len(labels) > 60) cycle
-         if (len(labels) > 0) labels = labels//', '
-         labels = labels//integer_to_string(model%node_label(model%contacts(c)%node))
-         if (len(labels) > 60) labels = labels//', ...'
-      end do
-      if (count == 0) return
-      error%message = error%message//'; '//integer_to_string(count)//' contact point(s) of beds or springs at '// &
-                      'their bearing limit QU (nodes '//labels//') at lambda = '// &
-                      real_to_string(state%lambda, message_edit)
-   end subroutine add_mechanism_hint
-
-
-   !> A step that no cut-back converges, tested for lift-off (uniarc_lift_off, docs/theory.md §3.12):
-   !> with the state's free rigid motions (those only the unilateral contacts hold, find_floating),
-   !> the unbalanced load at λ + dlambda (the load step's smallest attempt) with those contacts open, at
-   !> the step's starting displacements. `error` allocated (error_analysis): the load lifts the
-   !> structure off, at that λ. `system` is work space (its tangent is overwritten).
-   subroutine lift_off_error(model, state, system, dlambda, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      type(path_system_t), intent(inout) :: system
-      real(dp), intent(in) :: dlambda
-      type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: nodal(:, :), internal(:), reference(:)
-      logical, allocatable :: bonded(:)
-      character(len=:), allocatable :: text
-      real(dp) :: element_scale, lambda
-      integer :: c, status
-      if (.not. allocated(state%floating_motion) .or. dlambda == 0.0_dp) return
-      if (size(state%floating_motion, 2) == 0) return
-      allocate (nodal(dofs_per_node, model%n_nodes), internal(state%map%n_equations), &
-                reference(state%map%n_equations), bonded(size(state%active)), stat=status)
-      call allocation_failure(status, 'the force vectors of the lift-off test', &
-                              8.0_dp*(dofs_per_node*model%n_nodes + 2*state%map%n_equations), error_analysis, error)
-      if (allocated(error)) return
-      call gather_nodal(state%map, state%u, nodal)
-      do c = 1, size(state%active)
-         bonded(c) = candidate_live(state%map, c) .and. model%contacts(c)%bilateral .and. &
-                     .not. model%contacts(c)%uplift_force > 0.0_dp .and. model%contacts(c)%partner == 0
-      end do
-      lambda = state%lambda + dlambda
-      call equilibrium_at(model, state, system, state%u, lambda, bonded, nodal, internal, reference, element_scale, &
-                          error)
-      if (allocated(error)) return
-      ! the tangent now holds this assembly, neither the committed nor a converged one
-      system%holds_committed = .false.
-      system%holds_converged = .false.
-      call describe_lift_off(model, state%map, state%floating_motion, nodal, lambda*reference - internal, text)
-      if (.not. allocated(text)) return
-      call make_error(error, text//' (at lambda = '//real_to_string(lambda, message_edit)//')', error_analysis)
-   end subroutine lift_off_error
-
-   !> Whether a contact of the working set of `state` is at its bearing (or uplift) limit.
-   logical function at_bearing_limit(state) result(at_limit)
-      type(path_state_t), intent(in) :: state
-      at_limit = .false.
-      if (.not. (allocated(state%yielding) .and. allocated(state%active))) return
-      if (size(state%yielding) /= size(state%active)) return
-      at_limit = any(state%yielding .and. state%active)
-   end function at_bearing_limit
-
-   !> A step that does not converge with a node of a polyline obstacle at a concave corner of it
-   !> (within 1e-3 of the model's size, in contact or about to be: its gap below that too): the cause
-   !> is the corner, not a limit point. The node's gap is the distance to the nearer face, which is
-   !> not differentiable where the two faces are equally near (uniarc_obstacle_shapes,
-   !> polyline_concave_corner), so Newton's iterates switch faces and do not settle
-   !> (docs/input.md, *OBSTACLE). The message names the node, the obstacle and the corner, and the
-   !> workaround: the two faces as two obstacles.
-   subroutine add_concave_corner_hint(model, state, error)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      type(error_t), intent(inout) :: error
-      real(dp), allocatable :: nodal(:, :)
-      real(dp) :: reach, x(2), gap, gradient(2), hessian(2, 2)
-      integer :: c, node, corner, status
-      if (.not. allocated(model%contacts) .or. .not. allocated(state%u)) return
-      if (.not. any(model%contacts%gap_kind == gap_polyline)) return
-      ! refused, no hint: the step's own error stands (as for the mechanism and crest hints)
-      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
-      if (status /= 0) return
-      call gather_nodal(state%map, state%u, nodal)
-      reach = 1.0e-3_dp*norm2(maxval(model%coordinates, dim=2) - minval(model%coordinates, dim=2))
-      do c = 1, size(model%contacts)
-         if (model%contacts(c)%gap_kind /= gap_polyline) cycle
-         node = model%contacts(c)%node
-         ! a moving polyline stands translated by λ d (docs/theory.md §3.11): the node against it at rest
-         x = model%coordinates(:, node) + nodal(1:2, node) - state%lambda*model%contacts(c)%motion
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
-                            state%lambda)
-         if (gap > reach) cycle
-         corner = polyline_concave_corner(model%contacts(c)%vertices, x, reach)
-         if (corner == 0) cycle
-         error%message = error%message//'; node '//integer_to_string(model%node_label(node))// &
-                         ' is in contact at a concave corner ('// &
-                         real_to_string(model%contacts(c)%vertices(1, corner), message_edit)//', '// &
-                         real_to_string(model%contacts(c)%vertices(2, corner), message_edit)// &
-                         ') of the polyline obstacle '''//group_name(model, c)//''': its gap there is the '// &
-                         'distance to the nearer face, which is not differentiable where the two faces are '// &
-                         'equally near, so the iterations switch faces and do not settle (a polyline does not '// &
-                         'hold a node in a concave corner): give the two faces as two obstacles on the node set '// &
-                         '(docs/input.md, *OBSTACLE)'
-         return
-      end do
-   end subroutine add_concave_corner_hint
-
-   !> The name of the contact group of candidate c.
-   function group_name(model, c) result(name)
-      type(model_t), intent(in) :: model
-      integer, intent(in) :: c
-      character(len=:), allocatable :: name
-      name = 'unnamed'
-      if (.not. allocated(model%contact_groups)) return
-      if (model%contacts(c)%group < 1 .or. model%contacts(c)%group > size(model%contact_groups)) return
-      if (allocated(model%contact_groups(model%contacts(c)%group)%name)) &
-         name = model%contact_groups(model%contacts(c)%group)%name
-   end function group_name
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)
