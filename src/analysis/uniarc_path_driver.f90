@@ -32,6 +32,7 @@ module uniarc_path_driver
    use uniarc_band, only: band_allocate
    use uniarc_path_state_copy, only: copy_point_record, move_map
    use uniarc_memory, only: allocation_failure
+   use uniarc_path_pace, only: pace_t, pace_start, pace_record
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -74,6 +75,9 @@ module uniarc_path_driver
       !> Converged steps before the current analysis step (driver_next_analysis_step): the step
       !> numbers go on across analysis steps, and max_steps counts the steps of the current one.
       integer :: step_offset = 0
+      !> The lengths of the steps of the current analysis step and λ's change with them (uniarc_path_pace):
+      !> what a path that ends on its step limit says of its last steps.
+      type(pace_t) :: pace
    end type path_driver_t
 
    !> What one call of driver_step did.
@@ -124,6 +128,8 @@ contains
       if (allocated(error)) return
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
+      call pace_start(driver%pace, driver%state%lambda, driver%rules%max_steps, driver%state%first_length, &
+                      model%analysis%max_increment*driver%state%first_length)
       driver%stop = stop_none
       driver%started = .true.
    end subroutine driver_start
@@ -171,6 +177,8 @@ contains
       call add_prescribed(model, driver%state%lambda, driver%displacement)
       driver%tracked = tracked_values(model, driver%displacement)
       driver%step_offset = driver%state%point%step
+      call pace_start(driver%pace, driver%state%lambda, driver%rules%max_steps, driver%state%first_length, &
+                      model%analysis%max_increment*driver%state%first_length)
       driver%stop = stop_none
    end subroutine driver_next_analysis_step
 
@@ -255,6 +263,7 @@ contains
       outcome%step = driver%state%point%step
       outcome%lambda = driver%state%lambda
       outcome%iterations = driver%state%point%iterations
+      call pace_record(driver%pace, driver%state%lambda, driver%state%taken_length)
       if (driver%state%point%switched) then
          ! The first point of a secondary branch (*PATH, SWITCH=n): the interval joins two branches,
          ! and its one event is the switch, from the bifurcation's state (λ there) at its start.

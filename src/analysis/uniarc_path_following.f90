@@ -806,6 +806,7 @@ contains
             end if
          end do steps
          call move_alloc(system, state%system)
+         state%taken_length = length
          factor = sqrt(real(options%desired_iterations, dp)/real(max(trial%iterations, 1), dp))
          factor = min(2.0_dp, max(0.25_dp, factor))
          state%step_length = min(options%max_increment*state%first_length, &

@@ -6,17 +6,18 @@ module uniarc_console
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_driver, only: path_driver_t
+   use uniarc_path_pace, only: pace_window_ratio, pace_level
    use uniarc_output, only: step_record_t, format_number
    use uniarc_strings, only: integer_to_string
    implicit none
    private
-   public :: progress_line, short_number, print_tracks
+   public :: progress_line, short_number, print_tracks, step_limit_notes
 
 contains
 
    !> The progress line of a step on stderr: the step, λ, Newton iterations, contacts, negative pivots,
    !> the share of the target done — the largest of step/max_steps, |λ|/lambda_max and |track|/stop_value,
-   !> the stop rule nearest to ending the path — and, from the rate so far, the time left to it (an
+   !> the stop rule nearest to ending the path, named (max_steps for a path that creeps) — and, from the rate so far, the time left to it (an
    !> estimate: the path may turn or slow down).
    function progress_line(driver, record, elapsed) result(text)
       type(path_driver_t), intent(in) :: driver
@@ -24,19 +25,30 @@ contains
       real(dp), intent(in) :: elapsed   !< seconds since the path started
       character(len=:), allocatable :: text
       real(dp) :: done, rate
+      character(len=:), allocatable :: target
       ! max_steps counts the steps of the current analysis step (*STEP; step_offset 0 without steps)
       done = real(record%step - driver%step_offset, dp)/real(max(driver%rules%max_steps, 1), dp)
-      if (driver%rules%lambda_max < huge(1.0_dp)) done = max(done, abs(record%lambda)/driver%rules%lambda_max)
+      target = 'max_steps'
+      if (driver%rules%lambda_max < huge(1.0_dp)) then
+         if (abs(record%lambda)/driver%rules%lambda_max > done) then
+            done = abs(record%lambda)/driver%rules%lambda_max
+            target = 'lambda_max'
+         end if
+      end if
       if (driver%rules%track > 0) then
-         if (driver%rules%track_limit > 0.0_dp) done = max(done, abs(driver%tracked(driver%rules%track))/ &
-                                                               driver%rules%track_limit)
+         if (driver%rules%track_limit > 0.0_dp) then
+            if (abs(driver%tracked(driver%rules%track))/driver%rules%track_limit > done) then
+               done = abs(driver%tracked(driver%rules%track))/driver%rules%track_limit
+               target = 'stop_value'
+            end if
+         end if
       end if
       done = min(done, 1.0_dp)
       rate = real(record%step, dp)/max(elapsed, 1.0e-3_dp)
       text = 'step '//integer_to_string(record%step)//'  lambda '//trim(format_number(record%lambda))// &
              '  iterations '//integer_to_string(record%iterations)//'  contacts '// &
              integer_to_string(record%n_contact)//'  neg_pivots '//integer_to_string(record%neg_pivots)// &
-             '  ('//integer_to_string(int(100.0_dp*done))//'% of the target, '//rate_text(rate)//' steps/s'
+             '  ('//integer_to_string(int(100.0_dp*done))//'% of the target '//target//', '//rate_text(rate)//' steps/s'
       if (done > 0.0_dp .and. done < 1.0_dp) then
          if (elapsed*(1.0_dp - done)/done < 0.5_dp) then
             text = text//', less than 1 s left)'
@@ -47,6 +59,80 @@ contains
          text = text//')'
       end if
    end function progress_line
+
+   !> The lines that follow the closing line of a path stopped by its step limit (docs/contracts.md,
+   !> "Progress and messages"): the pace of its last steps from the driver's record (uniarc_path_pace) —
+   !> how many of the last steps in a row were taken at the largest step (max_increment times the first)
+   !> or cut below the first; λ's change over the last tenth of max_steps against its change over all
+   !> of them; whether λ's change per step fell at every step of that tenth (with the mean factor and
+   !> where λ would level off at that rate, an extrapolation: a limit point may be near, but none is
+   !> claimed, since only the locator places one, once a step passes it) — and what to change to go
+   !> on. Each line starts with two spaces and ends with a newline; '' when the path has no step.
+   function step_limit_notes(driver) result(text)
+      type(path_driver_t), intent(in) :: driver
+      character(len=:), allocatable :: text
+      character(len=*), parameter :: lf = new_line('a')
+      real(dp) :: window_change, whole_change, level
+      integer :: k
+      logical :: levels
+      text = ''
+      associate (pace => driver%pace)
+         if (pace%steps < 1) return
+         if (pace%at_cap > 0) then
+            if (pace%at_cap == pace%steps) then
+               text = text//'  all '//plural(pace%steps, 'step')
+            else
+               text = text//'  the last '//plural(pace%at_cap, 'step')//' of '//integer_to_string(pace%steps)
+            end if
+            text = text//' were taken at the largest step, max_increment = '// &
+                   short_number(pace%cap_length/pace%first_length)//' times the first'//lf
+         end if
+         if (pace%below_first > 0) then
+            if (pace%below_first == pace%steps) then
+               text = text//'  all '//plural(pace%steps, 'step')
+            else
+               text = text//'  the last '//plural(pace%below_first, 'step')//' of '//integer_to_string(pace%steps)
+            end if
+            text = text//' were cut below the first increment (an attempt failed or took more iterations '// &
+                   'than `iterations`)'//lf
+         end if
+         if (pace%in_window) then
+            k = pace%steps - (pace%max_steps - pace%window)
+            window_change = pace%lambda_last - pace%window_lambda
+            whole_change = pace%lambda_last - pace%lambda_start
+            text = text//'  lambda changed by '//short_number(window_change)//' over the last '// &
+                   plural(k, 'step')//' (the last tenth of max_steps), by '//short_number(whole_change)// &
+                   ' over all '//integer_to_string(pace%steps)
+            ! (the share only where both changes go the same way: past a limit point λ's last change
+            ! undoes part of the whole one, and a share of it would mislead)
+            if (window_change*whole_change > 0.0_dp) text = text//': '// &
+               short_number(100.0_dp*abs(window_change/whole_change))//' % of it in '// &
+               short_number(100.0_dp*real(k, dp)/real(pace%steps, dp))//' % of the steps'
+            text = text//lf
+            if (pace_window_ratio(pace) > 0.0_dp) then
+               call pace_level(pace, level, levels)
+               text = text//'  its change per step fell at each of those steps, from '// &
+                      short_number(pace%window_first_change)//' to '//short_number(pace%last_change)// &
+                      ' (by a factor '//short_number(pace_window_ratio(pace))//' a step on average'
+               if (levels) text = text//'; lambda would level off near '//short_number(level)// &
+                                 ' if it went on falling so'
+               text = text//'): a limit point may be near; none is located (the locator places one once a '// &
+                      'step passes it)'//lf
+            end if
+         end if
+         text = text//'  to go on: '
+         if (pace%at_cap > 0) text = text//'raise max_increment (the last steps were at it) or '
+         text = text//'raise steps'//lf
+      end associate
+   contains
+      pure function plural(n, noun) result(words)
+         integer, intent(in) :: n
+         character(len=*), intent(in) :: noun
+         character(len=:), allocatable :: words
+         words = integer_to_string(n)//' '//noun
+         if (n /= 1) words = words//'s'
+      end function plural
+   end function step_limit_notes
 
    !> A duration in seconds as "42 s", "3 min 20 s" or "2 h 05 min".
    function duration_text(seconds) result(text)

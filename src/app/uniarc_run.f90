@@ -32,7 +32,7 @@ module uniarc_run
    use uniarc_memory, only: available_memory, memory_text, allocation_failure
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
-   use uniarc_console, only: progress_line, short_number, print_tracks
+   use uniarc_console, only: progress_line, short_number, print_tracks, step_limit_notes
    use uniarc_modes_output, only: modes_table_t, add_mode, write_modes_file
    use uniarc_path_branch, only: nodal_mode
    use uniarc_path_imperfection, only: computed_imperfection
@@ -517,6 +517,7 @@ contains
             stop_message(model, driver)
          write (output_unit, '(a)') 'path traced: '//counted(record%step, 'step')//', lambda = '// &
             trim(format_number(record%lambda))//'; '//stop_message(model, driver)
+         if (driver%stop == stop_step_limit) write (output_unit, '(a)', advance='no') step_limit_notes(driver)
          write (output_unit, '(a)') '  '//counted(n_critical, 'critical point')//' and '// &
             counted(n_contact_events, 'contact event')//' in '//options%stem//'.crit'
       end if

@@ -153,6 +153,7 @@ contains
       call move_state(critical, state)
       call accept_trial(model, state, trial)
       state%step_length = xi
+      state%taken_length = xi
       call commit_tangent(model, state, system, .false., error)
       if (allocated(error)) then
          call move_alloc(system, state%system)

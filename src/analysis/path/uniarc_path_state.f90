@@ -138,6 +138,9 @@ module uniarc_path_state
       integer, allocatable :: corner_step(:)
       real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
       real(dp) :: first_length = 0.0_dp
+      !> Δl, Δλ or Δu_c the last converged step was taken with (the units of step_length; 0 before the
+      !> first step): the path driver's record of the pace (uniarc_path_pace)
+      real(dp) :: taken_length = 0.0_dp
       !> ψ: the displacement norm one unit of λ moves (length per unit λ), ||K⁻¹R|| at the unloaded state
       !> (or with its touching contacts released when they carry the whole reference load). It
       !> measures a step in λ where the reference load moves no displacement (docs/theory.md §2.7).
