@@ -23,6 +23,8 @@ Usage (one CTest per call):
                   [--expect-affine COLUMN=A,B:ATOL]...              # every row: |COLUMN - (A + B lambda)| <= ATOL
                   [--expect-stderr TEXT]...                         # text the run writes to stderr
                   [--reject-stderr TEXT]...                         # text it must not write there
+                  [--expect-stdout TEXT]... [--reject-stdout TEXT]...  # the same of stdout (the run is
+                                                                    # then not quiet: its closing lines)
 
 A numeric diff compares the header exactly and every number with |a - b| <= atol + rtol * |b|.
 EXPECTED is VALUE:RTOL (relative error at most RTOL) or LOW..HIGH (a range of published values).
@@ -69,11 +71,11 @@ def read_table(path):
     return names, rows
 
 
-def run_uniarc(uniarc, deck, out, defines):
-    """Run uniarc quietly on a deck into a fresh OUTDIR (it creates the folder and its parents) with
-    -D overrides; echo its output; return the command and the finished process."""
+def run_uniarc(uniarc, deck, out, defines, quiet=True):
+    """Run uniarc on a deck into a fresh OUTDIR (it creates the folder and its parents) with -D
+    overrides, quietly (-q) unless told; echo its output; return the command and the finished process."""
     shutil.rmtree(out, ignore_errors=True)
-    command = [uniarc, deck, '-o', out, '-q']
+    command = [uniarc, deck, '-o', out] + (['-q'] if quiet else [])
     for definition in defines:
         command += ['-D', definition]
     run = subprocess.run(command, capture_output=True, text=True)
@@ -414,9 +416,12 @@ def main():
     parser.add_argument('--expect-affine', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
+    parser.add_argument('--expect-stdout', action='append', default=[])
+    parser.add_argument('--reject-stdout', action='append', default=[])
     args = parser.parse_args()
 
-    command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define)
+    command, run = run_uniarc(args.uniarc, args.deck, args.out, args.define,
+                              quiet=not (args.expect_stdout or args.reject_stdout))
     if run.returncode != args.expect_exit:
         print(f'FAIL: exit code {run.returncode}, expected {args.expect_exit}: {" ".join(command)}')
         return 1
@@ -429,6 +434,12 @@ def main():
     for text in args.reject_stderr:
         if text in run.stderr:
             failures.append(f'stderr contains {text!r}, which is not the cause')
+    for text in args.expect_stdout:
+        if text not in run.stdout:
+            failures.append(f'stdout does not contain {text!r}')
+    for text in args.reject_stdout:
+        if text in run.stdout:
+            failures.append(f'stdout contains {text!r}')
     if args.reference:
         failures += numeric_diff(path_file, args.reference, args.rtol, args.atol)
     if args.expect:
