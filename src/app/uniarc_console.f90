@@ -17,8 +17,8 @@ contains
 
    !> The progress line of a step on stderr: the step, λ, Newton iterations, contacts, negative pivots,
    !> the share of the target done — the largest of step/max_steps, |λ|/lambda_max and |track|/stop_value,
-   !> the stop rule nearest to ending the path, named (max_steps for a path that creeps) — and, from the rate so far, the time left to it (an
-   !> estimate: the path may turn or slow down).
+   !> the stop rule nearest to ending the path, named (max_steps for a path that creeps) — and, from the
+   !> rate so far, the time left to it (an estimate: the path may turn or slow down).
    function progress_line(driver, record, elapsed) result(text)
       type(path_driver_t), intent(in) :: driver
       type(step_record_t), intent(in) :: record
