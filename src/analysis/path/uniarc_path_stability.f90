@@ -148,11 +148,16 @@ contains
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal, memory_error)
       if (allocated(memory_error)) return
+      allocate (reaction(size(state%active)), gap(size(state%active)), stat=status)
+      call allocation_failure(status, 'the reactions and gaps of the lift-off stability test', &
+                              16.0_dp*size(state%active), error_analysis, memory_error)
+      if (allocated(memory_error)) return
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
-      allocate (released(size(reaction)), pressed_plus(size(reaction)), pressed_minus(size(reaction)), stat=status)
-      call allocation_failure(status, 'the contacts of the lift-off stability test', 12.0_dp*size(reaction), &
+      allocate (released(size(reaction)), pressed_plus(size(reaction)), pressed_minus(size(reaction)), &
+                along(size(reaction)), norms(size(reaction)), stat=status)
+      call allocation_failure(status, 'the contacts of the lift-off stability test', 28.0_dp*size(reaction), &
                               error_analysis, memory_error)
       if (allocated(memory_error)) return
       do c = 1, size(reaction)
@@ -362,15 +367,15 @@ contains
    end subroutine negative_eigenpair
 
    !> a_cᵀv for every candidate (its gap's gradient at its node against v's displacement there) and
-   !> |a_c|; v (n) an augmented vector.
+   !> |a_c|; v (n) an augmented vector. along, norms: one entry per candidate, allocated by the caller
+   !> (with stat=, docs/contracts.md "Memory").
    subroutine normal_motions(model, state, nodal, v, along, norms)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: nodal(:, :), v(:)
-      real(dp), allocatable, intent(out) :: along(:), norms(:)
+      real(dp), intent(out) :: along(:), norms(:)
       real(dp) :: g, gradient(2), hessian(2, 2)
       integer :: c, node, k
-      allocate (along(size(state%map%candidate_equation)), norms(size(state%map%candidate_equation)))
       along = 0.0_dp
       norms = 0.0_dp
       do c = 1, size(along)
