@@ -236,18 +236,30 @@ contains
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
-      integer :: c, contact, node
-      if (.not. any([(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
-                      c=1, size(map%candidate_equation))])) return
-      allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
+      integer :: c, contact, node, status
+      logical :: unilateral
+      unilateral = .false.
+      do c = 1, size(map%candidate_equation)
+         unilateral = unilateral .or. (candidate_live(map, c) .and. .not. model%contacts(c)%bilateral)
+      end do
+      if (.not. unilateral) return
+      ! its arrays allocated with stat= (no array constructors of the candidates' length)
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), bonded(size(map%candidate_equation)), &
+                shift(map%n_equations), moved(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the vectors of the rigid approach of the linear analysis', &
+                              16.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*map%n_equations + &
+                              4.0_dp*size(map%candidate_equation), error_analysis, error)
+      if (allocated(error)) return
+      zero_nodal(:, :) = 0.0_dp
       ! a spring with an uplift limit holds nothing once it yields: released, as in the path
-      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
+      do c = 1, size(map%candidate_equation)
+         bonded(c) = candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp
+      end do
       call assemble_set(model, map, zero_nodal, bonded, matrix, residual, error)
       if (allocated(error)) return
       call floating_motions(model, map, matrix, motions, equations, error)
       if (allocated(error) .or. .not. allocated(motions)) return
-      allocate (shift(map%n_equations), moved(dofs_per_node, model%n_nodes))
       call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
       call gather_nodal(map, shift, moved)
@@ -347,17 +359,24 @@ contains
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
       character(len=:), allocatable :: text
-      integer :: c
-      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
-      allocate (residual(map%n_equations), reference(map%n_equations))
+      integer :: c, status
+      ! its arrays allocated with stat=: refused, the message stays the solver's (the lift-off text is
+      ! a hint, as those of a failed step)
+      allocate (bonded(size(map%candidate_equation)), residual(map%n_equations), reference(map%n_equations), &
+                stat=status)
+      if (status /= 0) return
+      do c = 1, size(map%candidate_equation)
+         bonded(c) = candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp
+      end do
       call assemble_set(model, map, zero_nodal, bonded, assembled, residual, failure)
       if (allocated(failure)) return
       call floating_motions(model, map, assembled, motions, equations, failure)
       if (allocated(failure) .or. .not. allocated(motions)) return
       call assemble_reference_load(model, map, .true., reference)
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
-      call describe_lift_off(model, map, motions, zero_nodal, residual + reference, text)
+      residual(:) = residual + reference   ! in place: no temporary of the sum
+      call describe_lift_off(model, map, motions, zero_nodal, residual, text)
       if (.not. allocated(text)) return
       deallocate (error)
       call make_error(error, text, error_analysis)
