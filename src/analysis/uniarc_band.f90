@@ -262,15 +262,19 @@ contains
    !> U's diagonal holds its pivots (round-off apart), so the second elimination is saved. `found` is
    !> false when an interchange happened (then call band_inertia on the unfactorised matrix).
    !> `original` is the unfactorised matrix: a pivot is zero when it is round-off of its own row.
-   pure subroutine band_inertia_from_factors(factors, original, negative_pivots, singular, found)
+   !> status (optional): the stat= of its row scales (nonzero: refused by the system, nothing counted
+   !> and `found` false); without it a refusal stops the program.
+   pure subroutine band_inertia_from_factors(factors, original, negative_pivots, singular, found, status)
       type(band_matrix_t), intent(in) :: factors, original
       integer, intent(out) :: negative_pivots
       logical, intent(out) :: singular, found
+      integer, intent(out), optional :: status
       real(dp), allocatable :: row_scale(:)
       real(dp) :: pivot
       integer :: k
       negative_pivots = 0
       singular = .false.
+      if (present(status)) status = 0
       found = factors%factorized
       if (.not. found) return
       do k = 1, factors%n
@@ -279,7 +283,11 @@ contains
             return
          end if
       end do
-      row_scale = row_maxima(original)
+      call row_maxima(original, row_scale, status)
+      if (.not. allocated(row_scale)) then
+         found = .false.
+         return
+      end if
       do k = 1, factors%n
          pivot = factors%ab(factors%kl + factors%ku + 1, k)
          if (abs(pivot) <= epsilon(1.0_dp)*merge(row_scale(k), 1.0_dp, row_scale(k) > 0.0_dp)) then
@@ -334,7 +342,8 @@ contains
       ! A pivot is zero when it is round-off of its own row: rows differ by many orders of magnitude
       ! (a contact row of a very soft spring has −1/k on its diagonal), so one scale for all rows would
       ! call the pivots of the structure zero beside it.
-      row_scale = row_maxima(matrix)
+      call row_maxima(matrix, row_scale, status)
+      if (.not. allocated(row_scale)) return
       k = 1
       do while (k <= matrix%n)
          pivot = work(offset, k)
@@ -430,7 +439,8 @@ contains
       offset = matrix%kl + matrix%ku + 1
       call elimination_copy(matrix, work, status)
       if (.not. allocated(work)) return
-      row_scale = row_maxima(matrix)
+      call row_maxima(matrix, row_scale, status)
+      if (.not. allocated(row_scale)) return
       do k = 1, matrix%n
          scale = abs(matrix%ab(offset, k))
          if (scale <= 0.0_dp) scale = row_scale(k)
@@ -475,11 +485,20 @@ contains
       end do
    end subroutine band_row_terms
 
-   !> Largest |A(i, j)| of each row i of an unfactorised matrix (n).
-   pure function row_maxima(matrix) result(row_scale)
+   !> Largest |A(i, j)| of each row i of an unfactorised matrix (n), into `row_scale` (allocated here,
+   !> not a function result: with `status` present with stat=, nonzero: refused by the system and
+   !> `row_scale` unallocated; without it a refusal stops the program).
+   pure subroutine row_maxima(matrix, row_scale, status)
       type(band_matrix_t), intent(in) :: matrix
-      real(dp) :: row_scale(matrix%n)
+      real(dp), allocatable, intent(out) :: row_scale(:)
+      integer, intent(out), optional :: status
       integer :: i, j, offset
+      if (present(status)) then
+         allocate (row_scale(matrix%n), stat=status)
+         if (status /= 0) return
+      else
+         allocate (row_scale(matrix%n))
+      end if
       offset = matrix%kl + matrix%ku + 1
       row_scale = 0.0_dp
       do j = 1, matrix%n
@@ -487,6 +506,6 @@ contains
             row_scale(i) = max(row_scale(i), abs(matrix%ab(offset + i - j, j)))
          end do
       end do
-   end function row_maxima
+   end subroutine row_maxima
 
 end module uniarc_band

@@ -16,11 +16,12 @@ module uniarc_linear_static
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, add_context, make_error, error_analysis, error_input
    use uniarc_memory, only: allocation_failure
+   use uniarc_copy, only: reserve
    use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside
    use uniarc_strings, only: integer_to_string
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
-                          band_multiply, band_zero, band_add, band_get
+                          band_product, band_zero, band_add, band_get
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
    use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
@@ -83,24 +84,25 @@ contains
       integer, allocatable :: held(:)
       logical, allocatable :: set(:)
       logical :: singular
-      real(dp) :: length_scale, worst
+      real(dp) :: length_scale, worst, bytes
       integer :: n, round, pivots, c, status
 
       call build_dof_map(model, map, error, error_analysis)
       if (allocated(error)) return
       n = map%n_equations
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
-      allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), &
-                set(size(map%candidate_equation)), stat=status)
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), applied(n), x(n), &
+                set(size(map%candidate_equation)), r(size(map%candidate_equation)), g(size(map%candidate_equation)), &
+                stat=status)
       call allocation_failure(status, 'the load and residual vectors of the linear analysis', &
-                              8.0_dp*(dofs_per_node*model%n_nodes + 4.0_dp*n) + 4.0_dp*size(map%candidate_equation), &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n) + 20.0_dp*size(map%candidate_equation), &
                               error_analysis, error)
       if (allocated(error)) return
       zero_nodal = 0.0_dp
       call centre_on_node(model, error)
       if (allocated(error)) return
       call assemble_reference_load(model, map, .true., reference)
-      applied = reference
+      applied(:) = reference
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
       ! The first working set: candidates that touch at u = 0, and the bonded ones (as the path
       ! following starts): it holds what the contacts hold, so K_S is regular for a structure that
@@ -108,7 +110,9 @@ contains
       ! A model that can move as a rigid body even with every contact closed is a mechanism: refused
       ! (error_input, exit 2) before any solve, by the path following's start-up test
       ! (uniarc_path_mechanism: relative pivot test, then the rigid-body test).
-      set = [(candidate_live(map, c), c=1, size(set))]
+      do c = 1, size(set)
+         set(c) = candidate_live(map, c)
+      end do
       call assemble_set(model, map, zero_nodal, set, assembled, residual, error)
       if (allocated(error)) return
       call find_mechanism(model, map, assembled, error, error_analysis)
@@ -136,10 +140,11 @@ contains
          rhs(:, 2) = reference
          call band_solve(factors, rhs, error)
          if (allocated(error)) return
-         x = rhs(:, 1) + rhs(:, 2)
+         x(:) = rhs(:, 1) + rhs(:, 2)
          call linear_contact_state(model, map, x, set, r, g)
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
-         call refine_solution(model, map, set, applied, factors, assembled, length_scale, x, r, g, worst, error)
+         call refine_solution(model, map, set, applied, factors, assembled, length_scale, zero_nodal, x, r, g, &
+                              worst, error)
          if (allocated(error)) return
          if (worst <= complementarity_tolerance) exit
          ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
@@ -151,8 +156,18 @@ contains
             return
          end if
          ! The LCP of one load step δλ = 1 from the unloaded state: x = 0, λ = 0, residual = −F_aug(0).
-         if (allocated(lin%x)) deallocate (lin%x)
-         allocate (lin%x(n), source=0.0_dp)
+         ! its vectors allocated with stat= first: the assignments below then allocate nothing
+         bytes = 0.0_dp
+         call reserve(lin%x, n, status, bytes)
+         if (status == 0) call reserve(lin%nodal, dofs_per_node, model%n_nodes, status, bytes)
+         if (status == 0) call reserve(lin%residual, n, status, bytes)
+         if (status == 0) call reserve(lin%reference, n, status, bytes)
+         if (status == 0) call reserve(lin%du_residual, n, status, bytes)
+         if (status == 0) call reserve(lin%du_tangent, n, status, bytes)
+         call allocation_failure(status, 'a vector of the contact LCP of the linear analysis', bytes, error_analysis, &
+                                 error)
+         if (allocated(error)) return
+         lin%x = 0.0_dp
          lin%nodal = zero_nodal
          lin%residual = residual
          lin%reference = reference
@@ -221,18 +236,30 @@ contains
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
-      integer :: c, contact, node
-      if (.not. any([(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, &
-                      c=1, size(map%candidate_equation))])) return
-      allocate (zero_nodal(dofs_per_node, model%n_nodes), source=0.0_dp)
+      integer :: c, contact, node, status
+      logical :: unilateral
+      unilateral = .false.
+      do c = 1, size(map%candidate_equation)
+         unilateral = unilateral .or. (candidate_live(map, c) .and. .not. model%contacts(c)%bilateral)
+      end do
+      if (.not. unilateral) return
+      ! its arrays allocated with stat= (no array constructors of the candidates' length)
+      allocate (zero_nodal(dofs_per_node, model%n_nodes), bonded(size(map%candidate_equation)), &
+                shift(map%n_equations), moved(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the vectors of the rigid approach of the linear analysis', &
+                              16.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*map%n_equations + &
+                              4.0_dp*size(map%candidate_equation), error_analysis, error)
+      if (allocated(error)) return
+      zero_nodal(:, :) = 0.0_dp
       ! a spring with an uplift limit holds nothing once it yields: released, as in the path
-      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
+      do c = 1, size(map%candidate_equation)
+         bonded(c) = candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp
+      end do
       call assemble_set(model, map, zero_nodal, bonded, matrix, residual, error)
       if (allocated(error)) return
       call floating_motions(model, map, matrix, motions, equations, error)
       if (allocated(error) .or. .not. allocated(motions)) return
-      allocate (shift(map%n_equations), moved(dofs_per_node, model%n_nodes))
       call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
       call gather_nodal(map, shift, moved)
@@ -332,17 +359,24 @@ contains
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
       character(len=:), allocatable :: text
-      integer :: c
-      bonded = [(candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
-                 .not. model%contacts(c)%uplift_force > 0.0_dp, c=1, size(map%candidate_equation))]
-      allocate (residual(map%n_equations), reference(map%n_equations))
+      integer :: c, status
+      ! its arrays allocated with stat=: refused, the message stays the solver's (the lift-off text is
+      ! a hint, as those of a failed step)
+      allocate (bonded(size(map%candidate_equation)), residual(map%n_equations), reference(map%n_equations), &
+                stat=status)
+      if (status /= 0) return
+      do c = 1, size(map%candidate_equation)
+         bonded(c) = candidate_live(map, c) .and. model%contacts(c)%bilateral .and. &
+                     .not. model%contacts(c)%uplift_force > 0.0_dp
+      end do
       call assemble_set(model, map, zero_nodal, bonded, assembled, residual, failure)
       if (allocated(failure)) return
       call floating_motions(model, map, assembled, motions, equations, failure)
       if (allocated(failure) .or. .not. allocated(motions)) return
       call assemble_reference_load(model, map, .true., reference)
       if (allocated(model%prescribed)) call add_settlement_load(model, map, reference)
-      call describe_lift_off(model, map, motions, zero_nodal, residual + reference, text)
+      residual(:) = residual + reference   ! in place: no temporary of the sum
+      call describe_lift_off(model, map, motions, zero_nodal, residual, text)
       if (.not. allocated(text)) return
       deallocate (error)
       call make_error(error, text, error_analysis)
@@ -437,16 +471,17 @@ contains
 
    !> Reactions r and linearised gaps g = g(0) + a(0)ᵀu of every candidate at unknowns x for `set`:
    !> a reaction unknown in the set, −g/t for a condensed spring in it, 0 out of it.
+   !> r, g: one entry per candidate, allocated by the caller (with stat=, docs/contracts.md "Memory").
    subroutine linear_contact_state(model, map, x, set, r, g)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:)
       logical, intent(in) :: set(:)
-      real(dp), allocatable, intent(out) :: r(:), g(:)
+      real(dp), intent(out) :: r(:), g(:)
       real(dp) :: gap0, gradient(2), hessian(2, 2)
       integer :: c, node, i
-      allocate (r(size(set)), source=0.0_dp)
-      allocate (g(size(set)), source=0.0_dp)
+      r = 0.0_dp
+      g = 0.0_dp
       do c = 1, size(set)
          if (.not. candidate_live(map, c)) cycle
          node = model%contacts(c)%node
@@ -477,7 +512,8 @@ contains
    !> conditioned problems meet the target at once and are not touched.
    !> `matrix` is workspace (the contact part of K_S is assembled in it); r, g and worst (the reactions,
    !> gaps and complementarity violation of x, linear_contact_state) are updated with x.
-   subroutine refine_solution(model, map, set, applied, factors, matrix, length_scale, x, r, g, worst, error)
+   subroutine refine_solution(model, map, set, applied, factors, matrix, length_scale, zero_nodal, x, r, g, worst, &
+                              error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       logical, intent(in) :: set(:)
@@ -485,19 +521,24 @@ contains
       type(band_matrix_t), intent(in) :: factors  !< band LU of K_S
       type(band_matrix_t), intent(inout) :: matrix
       real(dp), intent(in) :: length_scale
+      real(dp), intent(in) :: zero_nodal(:, :)   !< (dofs_per_node, n_nodes) zeros: the contacts at u = 0
       real(dp), intent(inout) :: x(:)
-      real(dp), allocatable, intent(inout) :: r(:), g(:)
+      real(dp), intent(inout) :: r(:), g(:)
       real(dp), intent(inout) :: worst
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: rho(:), correction(:, :), trial(:), r_trial(:), g_trial(:), contact_force(:)
+      real(dp), allocatable :: rho(:), correction(:, :), trial(:), r_trial(:), g_trial(:), contact_force(:), &
+                               zero_r(:), nodal(:, :)
       real(dp) :: balance, balance_trial, worst_trial
       integer :: k, status
       logical :: assembled
       assembled = .false.
-      allocate (rho(size(x)), correction(size(x), 1), contact_force(size(x)), stat=status)
-      call allocation_failure(status, 'the vectors of the refinement of the linear solution', 24.0_dp*size(x), &
-                              error_analysis, error)
+      allocate (rho(size(x)), correction(size(x), 1), contact_force(size(x)), trial(size(x)), r_trial(size(r)), &
+                g_trial(size(r)), zero_r(size(r)), nodal(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the vectors of the refinement of the linear solution', &
+                              32.0_dp*size(x) + 24.0_dp*size(r) + 8.0_dp*dofs_per_node*model%n_nodes, error_analysis, &
+                              error)
       if (allocated(error)) return
+      zero_r(:) = 0.0_dp
       do k = 0, max_refinements
          if (k == 0) then
             if (.not. assembled) then
@@ -505,11 +546,11 @@ contains
                ! linear_residual's element forces plus these.
                call band_zero(matrix)
                contact_force = 0.0_dp
-               if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_displacement(model), &
-                                                                          zero_reactions(map), set, matrix, contact_force)
+               if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, zero_r, set, &
+                                                                          matrix, contact_force)
                assembled = .true.
             end if
-            call linear_residual(model, map, applied, contact_force, matrix, x, rho)
+            call linear_residual(model, map, applied, contact_force, matrix, x, nodal, rho)
             balance = resultant_imbalance(model, map, applied, r, rho)
          end if
          if (balance <= balance_target .and. worst <= complementarity_tolerance) return
@@ -517,10 +558,10 @@ contains
          correction(:, 1) = rho
          call band_solve(factors, correction, error)
          if (allocated(error)) return
-         trial = x + correction(:, 1)
+         trial(:) = x + correction(:, 1)
          call linear_contact_state(model, map, trial, set, r_trial, g_trial)
          worst_trial = complementarity_violation(model, map, length_scale, trial, applied, r_trial, g_trial, set)
-         call linear_residual(model, map, applied, contact_force, matrix, trial, rho)
+         call linear_residual(model, map, applied, contact_force, matrix, trial, nodal, rho)
          balance_trial = resultant_imbalance(model, map, applied, r_trial, rho)
          if (balance_trial >= balance .and. worst_trial >= worst) return
          x = trial
@@ -535,20 +576,22 @@ contains
    !> B0ᵀ Kb (B0 u_e) of their deformations (uniarc_element, linear transformation; u_e with the
    !> prescribed displacements of held DOFs), minus the contact part F_aug(0) + K_c x (`contact_matrix`
    !> K_c, `contact_force` F_aug(0), assembled by uniarc_contact at u = 0 for the set).
-   subroutine linear_residual(model, map, applied, contact_force, contact_matrix, x, rho)
+   !> nodal: a work array (dofs_per_node, n_nodes) of the caller's, overwritten.
+   subroutine linear_residual(model, map, applied, contact_force, contact_matrix, x, nodal, rho)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: applied(:), contact_force(:)
       type(band_matrix_t), intent(in) :: contact_matrix
       real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: nodal(:, :)
       real(dp), intent(out) :: rho(:)
       type(element_response_t) :: response
-      real(dp), allocatable :: nodal(:, :)
       integer :: e
-      allocate (nodal(dofs_per_node, model%n_nodes))
       call gather_nodal(map, x, nodal)
       if (allocated(model%prescribed)) nodal = nodal + model%prescribed
-      rho = applied - contact_force - band_multiply(contact_matrix, x)
+      ! y = K_c x into rho (band_product: no function result), then ρ = R − F_aug(0) − K_c x
+      call band_product(contact_matrix, x, rho)
+      rho = applied - contact_force - rho
       do e = 1, model%n_elements
          call element_response(model, e, element_displacements(model, e, nodal), transformation_linear, response)
          call scatter_add(element_equations(model, map, e), -response%internal_force, rho)
@@ -592,17 +635,6 @@ contains
    end function resultant_imbalance
 
    !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.
-   pure function zero_displacement(model) result(nodal)
-      type(model_t), intent(in) :: model
-      real(dp) :: nodal(dofs_per_node, model%n_nodes)
-      nodal = 0.0_dp
-   end function zero_displacement
-
-   pure function zero_reactions(map) result(r)
-      type(dof_map_t), intent(in) :: map
-      real(dp) :: r(size(map%candidate_equation))
-      r = 0.0_dp
-   end function zero_reactions
 
    !> Largest relative violation of complementarity of the unilateral candidates: −r/r_unit for a
    !> pulling contact, −w/g_unit for a penetrating free one (w = g + t r), |r w|/(r_unit g_unit); the

@@ -202,7 +202,8 @@ contains
          if (options%first_increment < 0.0_dp) state%direction = -1
          state%load_norm = abs(options%first_increment)*norm2(state%reference)
          if (options%control == control_displacement) state%load_norm = norm2(state%reference)
-         element_norm = element_load_norm_at(model, state)
+         call element_load_norm_at(model, state, element_norm, error)
+         if (allocated(error)) return
          if (.not. (norm2(state%reference) > degenerate_fraction*element_norm)) then
             ! The supports take every equivalent nodal force of the element loads (a bar heated between
             ! two pins): the loads are sized by those forces, held DOFs included
@@ -358,7 +359,8 @@ contains
                           shift, contact, error)
       if (allocated(error) .or. contact == 0) return
       state%u = state%u + shift
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
       call touching_candidates(model, state, nodal, state%active)
    end subroutine approach_first_contact
 
@@ -441,14 +443,23 @@ contains
    end subroutine start_lambda_scale
 
    !> element_load_norm (uniarc_path_element_loads) at the committed displacements.
-   function element_load_norm_at(model, state) result(norm)
+   !> Errors: its arrays refused by the system (error_analysis, out of memory, uniarc_memory).
+   subroutine element_load_norm_at(model, state, norm, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
-      real(dp) :: norm
-      real(dp), allocatable :: nodal(:, :)
-      call nodal_displacements(model, state, nodal)
-      norm = element_load_norm(model, nodal)
-   end function element_load_norm_at
+      real(dp), intent(out) :: norm
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), total(:, :)
+      integer :: status
+      norm = 0.0_dp
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      allocate (total(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal forces of the element loads', 8.0_dp*dofs_per_node*model%n_nodes, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      norm = element_load_norm(model, nodal, total)
+   end subroutine element_load_norm_at
 
    !> ψ where K⁻¹R has no displacement and no contact to release: the supports take every equivalent
    !> nodal force of the step's temperature changes (a bar heated between two pins, a clamped beam
@@ -642,7 +653,12 @@ contains
             if (to_limit .and. halvings == 0 .and. .not. (track_landed .or. trial%release)) &
                committed_lambda = real(state%direction, dp)*options%lambda_max
             if (landed) committed_lambda = target
-            call accept_trial(model, state, trial, committed_lambda)
+            call accept_trial(model, state, trial, error, committed_lambda)
+            if (allocated(error)) then
+               call move_alloc(system, state%system)
+               call add_where(error, 'step '//integer_to_string(state%point%step + 1)//' (converged state)', state)
+               return
+            end if
             ! A load step's displacement is round-off where the contacts carry the load: no direction
             ! for the next step's angle tests.
             if (degenerate_step(before, trial)) state%last_increment = 0.0_dp

@@ -15,7 +15,8 @@
 !> is read: the contact cards, which build their candidates from the coordinates, come after it.
 module uniarc_deck_imperfection
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, integer_to_string, real_to_string, same_text
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real, field_integer, read_source
@@ -151,7 +152,10 @@ contains
          real(dp) :: values(6)
          character(len=*), parameter :: wanted_names(6) = [character(len=11) :: 'bifurcation', 'node', 'x0', &
                                                               'y0', 'ux', 'uy']
-         allocate (found(deck%model%n_nodes), source=.false.)
+         allocate (found(deck%model%n_nodes), stat=status)
+         call allocation_failure(status, 'the nodes of the modes table', 4.0_dp*deck%model%n_nodes, error_input, error)
+         if (allocated(error)) return
+         found(:) = .false.
          if (table%n_lines < 1) then
             call raise(table, 1, 1, 'expected a modes table (column names on line 1), found an empty file', error)
             return
@@ -187,7 +191,13 @@ contains
                   end if
                end do
                if (nint(values(1)) /= wanted) cycle
-               if (.not. allocated(mode)) allocate (mode(2, deck%model%n_nodes), source=0.0_dp)
+               if (.not. allocated(mode)) then
+                  allocate (mode(2, deck%model%n_nodes), stat=status)
+                  call allocation_failure(status, 'the imperfection read from the modes table', &
+                                          16.0_dp*deck%model%n_nodes, error_input, error)
+                  if (allocated(error)) return
+                  mode(:, :) = 0.0_dp
+               end if
                label = nint(values(2))
                node = 0
                if (label >= 1 .and. label <= size(deck%model%node_of_label)) node = deck%model%node_of_label(label)

@@ -243,7 +243,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, label, existing, section, set_option, kind
+      integer :: i, j, line, label, existing, section, set_option, kind, status
       integer :: ends(2), node_labels(2)
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: created(:)
@@ -302,7 +302,9 @@ contains
          if (allocated(error)) return
          created(i) = deck%model%n_elements
       end do
-      call set_element_kind(deck%model, created, kind)
+      call set_element_kind(deck%model, created, kind, status)
+      call allocation_failure(status, 'the element kinds', 8.0_dp*deck%model%n_elements, error_input, error)
+      if (allocated(error)) return
       if (set_option > 0) call add_to_element_set(deck%model, card%options(set_option)%value, created, error)
    end subroutine read_element
 
@@ -433,7 +435,11 @@ contains
       ! shared ends), and the generator's own first node (an arc of 360 degrees ends on it). Other own
       ! nodes cannot coincide, so the search stays linear in the size of the deck.
       tolerance = merge_tolerance*size_scale
-      candidates = nodes_in_box(deck%model, minval(points, dim=2) - tolerance, maxval(points, dim=2) + tolerance)
+      call nodes_in_box(deck%model, minval(points, dim=2) - tolerance, maxval(points, dim=2) + tolerance, &
+                        candidates, status)
+      call allocation_failure(status, 'the nodes in the bounding box of the generator', 4.0_dp*deck%model%n_nodes, &
+                              error_input, error)
+      if (allocated(error)) return
       allocate (nodes(nodes_layout), elements(n), stat=status)
       call allocation_failure(status, 'the node and element numbers of the generator', &
                               4.0_dp*(real(nodes_layout, dp) + n), error_input, error)
@@ -463,7 +469,9 @@ contains
          elements(i) = deck%model%n_elements
       end do
 
-      call set_element_kind(deck%model, elements, kind)
+      call set_element_kind(deck%model, elements, kind, status)
+      call allocation_failure(status, 'the element kinds', 8.0_dp*deck%model%n_elements, error_input, error)
+      if (allocated(error)) return
       call add_to_element_set(deck%model, name, elements, error)
       if (.not. allocated(error)) call add_to_node_set(deck%model, name, nodes, error)
       if (.not. allocated(error)) call add_to_node_set(deck%model, name//'_start', nodes(1:1), error)
@@ -581,7 +589,7 @@ contains
       integer, allocatable, intent(out) :: members(:)
       type(error_t), allocatable, intent(out) :: error
       integer :: i, j, line, count, first, last, step, label, index, status
-      integer, allocatable :: found(:)
+      integer, allocatable :: found(:), trimmed(:)
       type(field_t), allocatable :: fields(:)
       character(len=:), allocatable :: kind
 
@@ -651,7 +659,14 @@ contains
             return
          end if
       end do
-      members = members(1:count)
+      ! the list trimmed to its members, allocated with stat= (an assignment would reallocate unchecked)
+      allocate (trimmed(count), stat=status)
+      call allocation_failure(status, 'the members of '//kind//' set '''// &
+                              card%options(option_index(card, trim(merge('NSET ', 'ELSET', nodes))))%value//'''', &
+                              4.0_dp*count, error_input, error)
+      if (allocated(error)) return
+      trimmed(:) = members(1:count)
+      call move_alloc(trimmed, members)
    end subroutine read_set_members
 
    !> The node among `candidates` nearest to `point` if it is within `tolerance`, else 0.
@@ -672,13 +687,17 @@ contains
       end do
    end function find_coincident_node
 
-   !> The nodes inside the box [lower, upper].
-   pure function nodes_in_box(model, lower, upper) result(nodes)
+   !> The nodes inside the box [lower, upper]. status: the stat= of its allocations (nonzero: refused
+   !> by the system, `nodes` then unusable; for uniarc_memory, allocation_failure).
+   pure subroutine nodes_in_box(model, lower, upper, nodes, status)
       type(model_builder_t), intent(in) :: model
       real(dp), intent(in) :: lower(2), upper(2)
-      integer, allocatable :: nodes(:)
+      integer, allocatable, intent(out) :: nodes(:)
+      integer, intent(out) :: status
+      integer, allocatable :: kept(:)
       integer :: i, count
-      allocate (nodes(model%n_nodes))
+      allocate (nodes(model%n_nodes), stat=status)
+      if (status /= 0) return
       count = 0
       do i = 1, model%n_nodes
          if (all(model%coordinates(:, i) >= lower .and. model%coordinates(:, i) <= upper)) then
@@ -686,8 +705,11 @@ contains
             nodes(count) = i
          end if
       end do
-      nodes = nodes(1:count)
-   end function nodes_in_box
+      allocate (kept(count), stat=status)
+      if (status /= 0) return
+      kept(:) = nodes(1:count)
+      call move_alloc(kept, nodes)
+   end subroutine nodes_in_box
 
    !> An element is of zero length when its ends are one node or lie within round-off of each other.
    pure logical function is_zero_length(model, ends)

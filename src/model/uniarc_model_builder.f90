@@ -240,17 +240,35 @@ contains
    !> Make the elements `elements` (internal indices) of kind `kind` (element_beam_column or
    !> element_truss of uniarc_model); elements never set are beam-columns. Only non-default kinds need
    !> setting: a model of beams only keeps no kind array.
-   pure subroutine set_element_kind(builder, elements, kind)
+   !> status (optional): the stat= of the growth of the kind array (nonzero: refused by the system, the
+   !> kinds left as they were; for uniarc_memory, allocation_failure); absent, a refusal stops the program.
+   pure subroutine set_element_kind(builder, elements, kind, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: elements(:)
       integer, intent(in) :: kind
-      integer :: capacity
+      integer, intent(out), optional :: status
+      integer, allocatable :: grown(:)
+      integer :: capacity, n, k, stat
+      if (present(status)) status = 0
       if (size(elements) == 0) return
       if (kind == element_beam_column .and. .not. allocated(builder%element_kind)) return
       capacity = 0
       if (allocated(builder%element_kind)) capacity = size(builder%element_kind)
-      if (maxval(elements) > capacity) &
-         builder%element_kind = element_kinds(builder, max(maxval(elements), 2*capacity))
+      if (maxval(elements) > capacity) then
+         ! grown with stat= (the kinds of element_kinds, in place of its function result)
+         n = max(maxval(elements), 2*capacity)
+         if (present(status)) then
+            allocate (grown(n), stat=stat)
+            status = stat
+            if (stat /= 0) return
+         else
+            allocate (grown(n))
+         end if
+         grown(:) = element_beam_column
+         k = min(capacity, n)
+         if (k > 0) grown(1:k) = builder%element_kind(1:k)
+         call move_alloc(grown, builder%element_kind)
+      end if
       builder%element_kind(elements) = kind
    end subroutine set_element_kind
 
@@ -558,7 +576,7 @@ contains
       type(model_t), intent(out) :: model
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: origin
-      integer :: n, e, bad, i, status
+      integer :: n, e, bad, i, k, status
       real(dp) :: bytes
 
       n = builder%n_nodes
@@ -608,7 +626,15 @@ contains
       model%connectivity = builder%connectivity(:, 1:e)
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
-      if (allocated(builder%element_kind)) model%element_kind = element_kinds(builder, e)
+      if (allocated(builder%element_kind)) then
+         ! allocated with stat= and filled in place (element_kinds' function result is not checked)
+         allocate (model%element_kind(e), stat=status)
+         call allocation_failure(status, 'the element kinds of the model', 4.0_dp*e, error_input, error)
+         if (allocated(error)) return
+         model%element_kind(:) = element_beam_column
+         k = min(size(builder%element_kind), e)
+         model%element_kind(1:k) = builder%element_kind(1:k)
+      end if
       if (allocated(builder%end_joints)) then
          allocate (model%end_joints(2, e), stat=status)
          call allocation_failure(status, 'the end joints of the model', &

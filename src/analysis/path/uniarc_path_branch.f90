@@ -78,7 +78,7 @@ contains
       type(step_trial_t) :: trial
       type(analysis_options_t) :: riks
       real(dp), allocatable :: phi(:), primary(:), start(:)
-      real(dp) :: xi, t_norm, bytes
+      real(dp) :: xi, t_norm, bytes, sign_of
       integer :: step, status
       cuts = 0
       state%switch_due = .false.
@@ -124,7 +124,12 @@ contains
          return
       end if
       phi = phi/masked_norm(critical%map, phi)
-      phi = phi*mode_sign(model, critical, state%bifurcation%liftoff, phi)
+      call mode_sign(model, critical, state%bifurcation%liftoff, phi, sign_of, error)
+      if (allocated(error)) then
+         call move_alloc(system, state%system)
+         return
+      end if
+      phi = phi*sign_of
       ! Riks' updated normal plane for the corrections of this step only (its options: no copy of the model).
       riks = model%analysis
       riks%iteration = iteration_riks
@@ -151,7 +156,12 @@ contains
       end do
       ! Commit: the first point of the secondary branch, numbered after the last one of the primary.
       call move_state(critical, state)
-      call accept_trial(model, state, trial)
+      call accept_trial(model, state, trial, error)
+      if (allocated(error)) then
+         call move_alloc(system, state%system)
+         error%message = 'branch switching (converged state): '//error%message
+         return
+      end if
       state%step_length = xi
       state%taken_length = xi
       call commit_tangent(model, state, system, .false., error)
@@ -180,18 +190,26 @@ contains
    !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that
    !> touch without force (a lift-off), the sign that opens them (Σ a_cᵀφ ≥ 0 over the working set:
    !> the other sign presses into the medium, where it resists); else the largest component positive.
-   real(dp) function mode_sign(model, state, liftoff, phi) result(sign_of)
+   !> Errors: the nodal displacements of the state or of φ refused by the system (error_analysis, out
+   !> of memory).
+   subroutine mode_sign(model, state, liftoff, phi, sign_of, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(in) :: liftoff   !< the bifurcation is a lift-off (unilateral) one
       real(dp), intent(in) :: phi(:)
+      real(dp), intent(out) :: sign_of
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :), shape(:, :)
       real(dp) :: g, gradient(2), hessian(2, 2), opening
-      integer :: c, node
+      integer :: c, node, status
       sign_of = 1.0_dp
       if (liftoff) then
-         call nodal_displacements(model, state, nodal)
-         allocate (shape(dofs_per_node, model%n_nodes))
+         call nodal_displacements(model, state, nodal, error)
+         if (allocated(error)) return
+         allocate (shape(dofs_per_node, model%n_nodes), stat=status)
+         call allocation_failure(status, 'the nodal displacements of the buckling mode', &
+                                 8.0_dp*dofs_per_node*model%n_nodes, error_analysis, error)
+         if (allocated(error)) return
          call gather_nodal(state%map, phi, shape)
          opening = 0.0_dp
          do c = 1, size(state%active)
@@ -205,6 +223,6 @@ contains
          return
       end if
       if (phi(maxloc(abs(phi), 1)) < 0.0_dp) sign_of = -1.0_dp
-   end function mode_sign
+   end subroutine mode_sign
 
 end module uniarc_path_branch

@@ -58,6 +58,7 @@ contains
       logical, intent(in), optional :: yielding(:)
       type(contact_linearization_t) :: linearization
       type(contact_selection_t) :: selection
+      real(dp), allocatable :: reaction(:), gap(:)
       integer :: n, status
       real(dp) :: bytes
       ! The LCP's copies of the linearisation allocated with stat= (docs/contracts.md, "Memory").
@@ -74,13 +75,15 @@ contains
          if (status == 0) call reserve(linearization%yielding, size(yielding), status, bytes)
          if (status == 0) linearization%yielding(:) = yielding
       end if
+      if (status == 0) call reserve(reaction, size(active), status, bytes)
+      if (status == 0) call reserve(gap, size(active), status, bytes)
       call allocation_failure(status, 'a vector of the contact LCP''s linearisation', bytes, error_analysis, error)
       if (allocated(error)) return
       linearization%lambda = lin%lambda
       linearization%du_residual(:) = lin%rhs(:, 1)
       linearization%du_tangent(:) = lin%rhs(:, 2)
       linearization%constraint = constraint
-      linearization%units = units_at(model, state, lin%x, lin%nodal, active)
+      linearization%units = units_at(model, state, lin%x, lin%nodal, active, reaction, gap)
       call select_contact_set(model, state%map, linearization, active, system%assembled, system%tangent, &
                               selection, error)
       call move_alloc(selection%active, update%active)
@@ -97,15 +100,17 @@ contains
    !> largest reaction and the largest displacement.
    !> Plastic media: `yielding` (default state%yielding) are the candidates at their limit, and the
    !> yield pairs are checked too (uniarc_contact_plastic).
-   function complementary(model, state, x, nodal, active, yielding, lambda) result(ok)
+   !> reaction, gap: work arrays of one entry per candidate (allocated by the caller with stat=,
+   !> docs/contracts.md, "Memory"), overwritten by candidate_state.
+   function complementary(model, state, x, nodal, active, reaction, gap, yielding, lambda) result(ok)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
+      real(dp), intent(out) :: reaction(:), gap(:)
       logical, intent(in), optional :: yielding(:)
       real(dp), intent(in), optional :: lambda   !< of the state: moving obstacles (candidate_state)
       logical :: ok
-      real(dp), allocatable :: reaction(:), gap(:)
       if (present(yielding)) then
          call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding, lambda)
          ok = violation(model, state, x, reaction, gap, active, yielding) <= model%analysis%displacement_tolerance
@@ -120,15 +125,16 @@ contains
    !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
    !> beyond the tolerance of `violation`; the others stay.
    !> A candidate at its bearing limit (`yielding`, optional) stays: its pair is the yield rule's.
-   subroutine sign_rule(model, state, x, nodal, active, new_active, yielding, lambda)
+   !> reaction, gap: work arrays of one entry per candidate (as for `complementary`).
+   subroutine sign_rule(model, state, x, nodal, active, new_active, reaction, gap, yielding, lambda)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
       logical, intent(out) :: new_active(:)
+      real(dp), intent(out) :: reaction(:), gap(:)
       logical, intent(in), optional :: yielding(:)
       real(dp), intent(in), optional :: lambda   !< of the state: moving obstacles (candidate_state)
-      real(dp), allocatable :: reaction(:), gap(:)
       type(contact_scales_t) :: units
       real(dp) :: tolerance
       integer :: c
@@ -218,14 +224,15 @@ contains
       units%gap = max(maxval(abs(state%map%metric*x)), 1.0e-6_dp*state%length_scale)
    end function contact_units
 
-   !> Contact units at unknowns x (nodal: their nodal displacements) with working set `active`.
-   function units_at(model, state, x, nodal, active) result(units)
+   !> Contact units at unknowns x (nodal: their nodal displacements) with working set `active`;
+   !> reaction, gap: work arrays of one entry per candidate (as for `complementary`).
+   function units_at(model, state, x, nodal, active, reaction, gap) result(units)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
+      real(dp), intent(out) :: reaction(:), gap(:)
       type(contact_scales_t) :: units
-      real(dp), allocatable :: reaction(:), gap(:)
       call candidate_state(model, state%map, x, nodal, active, reaction, gap)
       units = contact_units(state, x, reaction, active)
    end function units_at
@@ -235,19 +242,20 @@ contains
    !> the bed's surface, g + d.
    !> Plastic media: the gaps include the committed `slip` (optional, one per candidate), and a condensed
    !> candidate at its limit (`yielding`, optional) has r = q (r = −t at an uplift limit).
+   !> reaction, gap: one entry per candidate, allocated by the caller (with stat=: docs/contracts.md,
+   !> "Memory"; no allocation here).
    pure subroutine candidate_state(model, map, x, nodal, active, reaction, gap, slip, yielding, lambda)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: x(:), nodal(:, :)
       logical, intent(in) :: active(:)
-      real(dp), allocatable, intent(out) :: reaction(:), gap(:)
+      real(dp), intent(out) :: reaction(:), gap(:)
       real(dp), intent(in), optional :: slip(:)
       logical, intent(in), optional :: yielding(:)
       !> λ of the state: a moving obstacle's gap is g(u) + λ ∂g/∂λ (docs/theory.md §3.11); absent: λ = 0
       real(dp), intent(in), optional :: lambda
       real(dp) :: gradient(2), hessian(2, 2)
       integer :: c, node
-      allocate (reaction(size(map%candidate_equation)), gap(size(map%candidate_equation)))
       do c = 1, size(map%candidate_equation)
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap(c), gradient, &

@@ -27,7 +27,7 @@ module uniarc_path_corner
    use uniarc_dof_map, only: candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, masked_dot, masked_norm, &
-                                nodal_displacements, equilibrium_at, factorize_and_solve, candidate_reactions, &
+                                nodal_displacements, equilibrium_at, factorize_and_solve, &
                                 fail_attempt
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_newton, only: attempt_step
@@ -65,7 +65,7 @@ contains
       type(step_trial_t) :: attempt
       type(error_t), allocatable :: error
       integer, allocatable :: chosen(:)
-      logical, allocatable :: toggled(:, :)
+      logical, allocatable :: toggled(:, :), assumed(:)
       real(dp), allocatable :: ut(:), best_ut(:), nodal(:, :), start(:)
       real(dp) :: best_cosine, cosine, sign_of, best_sign, size_ut, dl, bytes
       integer :: a, best, h, status
@@ -77,16 +77,28 @@ contains
          call fail_attempt(trial, 'no memory for the corner''s displacements', error)
          return
       end if
-      call pick_candidates(state, chosen)
-      if (size(chosen) == 0) return
-      call tie_groups(state, chosen, toggled)
+      call pick_candidates(state, chosen, error)
+      if (.not. allocated(error)) then
+         if (size(chosen) == 0) return
+         call tie_groups(state, chosen, toggled, error)
+      end if
+      if (.not. allocated(error)) then
+         allocate (assumed(size(state%active)), stat=status)
+         call allocation_failure(status, 'the working set of a corner''s assumption', 4.0_dp*size(state%active), &
+                                 error_analysis, error)
+      end if
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the corner''s candidates', error)
+         return
+      end if
       system%holds_committed = .false.
       system%holds_converged = .false.
       best = 0
       best_cosine = -huge(1.0_dp)
       best_sign = 1.0_dp
       do a = 1, size(toggled, 2)
-         call set_tangent(model, state, system, nodal, state%active .neqv. toggled(:, a), ut, error)
+         assumed(:) = state%active .neqv. toggled(:, a)
+         call set_tangent(model, state, system, nodal, assumed, ut, error)
          if (allocated(error)) then
             call fail_attempt(trial, 'no memory for the tangents at a corner', error)
             return
@@ -151,18 +163,28 @@ contains
 
    !> The candidates that may be at their change: the per_kind smallest reactions among those in the
    !> working set and the per_kind smallest |gaps| among the live ones outside it.
-   subroutine pick_candidates(state, chosen)
+   !> Errors: its arrays of one entry per candidate refused by the system (error_analysis, out of memory).
+   subroutine pick_candidates(state, chosen, error)
       type(path_state_t), intent(in) :: state
       integer, allocatable, intent(out) :: chosen(:)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: reaction(:), key(:)
       logical, allocatable :: free(:)
-      integer :: c, k, m, pick
+      integer :: c, k, m, pick, status
       logical :: closed
       m = size(state%active)
-      reaction = candidate_reactions(state)
-      allocate (chosen(0), free(m))
+      allocate (chosen(0), reaction(m), key(m), free(m), stat=status)
+      call allocation_failure(status, 'the candidates of a corner', 20.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
+      ! the committed reactions (candidate_reactions: exactly 0 out of the working set)
+      reaction(:) = 0.0_dp
+      if (allocated(state%reactions)) then
+         do c = 1, m
+            if (state%active(c)) reaction(c) = state%reactions(c)
+         end do
+      end if
       ! out of the working set the point's contact value is the gap
-      key = abs(state%point%contact_value)
+      key(:) = abs(state%point%contact_value)
       do k = 1, 2
          closed = k == 1
          free = .false.
@@ -195,14 +217,19 @@ contains
 
    !> The assumptions (columns of `toggled`): each chosen candidate with the chosen ones of the same
    !> kind that tie with it (values and rates along the committed tangent within tie_tolerance).
-   subroutine tie_groups(state, chosen, toggled)
+   !> Errors: its arrays of one entry per candidate refused by the system (error_analysis, out of memory).
+   subroutine tie_groups(state, chosen, toggled, error)
       type(path_state_t), intent(in) :: state
       integer, intent(in) :: chosen(:)
       logical, allocatable, intent(out) :: toggled(:, :)
-      logical, allocatable :: group(:)
-      integer :: i, j, a, n
-      allocate (toggled(size(state%active), size(chosen)), source=.false.)
-      allocate (group(size(state%active)))
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: group(:), kept(:, :)
+      integer :: i, j, a, n, status
+      allocate (toggled(size(state%active), size(chosen)), group(size(state%active)), stat=status)
+      call allocation_failure(status, 'the assumptions of a corner', 4.0_dp*size(state%active)*(size(chosen) + 1), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      toggled(:, :) = .false.
       n = 0
       do i = 1, size(chosen)
          group = .false.
@@ -217,7 +244,14 @@ contains
          n = n + 1
          toggled(:, n) = group
       end do
-      toggled = toggled(:, 1:n)
+      if (n < size(chosen)) then
+         allocate (kept(size(state%active), n), stat=status)
+         call allocation_failure(status, 'the assumptions of a corner', 4.0_dp*size(state%active)*n, &
+                                 error_analysis, error)
+         if (allocated(error)) return
+         kept(:, :) = toggled(:, 1:n)
+         call move_alloc(kept, toggled)
+      end if
    contains
       logical function ties(p, q)
          integer, intent(in) :: p, q

@@ -26,15 +26,15 @@ contains
 
    !> ‖f‖ over every DOF of the model (held ones included) of the equivalent nodal forces of the step's
    !> element loads (temperature changes on the current geometry, distributed loads on the initial one)
-   !> at nodal displacements u (3, n_nodes) — per unit λ.
-   function element_load_norm(model, displacement) result(norm)
+   !> at nodal displacements u (3, n_nodes) — per unit λ. total: a work array (3, n_nodes) of the
+   !> caller's (allocated with stat=, docs/contracts.md, "Memory"), overwritten by the nodal forces.
+   function element_load_norm(model, displacement, total) result(norm)
       type(model_t), intent(in) :: model
       real(dp), intent(in) :: displacement(:, :)
+      real(dp), intent(out) :: total(:, :)
       real(dp) :: norm
-      real(dp), allocatable :: total(:, :)
       real(dp) :: f(2*dofs_per_node), k(2*dofs_per_node, 2*dofs_per_node)
       integer :: i, e
-      allocate (total(dofs_per_node, model%n_nodes))
       total = 0.0_dp
       if (allocated(model%thermal_loads)) then
          do i = 1, size(model%thermal_loads)

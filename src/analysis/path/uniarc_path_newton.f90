@@ -266,7 +266,8 @@ contains
                   call keep_converged(system, lin)
                   exit
                end if
-               if (complementary(model, state, lin%x, lin%nodal, trial%active, trial%yielding, lambda)) then
+               if (complementary(model, state, lin%x, lin%nodal, trial%active, lin%reaction, lin%gap, &
+                                 trial%yielding, lambda)) then
                   call lands_degenerate(options, state, system, lin, trial, lands, error)
                   if (allocated(error)) then
                      call fail_attempt(trial, 'no memory for the load step''s test', error)
@@ -284,7 +285,7 @@ contains
                ! Plastic media: the yield pairs first (an elastic candidate beyond its limit yields, a
                ! yielding one that would unload becomes elastic), the contact pairs of that frame then
                ! the LCP's (docs/theory.md §3.9).
-               if (yield_exchange(model, state, lin, trial)) then
+               if (yield_exchange(model, state, lin, trial, new_active)) then
                   if (trial%yield_changes > max_set_changes) then
                      trial%reason = 'the yielding set does not settle'
                      exit
@@ -306,11 +307,11 @@ contains
                ! factors this iteration needs anyway. The set converges along with equilibrium.
                update_set = contacts .and. .not. fresh_set
                if (update_set) update_set = .not. complementary(model, state, lin%x, lin%nodal, trial%active, &
-                                                                trial%yielding, lambda)
+                                                                lin%reaction, lin%gap, trial%yielding, lambda)
                ! The yield pairs are exchanged like the sign rule's contacts (the tangent of the new
                ! yielding set assembled again at this state).
                if (update_set) then
-                  if (yield_exchange(model, state, lin, trial)) then
+                  if (yield_exchange(model, state, lin, trial, new_active)) then
                      if (trial%yield_changes > max_set_changes) then
                         trial%reason = 'the yielding set does not settle'
                         exit
@@ -321,7 +322,8 @@ contains
                   end if
                end if
                if (update_set .and. trial%set_changes < sign_rule_changes) then
-                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active, trial%yielding, lambda)
+                  call sign_rule(model, state, lin%x, lin%nodal, trial%active, new_active, lin%reaction, lin%gap, &
+                                 trial%yielding, lambda)
                   if (any(new_active .neqv. trial%active)) then
                      trial%set_changes = trial%set_changes + 1
                      ! The tangent and residual of the new set at this same state: the flipped
@@ -419,29 +421,32 @@ contains
             end if
             trial%increment = trial%increment + lin%rhs(:, 1) + dl*lin%rhs(:, 2)
             trial%dlambda = trial%dlambda + dl
-            call check_correction(test, state%map, lin%rhs(:, 1) + dl*lin%rhs(:, 2), trial%increment, &
-                                  state%u + trial%increment)
+            ! the correction and the total displacements formed in checked work arrays (an expression
+            ! passed as an argument is a temporary that gfortran 12 allocates unchecked)
+            lin%correction(:) = lin%rhs(:, 1) + dl*lin%rhs(:, 2)
+            lin%total(:) = state%u + trial%increment
+            call check_correction(test, state%map, lin%correction, trial%increment, lin%total)
          end do
       end associate
    end subroutine attempt_step
 
    !> The block exchange of the yield pairs at a state in equilibrium (uniarc_contact_plastic,
    !> yield_rule): true if trial%yielding changed (then trial%yield_changes counts it).
-   logical function yield_exchange(model, state, lin, trial) result(changed)
+   !> new_yielding: a work array of one entry per candidate (the attempt's, allocated with stat=);
+   !> lin%reaction and lin%gap are overwritten.
+   logical function yield_exchange(model, state, lin, trial, new_yielding) result(changed)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
-      type(linearization_t), intent(in) :: lin
+      type(linearization_t), intent(inout) :: lin
       type(step_trial_t), intent(inout) :: trial
-      real(dp), allocatable :: reaction(:), gap(:)
-      logical, allocatable :: new_yielding(:)
+      logical, intent(out) :: new_yielding(:)
       type(contact_scales_t) :: units
       changed = .false.
       if (.not. has_plastic(model)) return
-      call candidate_state(model, state%map, lin%x, lin%nodal, trial%active, reaction, gap, state%slip, &
+      call candidate_state(model, state%map, lin%x, lin%nodal, trial%active, lin%reaction, lin%gap, state%slip, &
                            trial%yielding)
-      units = contact_units(state, lin%x, reaction, trial%active)
-      allocate (new_yielding(size(trial%yielding)))
-      call yield_rule(model, state%map, reaction, gap, trial%active, trial%yielding, units%force, units%gap, &
+      units = contact_units(state, lin%x, lin%reaction, trial%active)
+      call yield_rule(model, state%map, lin%reaction, lin%gap, trial%active, trial%yielding, units%force, units%gap, &
                       model%analysis%displacement_tolerance, new_yielding)
       changed = any(new_yielding .neqv. trial%yielding)
       if (.not. changed) return
@@ -620,8 +625,8 @@ contains
                      return
                   end if
                   lin%lambda = state%lambda
-                  call factorize_and_solve(system%tangent, state%lambda*lin%reference - lin%internal, &
-                                           lin%reference, lin%rhs, error)
+                  lin%correction(:) = state%lambda*lin%reference - lin%internal   ! checked, no temporary
+                  call factorize_and_solve(system%tangent, lin%correction, lin%reference, lin%rhs, error)
                   if (allocated(error)) then
                      call fail_attempt(trial, 'singular tangent with the predicted contact set', error)
                      return

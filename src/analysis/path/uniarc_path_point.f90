@@ -40,6 +40,8 @@ contains
       if (status == 0) call reserve(state%point%contact_value, m, status, bytes)
       if (status == 0) call reserve(state%point%contact_rate, m, status, bytes)
       if (status == 0 .and. m > 0) call reserve(state%reactions, m, status, bytes)
+      if (status == 0 .and. m > 0) call reserve(reaction, m, status, bytes)
+      if (status == 0 .and. m > 0) call reserve(gap, m, status, bytes)
       call allocation_failure(status, 'an array of the point of step '//integer_to_string(step), bytes, &
                               error_analysis, error)
       if (allocated(error)) return

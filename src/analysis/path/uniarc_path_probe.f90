@@ -40,7 +40,9 @@ contains
       call copy_state(before, probe, 'the state of a probe of the step', error)
       ok = .not. allocated(error)
       if (.not. ok) return
-      call accept_trial(model, probe, trial)
+      call accept_trial(model, probe, trial, error)
+      ok = .not. allocated(error)
+      if (.not. ok) return
       call commit_tangent(model, probe, system, .false., commit_error)
       if (allocated(commit_error)) then
          ok = .false.

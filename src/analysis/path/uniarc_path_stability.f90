@@ -35,7 +35,10 @@ contains
       integer, intent(out), optional :: status
       logical :: singular, found
       if (present(status)) status = 0
-      call band_inertia_from_factors(factors, assembled, negative, singular, found)
+      call band_inertia_from_factors(factors, assembled, negative, singular, found, status)
+      if (present(status)) then
+         if (status /= 0) return
+      end if
       if (.not. found) call band_inertia(assembled, negative, singular, status)
       ! Each contact row of the working set adds one negative pivot to the saddle-point system
       ! (Haynsworth inertia additivity): what remains counts the unstable modes of the structure.
@@ -148,11 +151,16 @@ contains
       if (unloaded .or. size(state%map%candidate_equation) == 0) return
       call nodal_displacements(model, state, nodal, memory_error)
       if (allocated(memory_error)) return
+      allocate (reaction(size(state%active)), gap(size(state%active)), stat=status)
+      call allocation_failure(status, 'the reactions and gaps of the lift-off stability test', &
+                              16.0_dp*size(state%active), error_analysis, memory_error)
+      if (allocated(memory_error)) return
       call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
       units = contact_units(state, state%u, reaction, state%active)
       force_unit = units%force
-      allocate (released(size(reaction)), pressed_plus(size(reaction)), pressed_minus(size(reaction)), stat=status)
-      call allocation_failure(status, 'the contacts of the lift-off stability test', 12.0_dp*size(reaction), &
+      allocate (released(size(reaction)), pressed_plus(size(reaction)), pressed_minus(size(reaction)), &
+                along(size(reaction)), norms(size(reaction)), stat=status)
+      call allocation_failure(status, 'the contacts of the lift-off stability test', 28.0_dp*size(reaction), &
                               error_analysis, memory_error)
       if (allocated(memory_error)) return
       do c = 1, size(reaction)
@@ -263,7 +271,11 @@ contains
       end do
       if (allocated(state%floating_equation)) &
          call hold_floating(model, state, state%active .and. .not. released, nodal, piece)
-      call band_inertia(piece, negative, singular)
+      call band_inertia(piece, negative, singular, status)
+      call allocation_failure(status, 'the elimination copy of a piece of the lift-off stability test', &
+                              8.0_dp*real(size(piece%ab, 1), dp)*real(size(piece%ab, 2), dp), error_analysis, &
+                              memory_error)
+      if (allocated(memory_error)) return
       negative = max(0, negative - n_rows)
       if (present(negative_mode)) then
          if (negative_mode .and. negative == 1) then
@@ -320,6 +332,7 @@ contains
          end if
          above = sigma
       end do
+      if (allocated(memory_error)) return   ! an elimination copy refused (count_below)
       if (below > 0.0_dp) return
       do k = 1, 3
          sigma = 0.5_dp*(below + above)
@@ -329,6 +342,7 @@ contains
             above = sigma
          end if
       end do
+      if (allocated(memory_error)) return
       ! Shifted just below the negative eigenvalue (within the last bracket), inverse iteration
       ! converges to it: least_eigenvalue on K − σI returns λ − σ.
       call shifted_copy(below)
@@ -341,12 +355,18 @@ contains
 
    contains
 
-      !> Negative eigenvalues of the piece below σ (its contact rows' pivots subtracted).
+      !> Negative eigenvalues of the piece below σ (its contact rows' pivots subtracted). An elimination
+      !> copy refused by the system counts none and leaves memory_error (checked after the search).
       integer function count_below(shift)
          real(dp), intent(in) :: shift
          logical :: singular
+         integer :: status
          call shifted_copy(shift)
-         call band_inertia(shifted, n, singular)
+         call band_inertia(shifted, n, singular, status)
+         if (status /= 0 .and. .not. allocated(memory_error)) &
+            call allocation_failure(status, 'the elimination copy of a shifted piece of the lift-off stability test', &
+                                    8.0_dp*real(size(shifted%ab, 1), dp)*real(size(shifted%ab, 2), dp), &
+                                    error_analysis, memory_error)
          count_below = max(0, n - n_rows)
       end function count_below
 
@@ -362,15 +382,15 @@ contains
    end subroutine negative_eigenpair
 
    !> a_cᵀv for every candidate (its gap's gradient at its node against v's displacement there) and
-   !> |a_c|; v (n) an augmented vector.
+   !> |a_c|; v (n) an augmented vector. along, norms: one entry per candidate, allocated by the caller
+   !> (with stat=, docs/contracts.md "Memory").
    subroutine normal_motions(model, state, nodal, v, along, norms)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), intent(in) :: nodal(:, :), v(:)
-      real(dp), allocatable, intent(out) :: along(:), norms(:)
+      real(dp), intent(out) :: along(:), norms(:)
       real(dp) :: g, gradient(2), hessian(2, 2)
       integer :: c, node, k
-      allocate (along(size(state%map%candidate_equation)), norms(size(state%map%candidate_equation)))
       along = 0.0_dp
       norms = 0.0_dp
       do c = 1, size(along)

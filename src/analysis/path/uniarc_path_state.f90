@@ -204,6 +204,10 @@ module uniarc_path_state
       real(dp), allocatable :: reference(:)    !< (n) R(x)
       real(dp), allocatable :: residual(:)     !< (n) λR − F_aug whose solution rhs(:, 1) is (for the LCP)
       real(dp), allocatable :: rhs(:, :)       !< (n, 2) the residual and R, then K⁻¹ of both
+      real(dp), allocatable :: reaction(:)     !< (m) work: the candidates' reactions (candidate_state)
+      real(dp), allocatable :: gap(:)          !< (m) work: the candidates' gaps (candidate_state)
+      real(dp), allocatable :: correction(:)   !< (n) work: a Newton correction, a predictor's λR − F_aug
+      real(dp), allocatable :: total(:)        !< (n) work: the total displacements of a correction's test
       real(dp) :: element_scale = 0.0_dp       !< largest element force (assemble_equilibrium)
       real(dp) :: roundoff = 0.0_dp            !< round-off of the assembled residual (force units)
       real(dp) :: lambda = 0.0_dp              !< λ of the state (the gaps of moving obstacles)
@@ -225,12 +229,13 @@ contains
       type(dof_map_t), intent(in) :: map
       type(linearization_t), intent(out) :: lin
       type(error_t), allocatable, intent(out) :: error
-      integer :: n, status
+      integer :: n, m, status
       n = map%n_equations
+      m = size(map%candidate_equation)
       allocate (lin%nodal(dofs_per_node, model%n_nodes), lin%internal(n), lin%reference(n), lin%rhs(n, 2), &
-                lin%x(n), lin%residual(n), stat=status)
+                lin%x(n), lin%residual(n), lin%reaction(m), lin%gap(m), lin%correction(n), lin%total(n), stat=status)
       call allocation_failure(status, 'the work vectors of a Newton attempt', &
-                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n), error_analysis, error)
+                              8.0_dp*(dofs_per_node*model%n_nodes + 8.0_dp*n + 2.0_dp*m), error_analysis, error)
    end subroutine new_linearization
 
    !> The model has contact candidates with a reaction unknown or condensed into the stiffness.
@@ -419,15 +424,18 @@ contains
    !> just committed): the plastic rotations of the return mapping from the committed ones
    !> (uniarc_joint_plasticity), as OpenSees' commitState stores a material's trial state. Nothing
    !> without joints with a moment limit (state%joint_plastic unallocated).
-   subroutine commit_joint_state(model, state)
+   !> Errors: its nodal displacements refused by the system (error_analysis, out of memory).
+   subroutine commit_joint_state(model, state, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :)
       type(element_response_t) :: response
       type(end_joint_t) :: joints(2)
       integer :: e
       if (.not. allocated(state%joint_plastic)) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
       do e = 1, model%n_elements
          joints = end_joints_of(model, e)
          if (.not. any(joints%moment_limit > 0.0_dp)) cycle
@@ -447,11 +455,14 @@ contains
       real(dp), allocatable :: nodal(:, :)
       type(element_response_t) :: response
       type(end_joint_t) :: joints(2)
+      type(error_t), allocatable :: memory_error
       integer :: e, i
       count = 0
       labels = ''
       if (.not. allocated(state%joint_plastic)) return
-      call nodal_displacements(model, state, nodal)
+      ! A hint of the message: none if its nodal displacements are refused (as the other hints).
+      call nodal_displacements(model, state, nodal, memory_error)
+      if (allocated(memory_error)) return
       do e = 1, model%n_elements
          joints = end_joints_of(model, e)
          if (.not. any(joints%moment_limit > 0.0_dp)) cycle
@@ -544,20 +555,25 @@ contains
    !> the step lands on a target exactly), the trial's working set, the plastic slip and yielding set
    !> (commit_plastic), the last increment, the arc length s and the joints' plastic rotations
    !> (commit_joint_state). The tangent is committed apart (uniarc_path_stability, commit_tangent).
-   subroutine accept_trial(model, state, trial, lambda)
+   !> Errors: the nodal displacements of the commits refused by the system (error_analysis, out of
+   !> memory): the state is then partly committed and must end the run.
+   subroutine accept_trial(model, state, trial, error, lambda)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       type(step_trial_t), intent(in) :: trial
+      type(error_t), allocatable, intent(out) :: error
       real(dp), intent(in), optional :: lambda
       state%u = state%u + trial%increment
       state%lambda = state%lambda + trial%dlambda
       if (present(lambda)) state%lambda = lambda
       state%active = trial%active
-      call commit_tangential(model, state)
-      call commit_plastic(model, state, trial%yielding)
+      call commit_tangential(model, state, error)
+      if (allocated(error)) return
+      call commit_plastic(model, state, trial%yielding, error)
+      if (allocated(error)) return
       state%last_increment = trial%increment
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
-      call commit_joint_state(model, state)
+      call commit_joint_state(model, state, error)
    end subroutine accept_trial
 
    !> The commit of the tangential springs that follow a radial partner (*FOUNDATION, KT=,
@@ -568,9 +584,11 @@ contains
    !> a_c = t·u (slip −a_c, uniarc_contact_plastic: slip_shift), so that it starts stress-free; one
    !> that stays on keeps its anchor. A spring switched off drops its force: the next step is a
    !> release step (state%release_due). Nothing without such springs.
-   subroutine commit_tangential(model, state)
+   !> Errors: its nodal displacements refused by the system (error_analysis, out of memory).
+   subroutine commit_tangential(model, state, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       logical :: on
@@ -578,7 +596,8 @@ contains
       state%release_due = .false.
       if (.not. allocated(model%contacts)) return
       if (.not. any(model%contacts%partner > 0)) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
       do c = 1, size(state%active)
          if (model%contacts(c)%partner == 0) cycle
          on = state%active(model%contacts(c)%partner)
@@ -596,40 +615,38 @@ contains
    !> The commit of plastic media (docs/theory.md §3.9), after state%u has become the converged state of
    !> a trial with the candidates `yielding` at their limit: the slip of each of them moves on by its
    !> increment (uniarc_contact_plastic, commit_slip), and `yielding` becomes the committed one. Nothing
-   !> without plastic candidates.
-   subroutine commit_plastic(model, state, yielding)
+   !> without plastic candidates. Errors: its nodal displacements refused by the system
+   !> (error_analysis, out of memory).
+   subroutine commit_plastic(model, state, yielding, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
       logical, intent(in) :: yielding(:)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: nodal(:, :)
       if (.not. has_plastic(model)) return
-      call nodal_displacements(model, state, nodal)
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
       call commit_slip(model, state%map, state%u, nodal, yielding, state%slip)
       state%yielding = yielding
    end subroutine commit_plastic
 
    !> Nodal displacements (dofs_per_node, n_nodes) of the committed state; `nodal` keeps its storage
-   !> when it has that shape already. With `error` present the allocation is checked (error_analysis,
-   !> out of memory); without it (the joints' and the slip's updates, a lift-off mode's sign and the
-   !> element-load norm, which have no error to return) a refusal stops the program.
+   !> when it has that shape already. Errors: the allocation refused by the system (error_analysis,
+   !> out of memory).
    subroutine nodal_displacements(model, state, nodal, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       real(dp), allocatable, intent(inout) :: nodal(:, :)
-      type(error_t), allocatable, intent(out), optional :: error
+      type(error_t), allocatable, intent(out) :: error
       integer :: status
       if (allocated(nodal)) then
          if (size(nodal, 1) /= dofs_per_node .or. size(nodal, 2) /= model%n_nodes) deallocate (nodal)
       end if
       if (.not. allocated(nodal)) then
-         if (present(error)) then
-            allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
-            call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, &
-                                    error_analysis, error)
-            if (allocated(error)) return
-         else
-            allocate (nodal(dofs_per_node, model%n_nodes))
-         end if
+         allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+         call allocation_failure(status, 'the nodal displacements', 8.0_dp*dofs_per_node*model%n_nodes, &
+                                 error_analysis, error)
+         if (allocated(error)) return
       end if
       call gather_nodal(state%map, state%u, nodal)
    end subroutine nodal_displacements
