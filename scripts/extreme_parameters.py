@@ -82,7 +82,7 @@ def run_one(args, index, deck, name, value):
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
     shutil.copy(deck, workdir)
-    result = uniarc_fuzz.run_deck(args.uniarc, os.path.join(workdir, os.path.basename(deck)), workdir,
+    result = uniarc_fuzz.run_deck(os.path.join(args.work, 'uniarc'), os.path.join(workdir, os.path.basename(deck)), workdir,
                                   args.timeout, args.memory_mb, args.file_mb, [f'{name}={value}'])
     shutil.rmtree(workdir, ignore_errors=True)
     first = result['stderr_head'].strip().splitlines()
@@ -121,6 +121,9 @@ def main():
     random.Random(args.seed).shuffle(runs)
     os.makedirs(args.outdir, exist_ok=True)
     args.work = tempfile.mkdtemp(prefix='uniarc_extreme_')
+    # The runs use a copy of the executable: a rebuild during a long sweep does not reach them.
+    executable = os.path.join(args.work, 'uniarc')
+    shutil.copy2(args.uniarc, executable)
     print(f'extreme parameters: {len(runs)} runs of {len(decks)} decks, seed {args.seed}, budget {args.budget:.0f} s, '
           f'{args.jobs} jobs, {args.uniarc}', flush=True)
 
