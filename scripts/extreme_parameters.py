@@ -82,6 +82,11 @@ def run_one(args, index, deck, name, value):
     shutil.rmtree(workdir, ignore_errors=True)
     os.makedirs(workdir)
     shutil.copy(deck, workdir)
+    # The deck's neighbours (a modes table of *IMPERFECTION, FILE=) linked beside its copy.
+    folder = os.path.dirname(deck)
+    for neighbour in os.listdir(folder):
+        if not neighbour.endswith('.inp') and neighbour != 'out':
+            os.symlink(os.path.join(folder, neighbour), os.path.join(workdir, neighbour))
     result = uniarc_fuzz.run_deck(os.path.join(args.work, 'uniarc'), os.path.join(workdir, os.path.basename(deck)), workdir,
                                   args.timeout, args.memory_mb, args.file_mb, [f'{name}={value}'])
     shutil.rmtree(workdir, ignore_errors=True)
