@@ -14,7 +14,7 @@ module uniarc_critical_points
    use uniarc_path_state, only: path_point_t
    implicit none
    private
-   public :: critical_event_t, find_critical_events, find_contact_events, sort_events
+   public :: critical_event_t, find_critical_events, find_contact_events, sort_events, opposite_signs, same_signs
 
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
@@ -30,6 +30,23 @@ module uniarc_critical_points
 
 contains
 
+   !> Whether `a` and `b` are nonzero and of opposite signs: a sign change of dλ/ds (a limit point) or of
+   !> an eigenvalue between two points. Compared by signs, not by the product a·b < 0, which overflows
+   !> (a SIGFPE under the Debug build's traps) where |a|, |b| exceed 1e154 — dλ/ds = 1/||K⁻¹R|| of a
+   !> reference load of 1e-150 — and underflows to 0 (no change seen) where both are tiny. False if
+   !> either is 0 or NaN.
+   elemental logical function opposite_signs(a, b)
+      real(dp), intent(in) :: a, b
+      opposite_signs = (a < 0.0_dp .and. b > 0.0_dp) .or. (a > 0.0_dp .and. b < 0.0_dp)
+   end function opposite_signs
+
+   !> Whether `a` and `b` are nonzero and of the same sign (the product a·b > 0, compared by signs as
+   !> opposite_signs). False if either is 0 or NaN.
+   elemental logical function same_signs(a, b)
+      real(dp), intent(in) :: a, b
+      same_signs = (a > 0.0_dp .and. b > 0.0_dp) .or. (a < 0.0_dp .and. b < 0.0_dp)
+   end function same_signs
+
    !> Critical points between the converged points `before` and `after` (consecutive steps).
    pure subroutine find_critical_events(before, after, events)
       type(path_point_t), intent(in) :: before, after
@@ -38,7 +55,7 @@ contains
       integer :: unexplained
       allocate (events(0))
       unexplained = abs(after%neg_pivots - before%neg_pivots)
-      if (before%dlambda_ds*after%dlambda_ds < 0.0_dp) then
+      if (opposite_signs(before%dlambda_ds, after%dlambda_ds)) then
          if (after%limit_fraction >= 0.0_dp) then
             ! Located by re-solving the step (uniarc_path_locate).
             event%fraction = after%limit_fraction
@@ -89,7 +106,7 @@ contains
                 event%kind == 'bifurcation') event%multiplicity = after%bifurcation_multiplicity
          else
             event%fraction = 0.5_dp
-            if (before%min_eigenvalue*after%min_eigenvalue < 0.0_dp) then
+            if (opposite_signs(before%min_eigenvalue, after%min_eigenvalue)) then
                event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
             end if
             event%lambda = hermite_lambda(before, after, event%fraction)

@@ -602,12 +602,14 @@ contains
    !> nodes' centroid Σ(x ρ_y − y ρ_x + ρ_θ) over a length of the model — relative to the forces that
    !> balance in it: the applied loads' translations and the contact reactions, in absolute value.
    !> A free structure with all its contacts (a floating beam on its bed) is in equilibrium as a whole
-   !> exactly when this is zero.
+   !> exactly when this is zero. Where that scale is 0 (a moment or a settlement alone loads the model)
+   !> the ratio is at most huge(): the quotient over the floor tiny() overflowed (a SIGFPE of the Debug
+   !> build) once the residual's round-off exceeded ~1e-308·huge, as under a tip moment of 1e100.
    pure real(dp) function resultant_imbalance(model, map, applied, r, rho) result(imbalance)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: applied(:), r(:), rho(:)
-      real(dp) :: force(2), moment, centre(2), arm(2), scale, length
+      real(dp) :: force(2), moment, centre(2), arm(2), scale, length, residual
       integer :: i, eq
       centre = sum(model%coordinates, dim=2)/max(model%n_nodes, 1)
       length = max(maxval(abs(model%coordinates - spread(centre, 2, model%n_nodes))), tiny(1.0_dp))
@@ -631,7 +633,14 @@ contains
          eq = map%equation(3, i)
          if (eq > 0) moment = moment + rho(eq)
       end do
-      imbalance = max(abs(force(1)), abs(force(2)), abs(moment)/length)/max(scale, tiny(1.0_dp))
+      residual = max(abs(force(1)), abs(force(2)), abs(moment)/length)
+      scale = max(scale, tiny(1.0_dp))
+      ! residual/huge underflows harmlessly; if it is below half the scale, the quotient is below huge/2
+      if (residual/huge(1.0_dp) < 0.5_dp*scale) then
+         imbalance = residual/scale
+      else
+         imbalance = huge(1.0_dp)
+      end if
    end function resultant_imbalance
 
    !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.

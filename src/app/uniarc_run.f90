@@ -71,6 +71,7 @@ contains
       type(result_directory_t) :: results
       type(model_t) :: imperfect
       type(dof_map_t) :: map
+      character(len=:), allocatable :: warning
       ! An interrupt while the deck was read: nothing computed, nothing written (main's exit code).
       if (interrupt_signal() /= 0) then
          write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
@@ -90,13 +91,17 @@ contains
             call add_context(error, model%deck_path)
          return
       end if
-      call warn_nearly_mechanism(model, map)
+      ! The nearly singular model's warning is measured here and said once the checks that can still
+      ! refuse the deck (exit code 2: the result directory, a mechanism under its loads at the start of
+      ! the analysis, the perfect structure's first run of *IMPERFECTION) are passed: a refused deck's
+      ! stderr starts with its error (docs/contracts.md, "Nearly singular models").
+      call nearly_mechanism_warning(model, map, warning)
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
       select case (model%analysis%kind)
       case (analysis_linear)
-         call run_linear(model, options, results, error)
+         call run_linear(model, options, results, error, warning)
       case (analysis_nonlinear)
          if (model%analysis%imperfection_bifurcation > 0) then
             ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
@@ -104,18 +109,35 @@ contains
             if (.not. allocated(error)) then
                ! The deck's analysis steps moved, not copied, into the imperfect model and back.
                if (allocated(model%steps)) call move_alloc(model%steps, imperfect%steps)
-               call run_path(imperfect, options, results, error)
+               call run_path(imperfect, options, results, error, warning)
                if (allocated(imperfect%steps)) call move_alloc(imperfect%steps, model%steps)
             end if
          else
-            call run_path(model, options, results, error)
+            call run_path(model, options, results, error, warning)
          end if
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select
+      ! Not said yet (the first run of *IMPERFECTION failed): said unless the deck is refused.
+      call release_warning(warning, error)
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
       call abandon_results(results)
    end subroutine run_model
+
+   !> Write the nearly singular model's warning `warning` (uniarc_check: nearly_mechanism_warning; also
+   !> with -q, as errors are) on stderr unless `error` refuses the deck (error_input: exit code 2, whose
+   !> stderr is the error alone), and deallocate it: said at most once. Nothing if it is not allocated.
+   subroutine release_warning(warning, error)
+      character(len=:), allocatable, intent(inout) :: warning
+      type(error_t), allocatable, intent(in) :: error
+      if (.not. allocated(warning)) return
+      if (.not. allocated(error)) then
+         write (error_unit, '(a)') 'warning: '//warning
+      else if (error%category /= error_input) then
+         write (error_unit, '(a)') 'warning: '//warning
+      end if
+      deallocate (warning)
+   end subroutine release_warning
 
    !> A deck whose analysis steps release supports (*BOUNDARY, REMOVE): the structure of each such
    !> step — its supports, every contact closed, the model's own check (check_model_mechanism) — must
@@ -232,12 +254,15 @@ contains
    end subroutine check_deck
 
    !> The linear static analysis (with contact: one LCP, uniarc_linear_static); one row per analysis
-   !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps).
-   subroutine run_linear(model, options, results, error)
+   !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps). `warning`
+   !> (a nearly singular model's, if allocated) is said once the first solution has passed the checks
+   !> that refuse a deck (release_warning).
+   subroutine run_linear(model, options, results, error, warning)
       type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable, intent(inout) :: warning
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(step_record_t), allocatable :: records(:)
@@ -260,6 +285,7 @@ contains
             call solve_linear_static(stepped, record%displacement, record%neg_pivots, &
                                      error, record%reactions, active, record%lcp_pivots, record%lcp_residual, &
                                      record%bed_deflections)
+            call release_warning(warning, error)
             if (allocated(error)) then
                call name_analysis_step(model, k, error)
                return
@@ -331,12 +357,14 @@ contains
    !> steps so far; an error of the result files ends it at once. A step whose λ, displacements or
    !> reactions are not finite is not written: it ends the path as an analysis error. An interrupt
    !> (SIGINT, SIGTERM) is polled after every written step: the path ends there, and its files are
-   !> completed and committed.
-   subroutine run_path(model, options, results, error)
+   !> completed and committed. `warning` (a nearly singular model's, if allocated) is said once the
+   !> path's start has passed the checks that refuse a deck (release_warning).
+   subroutine run_path(model, options, results, error, warning)
       type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable, intent(inout) :: warning
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
@@ -356,6 +384,7 @@ contains
       k_step = 1
       call step_model(model, k_step, end_lambda, stepped, error)
       if (.not. allocated(error)) call driver_start(stepped, driver, error)
+      call release_warning(warning, error)
       if (allocated(error)) then
          call name_analysis_step(model, k_step, error)
          return

@@ -92,6 +92,19 @@ contains
       if (allocated(error)) return
       call field_real(source, deck%parameters, card%data_lines(1), fields(1), 'an amplitude', amplitude, error)
       if (allocated(error)) return
+      ! An imperfection is a small deviation of the geometry: one beyond the structure's own size (its
+      ! largest extent in x or y) makes another structure, and amplitudes of 1e150 put the imperfect
+      ! coordinates past the bounds checked before (element lengths cubed overflowed: SIGFPE in Debug).
+      associate (x => deck%model%coordinates(:, 1:deck%model%n_nodes))
+         size_model = maxval(maxval(x, dim=2) - minval(x, dim=2))
+      end associate
+      if (.not. abs(amplitude) <= size_model) then
+         call raise(source, card%data_lines(1), fields(1)%column, 'expected an amplitude at most the model''s '// &
+                    'size '//trim(real_to_string(size_model, '(es10.3)'))//' in magnitude (its largest extent '// &
+                    'in x or y: an imperfection is a small deviation of the geometry), found '// &
+                    trim(real_to_string(amplitude, '(es10.3)')), error)
+         return
+      end if
       file_option = option_index(card, 'FILE')
       if (file_option == 0) then
          ! The mode of the perfect structure's n-th bifurcation, computed by the program in a first run

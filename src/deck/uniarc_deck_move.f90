@@ -5,7 +5,8 @@
 module uniarc_deck_move
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t
-   use uniarc_strings, only: field_t
+   use uniarc_strings, only: field_t, real_to_string
+   use uniarc_model, only: gap_fixed_direction, gap_polyline
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, require_option, data_fields, &
                                  require_field_count, field_real
    use uniarc_deck_state, only: deck_t, require_one_data_line
@@ -41,8 +42,11 @@ contains
       integer :: option, group, kind, line, i
       character(len=:), allocatable :: name
       type(field_t), allocatable :: fields(:)
-      real(dp) :: d(2)
+      real(dp) :: d(2), moved(2), farthest(2)
+      integer :: j, k
       character(len=2), parameter :: names(2) = ['dx', 'dy']
+      ! the obstacle cards' bound on a centre, a point or a vertex (uniarc_deck_contact)
+      real(dp), parameter :: move_bound = 1.0e50_dp
 
       call check_options(source, card, [character(len=9) :: 'OBSTACLE='], error)
       if (allocated(error)) return
@@ -73,6 +77,42 @@ contains
       do i = 1, 2
          call field_real(source, deck%parameters, line, fields(i), names(i), d(i), error)
          if (allocated(error)) return
+      end do
+      ! The moved obstacle within the bounds of the obstacle cards (docs/contracts.md, "Non-finite
+      ! results"): its centre, its vertices — for a plane, whose point is not kept, the translation
+      ! itself — within ±1e50 after this card's and the earlier cards' translations of the same load
+      ! pattern (λ = 1); the gaps are differences and squares of such coordinates.
+      moved = d
+      if (allocated(deck%model%moves)) then
+         if (size(deck%model%moves, 2) >= group) moved = moved + deck%model%moves(:, group)
+      end if
+      farthest = abs(moved)
+      associate (members => deck%model%contact_groups(group)%candidates)
+         do k = 1, size(members)
+            associate (candidate => deck%model%contacts(members(k)))
+               select case (candidate%gap_kind)
+               case (gap_fixed_direction)
+                  continue
+               case (gap_polyline)
+                  if (allocated(candidate%vertices)) then
+                     do j = 1, size(candidate%vertices, 2)
+                        farthest = max(farthest, abs(candidate%vertices(:, j) + moved))
+                     end do
+                  end if
+               case default
+                  farthest = max(farthest, abs(candidate%centre + moved))
+               end select
+            end associate
+         end do
+      end associate
+      do i = 1, 2
+         if (.not. farthest(i) <= move_bound) then
+            call raise(source, line, fields(i)%column, 'expected a translation '//names(i)//' that keeps the '// &
+                       'obstacle '''//clip(name)//''' within 1e50 in magnitude, as its card''s coordinates '// &
+                       '(beyond, the gaps overflow double precision: rescale the units), found '// &
+                       trim(real_to_string(d(i)))//' (moving it to '//trim(real_to_string(farthest(i)))//')', error)
+            return
+         end if
       end do
       call add_move(deck%model, group, d)
    end subroutine read_move

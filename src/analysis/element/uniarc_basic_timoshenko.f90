@@ -23,7 +23,7 @@ module uniarc_basic_timoshenko
    use uniarc_kinds, only: dp
    implicit none
    private
-   public :: timoshenko_basic_response, beam_bending_flexibility
+   public :: timoshenko_basic_response, beam_bending_flexibility, beam_shear_flexibility
 
 contains
 
@@ -34,8 +34,18 @@ contains
       real(dp), intent(in) :: length, ei, gas
       real(dp) :: flexibility(2, 2)
       flexibility = (length/(6.0_dp*ei))*reshape([2.0_dp, -1.0_dp, -1.0_dp, 2.0_dp], [2, 2])
-      if (gas > 0.0_dp) flexibility = flexibility + 1.0_dp/(gas*length)
+      if (gas > 0.0_dp) flexibility = flexibility + beam_shear_flexibility(length, gas)
    end function beam_bending_flexibility
+
+   !> Shear flexibility s = 1/(κGA L) (radian per moment) of the basic system of a straight beam of length
+   !> `length` and shear stiffness `gas` = κGA (force): the term of F added to all four entries (module
+   !> header); 0 for `gas` = 0 (no shear deformation). End joints take it apart from the bending part
+   !> (uniarc_end_joints: series_determinant).
+   pure real(dp) function beam_shear_flexibility(length, gas) result(s)
+      real(dp), intent(in) :: length, gas
+      s = 0.0_dp
+      if (gas > 0.0_dp) s = 1.0_dp/(gas*length)
+   end function beam_shear_flexibility
 
    !> Basic forces q = Kb v (3) and basic stiffness Kb (3×3) of the Timoshenko beam at the basic
    !> deformations v = `deformation` (e, θ̄1, θ̄2) of an element of initial length `length`, axial

@@ -20,7 +20,7 @@ module uniarc_element
                                     transform_deformations, transform_to_global, transform_end_forces
    use uniarc_basic_beam, only: beam_basic_response
    use uniarc_basic_truss, only: truss_basic_response
-   use uniarc_basic_timoshenko, only: timoshenko_basic_response, beam_bending_flexibility
+   use uniarc_basic_timoshenko, only: timoshenko_basic_response, beam_bending_flexibility, beam_shear_flexibility
    use uniarc_end_joints, only: jointed_basic_response, has_joints
    use uniarc_joint_plasticity, only: plastic_joint_response, has_moment_limit
    implicit none
@@ -84,13 +84,15 @@ contains
                committed = 0.0_dp
                if (present(plastic)) committed = plastic
                call plastic_joint_response(section%ea/chord%initial_length, &
-                                           beam_bending_flexibility(chord%initial_length, section%ei, section%gas), &
+                                           beam_bending_flexibility(chord%initial_length, section%ei, 0.0_dp), &
                                            joints, deformation, committed, response%basic_force, basic_stiffness, &
-                                           response%plastic_rotation)
+                                           response%plastic_rotation, &
+                                           shear=beam_shear_flexibility(chord%initial_length, section%gas))
             else if (has_joints(joints)) then
                call jointed_basic_response(section%ea/chord%initial_length, &
-                                           beam_bending_flexibility(chord%initial_length, section%ei, section%gas), &
-                                           joints, deformation, response%basic_force, basic_stiffness)
+                                           beam_bending_flexibility(chord%initial_length, section%ei, 0.0_dp), &
+                                           joints, deformation, response%basic_force, basic_stiffness, &
+                                           shear=beam_shear_flexibility(chord%initial_length, section%gas))
             else
                call timoshenko_basic_response(chord%initial_length, section%ea, section%ei, section%gas, &
                                               deformation, response%basic_force, basic_stiffness)

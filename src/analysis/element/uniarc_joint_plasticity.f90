@@ -25,6 +25,7 @@
 module uniarc_joint_plasticity
    use uniarc_kinds, only: dp
    use uniarc_model, only: end_joint_t
+   use uniarc_end_joints, only: series_determinant
    implicit none
    private
    public :: plastic_joint_response, has_moment_limit
@@ -48,25 +49,33 @@ contains
    end function has_moment_limit
 
    !> Basic forces q (3) and consistent basic stiffness Kb (3×3) of a member of axial stiffness `axial`
-   !> (EA/L, force per length) and bending flexibility `flexibility` (2×2, symmetric positive definite,
-   !> radian per moment) with the end joints `joints` (2: hinges, springs, springs with a moment limit)
-   !> in series, at the basic deformations `deformation` (e, θ̄1, θ̄2) from the committed plastic
-   !> rotations `committed` (2, radian; 0 at a joint without limit); `plastic` (2) returns the trial
-   !> plastic rotations (the committed ones plus this state's plastic increments). No errors: the box
-   !> problem always has its solution (module header).
-   pure subroutine plastic_joint_response(axial, flexibility, joints, deformation, committed, force, stiffness, plastic)
+   !> (EA/L, force per length), bending flexibility `flexibility` (2×2, symmetric positive definite,
+   !> radian per moment; the Euler–Bernoulli part) and shear flexibility `shear` (optional, radian per
+   !> moment: 1/(κGA L) of a Timoshenko member, added to all four entries; 0 when absent) with the end
+   !> joints `joints` (2: hinges, springs, springs with a moment limit) in series, at the basic
+   !> deformations `deformation` (e, θ̄1, θ̄2) from the committed plastic rotations `committed` (2,
+   !> radian; 0 at a joint without limit); `plastic` (2) returns the trial plastic rotations (the
+   !> committed ones plus this state's plastic increments). The determinant of the series flexibility
+   !> is formed from its parts (uniarc_end_joints: series_determinant). No errors: the box problem
+   !> always has its solution (module header).
+   pure subroutine plastic_joint_response(axial, flexibility, joints, deformation, committed, force, stiffness, plastic, &
+                                          shear)
       real(dp), intent(in) :: axial
       real(dp), intent(in) :: flexibility(2, 2)
       type(end_joint_t), intent(in) :: joints(2)
       real(dp), intent(in) :: deformation(3), committed(2)
       real(dp), intent(out) :: force(3), stiffness(3, 3), plastic(2)
-      real(dp) :: f(2, 2), d(2), moment(2), residual(2), best_moment(2), best_residual(2), violation, best
+      real(dp), intent(in), optional :: shear
+      real(dp) :: g(2, 2), f(2, 2), s, d(2), moment(2), residual(2), best_moment(2), best_residual(2), violation, best
       logical :: fixed(2), best_fixed(2)
       integer :: i, k, best_state
-      f = flexibility
+      s = 0.0_dp
+      if (present(shear)) s = shear
+      g = flexibility
       do i = 1, 2
-         f(i, i) = f(i, i) + joints(i)%compliance
+         g(i, i) = g(i, i) + joints(i)%compliance
       end do
+      f = g + s
       d = deformation(2:3) - committed
       best = huge(1.0_dp)
       best_state = 0
@@ -74,7 +83,7 @@ contains
          if (any(states(:, k) /= 0 .and. .not. joints%moment_limit > 0.0_dp)) cycle
          fixed = joints%hinge .or. states(:, k) /= 0
          moment = real(states(:, k), dp)*joints%moment_limit
-         call solve_free_ends(f, d, fixed, moment)
+         call solve_free_ends(f, series_determinant(g, s), d, fixed, moment)
          residual = d - matmul(f, moment)
          violation = 0.0_dp
          do i = 1, 2
@@ -100,18 +109,17 @@ contains
       end do
       stiffness = 0.0_dp
       stiffness(1, 1) = axial
-      stiffness(2:3, 2:3) = free_end_stiffness(f, best_fixed)
+      stiffness(2:3, 2:3) = free_end_stiffness(f, series_determinant(g, s), best_fixed)
       force(1) = axial*deformation(1)
       force(2:3) = best_moment
    end subroutine plastic_joint_response
 
    !> The moments of the free ends (not `fixed`) from f M = d, the fixed ends' moments given in
-   !> `moment` (2) and kept.
-   pure subroutine solve_free_ends(f, d, fixed, moment)
-      real(dp), intent(in) :: f(2, 2), d(2)
+   !> `moment` (2) and kept; `determinant` is det f (series_determinant).
+   pure subroutine solve_free_ends(f, determinant, d, fixed, moment)
+      real(dp), intent(in) :: f(2, 2), determinant, d(2)
       logical, intent(in) :: fixed(2)
       real(dp), intent(inout) :: moment(2)
-      real(dp) :: determinant
       if (fixed(1) .and. fixed(2)) then
          return
       else if (fixed(1)) then
@@ -119,18 +127,17 @@ contains
       else if (fixed(2)) then
          moment(1) = (d(1) - f(1, 2)*moment(2))/f(1, 1)
       else
-         determinant = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
          moment(1) = (f(2, 2)*d(1) - f(1, 2)*d(2))/determinant
          moment(2) = (f(1, 1)*d(2) - f(2, 1)*d(1))/determinant
       end if
    end subroutine solve_free_ends
 
-   !> The bending stiffness (2×2) of the flexibility f (2×2) with the `fixed` ends' moments held (a hinge,
-   !> a joint at its limit: dM = 0, their rows and columns zero).
-   pure function free_end_stiffness(f, fixed) result(k)
-      real(dp), intent(in) :: f(2, 2)
+   !> The bending stiffness (2×2) of the flexibility f (2×2, determinant `determinant`) with the `fixed`
+   !> ends' moments held (a hinge, a joint at its limit: dM = 0, their rows and columns zero).
+   pure function free_end_stiffness(f, determinant, fixed) result(k)
+      real(dp), intent(in) :: f(2, 2), determinant
       logical, intent(in) :: fixed(2)
-      real(dp) :: k(2, 2), determinant
+      real(dp) :: k(2, 2)
       k = 0.0_dp
       if (fixed(1) .and. fixed(2)) then
          return
@@ -139,7 +146,6 @@ contains
       else if (fixed(2)) then
          k(1, 1) = 1.0_dp/f(1, 1)
       else
-         determinant = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
          k(1, 1) = f(2, 2)/determinant
          k(2, 2) = f(1, 1)/determinant
          k(1, 2) = -f(1, 2)/determinant

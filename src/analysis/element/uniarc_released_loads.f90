@@ -20,7 +20,7 @@ module uniarc_released_loads
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, end_joint_t, end_joints_of, element_kind_of, element_truss, element_timoshenko
    use uniarc_end_joints, only: jointed_basic_response, has_joints
-   use uniarc_basic_timoshenko, only: beam_bending_flexibility
+   use uniarc_basic_timoshenko, only: beam_bending_flexibility, beam_shear_flexibility
    use uniarc_transformation, only: chord_t, transformation_linear, transform_deformations, transform_to_global
    implicit none
    private
@@ -50,8 +50,9 @@ contains
          gas = 0.0_dp
          if (kind == element_timoshenko) gas = section%gas
          flexibility = beam_bending_flexibility(length, section%ei, gas)
+         call jointed_basic_response(0.0_dp, beam_bending_flexibility(length, section%ei, 0.0_dp), joints, at_rest, &
+                                     force, stiffness, shear=beam_shear_flexibility(length, gas))
       end associate
-      call jointed_basic_response(0.0_dp, flexibility, joints, at_rest, force, stiffness)
       q(2:3) = matmul(stiffness(2:3, 2:3), matmul(flexibility, clamped(2:3)))
    end function released_basic_force
 

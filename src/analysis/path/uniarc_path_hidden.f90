@@ -13,6 +13,7 @@ module uniarc_path_hidden
    use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_error, only: error_t
    use uniarc_path_integrator, only: degenerate_tangent
+   use uniarc_critical_points, only: opposite_signs, same_signs
    implicit none
    private
    public :: find_hidden_pair
@@ -52,7 +53,7 @@ contains
       real(dp) :: size_chord, size_tangent, first, second
       logical :: ok
       hides = .false.
-      if (before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp) then
+      if (opposite_signs(before%point%dlambda_ds, after%point%dlambda_ds)) then
          ! A regular limit point changes the sign of det K_T (the augmented tangent is regular there,
          ! one eigenvalue of K_T crosses zero: docs/theory.md §2.2), so the count of negative pivots
          ! changes with the slope's sign. A step that turned the slope with the count unchanged, the
@@ -94,8 +95,8 @@ contains
       ! the step, so it passed two (a loop), or landed on another branch (Walker's whole arch with a
       ! crown imperfection of 1e-3, docs/theory.md §2.3: past the limit_min the step went on across
       ! the near-bifurcation onto the complementary path, λ falling where the path rises).
-      if (before%point%dlambda_ds*after%point%dlambda_ds > 0.0_dp .and. &
-          (after%lambda - before%lambda)*after%point%dlambda_ds < 0.0_dp) then
+      if (same_signs(before%point%dlambda_ds, after%point%dlambda_ds) .and. &
+          opposite_signs(after%lambda - before%lambda, after%point%dlambda_ds)) then
          hides = .true.
          return
       end if
@@ -111,8 +112,8 @@ contains
          if (ok) then
             first = masked_norm(after%map, half%u - before%u)
             second = masked_norm(after%map, after%u - half%u)
-            hides = half%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp .or. &
-                    (half%lambda - before%lambda)*(after%lambda - half%lambda) < 0.0_dp .or. &
+            hides = opposite_signs(half%point%dlambda_ds, after%point%dlambda_ds) .or. &
+                    opposite_signs(half%lambda - before%lambda, after%lambda - half%lambda) .or. &
                     second > halves_ratio*first .or. first > halves_ratio*second
          end if
          call restore_tangent(model, after, system, error)
@@ -130,7 +131,7 @@ contains
       if (ok) then
          first = masked_norm(after%map, half%u - before%u)
          second = masked_norm(after%map, after%u - half%u)
-         hides = half%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp .or. &
+         hides = opposite_signs(half%point%dlambda_ds, after%point%dlambda_ds) .or. &
                  half%point%neg_pivots /= after%point%neg_pivots .or. second > halves_ratio*first
       end if
       call restore_tangent(model, after, system, error)

@@ -21,7 +21,7 @@ module uniarc_path_locate
    use uniarc_path_state_copy, only: copy_state, move_state, copy_point_record, move_point
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
-   use uniarc_critical_points, only: critical_event_t, find_critical_events
+   use uniarc_critical_points, only: critical_event_t, find_critical_events, opposite_signs, same_signs
    use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
@@ -116,7 +116,7 @@ contains
             probes = switch_max_probes
          end if
       end if
-      limit = before%point%dlambda_ds*after%point%dlambda_ds < 0.0_dp
+      limit = opposite_signs(before%point%dlambda_ds, after%point%dlambda_ds)
       bifurcation = .not. limit .and. before%point%neg_pivots /= after%point%neg_pivots
       if (.not. (limit .or. bifurcation)) return
       if (.not. (length > 0.0_dp)) return
@@ -144,7 +144,7 @@ contains
          ! inside it; bisection when it does not or when one end has moved twice in a row (the
          ! regula falsi's one-sided stall).
          h = ha + 0.5_dp*width
-         if (fa*fb < 0.0_dp .and. same_side < 2) then
+         if (opposite_signs(fa, fb) .and. same_side < 2) then
             h = ha + width*fa/(fa - fb)
             h = min(hb - 0.05_dp*width, max(ha + 0.05_dp*width, h))
          end if
@@ -325,7 +325,7 @@ contains
       pure logical function passed(point)
          type(path_point_t), intent(in) :: point
          if (limit) then
-            passed = point%dlambda_ds*before%point%dlambda_ds <= 0.0_dp
+            passed = .not. same_signs(point%dlambda_ds, before%point%dlambda_ds)
          else
             passed = point%neg_pivots /= before%point%neg_pivots
          end if
