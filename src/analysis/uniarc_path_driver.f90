@@ -218,19 +218,17 @@ contains
                                   driver%collapse_points, driver%collapse_nodes, finding)
             ! No collapse, but perhaps a plateau: the yielded supports let the structure sink at constant
             ! load until an open contact closes (docs/theory.md §3.9, "Plateaus"); the step is then
-            ! that motion, and the path goes on from the contact it closed.
-            if (.not. collapsed) then
-               call follow_plateau(model, driver, error, outcome%cuts)
-               if (.not. allocated(error)) go to 100
-            end if
-            if (.not. collapsed .and. allocated(driver%state%yielding) .and. allocated(driver%state%active)) then
-               ! Points at their bearing limit, but not a certified collapse: say what the certificate
-               ! found, and what the user can do, without claiming a collapse (docs/contracts.md, exit 1).
+            ! that motion, and the path goes on from the contact it closed (error deallocated).
+            if (.not. collapsed) call follow_plateau(model, driver, error, outcome%cuts)
+            if (allocated(error) .and. .not. collapsed .and. allocated(driver%state%yielding) .and. &
+                allocated(driver%state%active)) then
+               ! Points at their bearing limit, but neither a certified collapse nor a plateau: say what
+               ! the certificate found, and what the user can do, without claiming a collapse
+               ! (docs/contracts.md, exit 1).
                if (any(driver%state%yielding .and. driver%state%active)) &
                   error%message = error%message//'; not certified a bearing collapse (docs/theory.md '// &
-                                  '§3.9): '//finding//'; the motion that failed may be held only by the points '// &
-                                  'at their limit and by lifted contacts it would close (a plateau at constant '// &
-                                  'load, which the path does not follow) or be a limit point of the path; the '// &
+                                  '§3.9): '//finding//'; nor is the motion that failed a plateau at constant '// &
+                                  'load that ends on an open contact (it may be a limit point of the path); the '// &
                                   'last converged state is statically admissible, so the collapse load is at '// &
                                   'least lambda = '//real_to_string(driver%state%lambda, '(es12.5)')// &
                                   '; try another CONTROL=, a smaller increment or a finer mesh'
@@ -247,11 +245,13 @@ contains
                return
             end if
          end if
-         driver%stop = stop_failure
-         outcome%stop = stop_failure
-         return
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
       end if
-100   call nodal_displacements(model, driver%state, driver%displacement, error)
+      call nodal_displacements(model, driver%state, driver%displacement, error)
       if (allocated(error)) then
          driver%stop = stop_failure
          outcome%stop = stop_failure
