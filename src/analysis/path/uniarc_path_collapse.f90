@@ -418,6 +418,8 @@ contains
             contact = c
          end if
       end do
+      ! (a contact that touches already, not yet in the set, closes at α* = 0: the flexible beam's end
+      ! nodes at λ = 2.37; the plateau step then takes it into the set at the limits' load)
       if (contact == 0) return
       motion = distance*matmul(modes(:, 1:d), chosen(1:d))
       found = .true.
