@@ -24,7 +24,7 @@ module uniarc_path_driver
    use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
-   use uniarc_path_collapse, only: bearing_collapse
+   use uniarc_path_collapse, only: bearing_collapse, plastic_plateau
    use uniarc_path_contact_branch, only: find_contact_branching
    use uniarc_assembly, only: gather_nodal
    use uniarc_model_steps, only: has_prescribed
@@ -224,14 +224,19 @@ contains
          if (.not. error%out_of_memory) then
             call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
                                   driver%collapse_points, driver%collapse_nodes, finding)
-            if (.not. collapsed .and. allocated(driver%state%yielding) .and. allocated(driver%state%active)) then
-               ! Points at their bearing limit, but not a certified collapse: say what the certificate
-               ! found, and what the user can do, without claiming a collapse (docs/contracts.md, exit 1).
+            ! No collapse, but perhaps a plateau: the yielded supports let the structure sink at constant
+            ! load until an open contact closes (docs/theory.md §3.9, "Plateaus"); the step is then
+            ! that motion, and the path goes on from the contact it closed (error deallocated).
+            if (.not. collapsed) call follow_plateau(model, driver, error, outcome%cuts)
+            if (allocated(error) .and. .not. collapsed .and. allocated(driver%state%yielding) .and. &
+                allocated(driver%state%active)) then
+               ! Points at their bearing limit, but neither a certified collapse nor a plateau: say what
+               ! the certificate found, and what the user can do, without claiming a collapse
+               ! (docs/contracts.md, exit 1).
                if (any(driver%state%yielding .and. driver%state%active)) &
                   error%message = error%message//'; not certified a bearing collapse (docs/theory.md '// &
-                                  '§3.9): '//finding//'; the motion that failed may be held only by the points '// &
-                                  'at their limit and by lifted contacts it would close (a plateau at constant '// &
-                                  'load, which the path does not follow) or be a limit point of the path; the '// &
+                                  '§3.9): '//finding//'; nor is the motion that failed a plateau at constant '// &
+                                  'load that ends on an open contact (it may be a limit point of the path); the '// &
                                   'last converged state is statically admissible, so the collapse load is at '// &
                                   'least lambda = '//real_to_string(driver%state%lambda, '(es12.5)')// &
                                   '; try another CONTROL=, a smaller increment or a finer mesh'
@@ -248,9 +253,11 @@ contains
                return
             end if
          end if
-         driver%stop = stop_failure
-         outcome%stop = stop_failure
-         return
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
       end if
       call nodal_displacements(model, driver%state, driver%displacement, error)
       if (allocated(error)) then
@@ -307,6 +314,55 @@ contains
       end if
       outcome%stop = driver%stop
    end subroutine driver_step
+
+   !> The plateau step (docs/theory.md §3.9, "Plateaus"): from the committed state, from which the
+   !> step failed with its supports at their limits, the rigid mechanism of the yielded supports that
+   !> the load drives and that closes an open contact (uniarc_path_collapse, plastic_plateau) moves the
+   !> structure at constant load to that contact, the yielded supports flowing; a load step of the
+   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken.
+   !> On success `error` is deallocated and the committed state is the plateau's end (a converged step,
+   !> `cuts` its cut-backs); otherwise (no plateau, or its step does not converge) the committed state
+   !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried.
+   subroutine follow_plateau(model, driver, error, cuts)
+      type(model_t), intent(in) :: model
+      type(path_driver_t), intent(inout) :: driver
+      type(error_t), allocatable, intent(inout) :: error
+      integer, intent(inout) :: cuts
+      type(error_t), allocatable :: plateau_error
+      real(dp), allocatable :: motion(:), saved(:)
+      real(dp) :: dlambda
+      integer :: contact, status, n, plateau_cuts
+      logical :: found
+      n = size(driver%state%u)
+      allocate (motion(n), saved(n), stat=status)
+      if (status /= 0) return   ! no plateau tried: the failed step's error stands
+      call plastic_plateau(model, driver%state, found, motion, dlambda, contact)
+      if (.not. found) return
+      saved(:) = driver%state%u
+      driver%state%u(:) = driver%state%u + motion
+      driver%state%plateau_due = .true.
+      driver%state%plateau_dlambda = dlambda
+      if (allocated(driver%state%system)) then
+         driver%state%system%holds_committed = .false.
+         driver%state%system%holds_converged = .false.
+      end if
+      call path_advance(model, driver%state, plateau_error, plateau_cuts)
+      driver%state%plateau_due = .false.
+      driver%state%plateau_dlambda = 0.0_dp
+      if (allocated(plateau_error)) then
+         driver%state%u(:) = saved
+         if (allocated(driver%state%system)) then
+            driver%state%system%holds_committed = .false.
+            driver%state%system%holds_converged = .false.
+         end if
+         error%message = error%message//'; the plateau at constant load to the contact of node '// &
+                         integer_to_string(model%node_label(model%contacts(contact)%node))// &
+                         ' did not converge either ('//plateau_error%message//')'
+         return
+      end if
+      cuts = cuts + plateau_cuts
+      deallocate (error)
+   end subroutine follow_plateau
 
    !> The committed state in the equations of `model`, whose supports differ from those it was numbered
    !> for (an analysis step that adds or removes supports, docs/theory.md §2.10): a new equation

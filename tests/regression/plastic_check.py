@@ -8,6 +8,7 @@ Usage (one CTest per call):
   plastic_check.py --uniarc BIN --out DIR --mode bed     --deck DECK [--define NAME=VALUE]... --rtol R
   plastic_check.py --uniarc BIN --out DIR --mode elastic --deck DECK
   plastic_check.py --uniarc BIN --out DIR --mode bilateral --deck DECK
+  plastic_check.py --uniarc BIN --out DIR --mode plateau --deck DECK --rtol R
 
 block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic soil spring k, limit qu,
          pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
@@ -336,6 +337,119 @@ def check_bed(args):
         fail('the yielding candidates differ from the reference')
 
 
+def midspan_equilibrium(length, n, ei, modulus, qu, w0):
+    """The load (the central force) in equilibrium with a free-free beam on a tensionless
+    elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i) whose midspan is
+    pushed down by w0, with the deflections w (down positive, the half from the middle to an end).
+    The law is taken holonomic, r_i = min(k_i w_i, q_i) for w_i > 0 and 0 else (the incremental law
+    gives the same where no yielded node moves back, which check_plateau verifies along the path):
+    the equilibrium then minimises the convex, continuously differentiable energy
+    1/2 u'Ku + sum Phi_i(w_i) with w0 prescribed (Maier 1968: piecewise-linear holonomic springs),
+    unique and found by Newton's method with an exact line search (the slope of a convex energy
+    along a line is monotone: bisection). Half the beam by symmetry (theta = 0 at the middle, the
+    middle node's spring and load halved); dense, n/2 Hermite elements."""
+    h = length/n
+    half = n//2
+    dofs = 2*(half + 1)
+    stiffness = np.zeros((dofs, dofs))
+    element = hermite_stiffness(ei, h)
+    for e in range(half):
+        stiffness[2*e:2*e + 4, 2*e:2*e + 4] += element
+    tributary = np.full(half + 1, h)
+    tributary[[0, -1]] = h/2
+    k = modulus*tributary
+    q = qu*tributary
+    free = np.arange(2, dofs)
+
+    def force(w):
+        return np.where(w <= 0.0, 0.0, np.minimum(k*w, q))
+
+    def gradient(u):
+        g = stiffness @ u
+        g[0::2] += force(u[0::2])
+        return g
+
+    u = np.zeros(dofs)
+    u[0::2] = w0
+    scale = qu*length
+    for _ in range(500):
+        g = gradient(u)
+        if np.max(np.abs(g[free])) <= 1e-10*scale:
+            break
+        w = u[0::2]
+        hessian = stiffness.copy()
+        hessian[0::2, 0::2] += np.diag(np.where((w > 0.0) & (k*w < q), k, 0.0))
+        step = np.zeros(dofs)
+        step[free] = -np.linalg.solve(hessian[np.ix_(free, free)], g[free])
+        t = 1.0
+        if gradient(u + step)[free] @ step[free] > 0.0:
+            low, high = 0.0, 1.0
+            for _ in range(80):
+                t = 0.5*(low + high)
+                if gradient(u + t*step)[free] @ step[free] > 0.0:
+                    high = t
+                else:
+                    low = t
+        u = u + t*step
+    else:
+        fail('reference: Newton did not converge')
+    w = u[0::2]
+    return 2.0*gradient(u)[0], w, force(w) >= q*(1.0 - 1e-12)
+
+
+def check_plateau(args):
+    """A flexible beam on a plastic bed traced to its collapse (decks/bed_qu_flex_plateau*.inp): the
+    run ends with exit code 0 and one bearing_collapse row at qu L / P; every path row (its load
+    factor and end deflection) against the independent equilibrium at its midspan deflection
+    (midspan_equilibrium), within rtol of the collapse load and of the midspan deflection; the path
+    has plateaus (rows at one load whose midspan deflection grows) and no yielded node of the
+    reference moves back along it (so the holonomic reference is the incremental law's path)."""
+    finished = run(args.uniarc, args.deck, args.out, args.define)
+    if finished.returncode != 0:
+        fail(f'exit code {finished.returncode}')
+    values = deck_parameters(args.deck, args.define)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    path = table(os.path.join(args.out, stem + '.path'))
+    crit = table(os.path.join(args.out, stem + '.crit'))
+    crit = np.atleast_1d(crit)
+    collapse_load = values['qu']*values['L']/values['P']
+    rows = crit[crit['kind'] == 'bearing_collapse']
+    if len(rows) != 1:
+        fail(f'{len(rows)} bearing_collapse rows, expected one')
+    error = abs(rows['lambda'][0] - collapse_load)/collapse_load
+    print(f'plateau: bearing_collapse at lambda {rows["lambda"][0]:.12e}, qu L / P = {collapse_load}, '
+          f'relative error {error:.2e}')
+    if error > args.rtol:
+        fail(f'the collapse load beyond {args.rtol} relative')
+    worst_load = worst_end = 0.0
+    previous = None
+    plateaus = 0
+    moved_back = 0
+    w_scale = np.max(path['w0'])
+    for lam, w0, w_end in zip(path['lambda'], path['w0'], path['w_end']):
+        if w0 <= 0.0:
+            continue
+        load, w, yielded = midspan_equilibrium(values['L'], int(values['n']), values['EI'], values['K'],
+                                               values['qu'], w0)
+        worst_load = max(worst_load, abs(lam - load/values['P'])/collapse_load)
+        worst_end = max(worst_end, abs(w_end - w[-1])/w_scale)
+        if previous is not None:
+            last_lambda, last_w0, last_w, last_yielded = previous
+            if abs(lam - last_lambda) <= 1e-9*collapse_load and w0 > last_w0*(1.0 + 1e-9):
+                plateaus += 1
+            moved_back += int(np.sum(last_yielded & (w < last_w - 1e-9*w_scale)))
+        previous = (lam, w0, w, yielded)
+    print(f'plateau: {len(path)} rows, load factor within {worst_load:.2e} of the collapse load, end '
+          f'deflection within {worst_end:.2e} of the largest midspan deflection; {plateaus} rows on a '
+          f'plateau; {moved_back} yielded nodes moving back')
+    if worst_load > args.rtol or worst_end > args.rtol:
+        fail(f'path rows beyond {args.rtol} of the reference')
+    if plateaus == 0:
+        fail('no row on a plateau (constant load, growing deflection)')
+    if moved_back:
+        fail('a yielded node of the reference moves back: the holonomic reference does not apply')
+
+
 def check_elastic(args):
     """The deck with QU huge against the same deck without QU= (written next to the results): the
     plastic law must leave the elastic path untouched, row for row and digit for digit."""
@@ -395,7 +509,7 @@ def main():
     parser.add_argument('--uniarc', required=True)
     parser.add_argument('--deck', required=True)
     parser.add_argument('--out', required=True)
-    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic', 'bilateral'])
+    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic', 'bilateral', 'plateau'])
     parser.add_argument('--limit', default='qu', choices=['qu', 'tu'],
                         help='limit mode: the parameter of the limit load per length (qu bearing, tu uplift)')
     parser.add_argument('--define', action='append', default=[])
@@ -403,7 +517,7 @@ def main():
     parser.add_argument('--refine', type=int, default=16)
     args = parser.parse_args()
     {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic,
-     'bilateral': check_bilateral}[args.mode](args)
+     'bilateral': check_bilateral, 'plateau': check_plateau}[args.mode](args)
     print('ok')
 
 

@@ -33,7 +33,7 @@ module uniarc_path_collapse
    use uniarc_strings, only: real_to_string
    implicit none
    private
-   public :: bearing_collapse, near_yield, collapse_bracket
+   public :: bearing_collapse, plastic_plateau, near_yield, collapse_bracket
 
    !> An elastic candidate whose reaction is within this fraction of its limit counts as yielding for
    !> the mechanism: the step that failed was cut to 1e-6 of the first (docs/input.md, min_increment),
@@ -250,6 +250,242 @@ contains
       end subroutine try
 
    end subroutine bearing_collapse
+
+   !> A plateau of the path at constant load (docs/theory.md §3.9, "Plateaus"): at the committed
+   !> `state`, from which the next step failed, a rigid mechanism φ that the load drives (R·φ > 0),
+   !> that the elastic contacts (holders) do not resist, that moves every candidate at or within
+   !> near_yield of a limit the way it yields (or lifts off one touching with no force) — the
+   !> certificate's admissibility (bearing_collapse, strict = .false.) — but that closes an open
+   !> contact. Along it the loads stay in equilibrium with the limit forces at the load
+   !> λ_n + Δλ(φ) (the virtual work of φ, Δλ(φ) the slack of the candidates short of their limits,
+   !> at most collapse_bracket of λ), so the structure sinks at that load, its yielded supports
+   !> flowing, until the first open contact closes: the perfectly plastic law's segment of constant
+   !> load (Maier 1968; Neal 1977, ch. 2: a mechanism of the yielded supports is a motion at the
+   !> limit load; here it is bounded by a contact that re-engages).
+   !> Of the admissible φ (a cone, d ≤ 3 floating motions left free by the holders), the one most
+   !> aligned with the load in the displacement metric: max R·φ/‖φ‖ (the metric projection of the
+   !> load onto the cone, as rigid_approach takes the load's resultant): the unconstrained maximiser,
+   !> or on a face or an edge of the cone, enumerated.
+   !> On found = .true.: `motion` (n_equations) the rigid motion α φ to the contact it closes
+   !> (first order in the rotation: the plateau step's Newton corrects the rest), `dlambda` = Δλ(φ)
+   !> ≥ 0, `contact` the candidate that closes first. found = .false. when there is no such φ, or no
+   !> open contact that it closes (then it is no plateau but a collapse, bearing_collapse's case).
+   subroutine plastic_plateau(model, state, found, motion, dlambda, contact)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(out) :: found
+      real(dp), intent(out) :: motion(:)
+      real(dp), intent(out) :: dlambda
+      integer, intent(out) :: contact
+      real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
+      real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), modes(:, :)
+      integer, allocatable :: kind(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), chosen(3), force_scale
+      real(dp) :: gram(3, 3), work_load, distance, along, dissipation
+      integer :: n_c, m, c, j, node, d, n_con, a, b, k
+      found = .false.
+      motion = 0.0_dp
+      dlambda = 0.0_dp
+      contact = 0
+      if (.not. (allocated(state%floating_motion) .and. allocated(state%yielding) .and. &
+                 allocated(state%reactions) .and. allocated(state%reference))) return
+      m = size(state%floating_motion, 2)
+      n_c = size(state%active)
+      if (m == 0 .or. n_c == 0) return
+      allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes))
+      call gather_nodal(state%map, state%u, nodal)
+      allocate (rate(n_c, m), source=0.0_dp)
+      allocate (kind(n_c), source=0)   ! as bearing_collapse: 1 holder, 2 bearing, 3 uplift, 4 open, 5 lifting
+      allocate (slack(n_c), source=0.0_dp)
+      allocate (gap_now(n_c), source=0.0_dp)
+      do j = 1, m
+         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
+         scale = maxval(abs(motion_nodal(1:2, :)))
+         do c = 1, n_c
+            if (.not. candidate_live(state%map, c)) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, &
+                               hessian, state%lambda)
+            gap_now(c) = gap
+            if (allocated(state%slip)) gap_now(c) = gap + state%slip(c)
+            rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
+            if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
+         end do
+      end do
+      force_scale = 0.0_dp
+      do c = 1, n_c
+         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
+      end do
+      do c = 1, n_c
+         if (.not. candidate_live(state%map, c)) cycle
+         associate (candidate => model%contacts(c))
+            if (.not. in_set(model, state%active, c)) then
+               if (.not. candidate%bilateral) kind(c) = 4
+               cycle
+            end if
+            reaction = state%reactions(c)
+            kind(c) = 1
+            if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
+                reaction >= (1.0_dp - near_yield)*candidate%yield_force) .and. reaction >= 0.0_dp) then
+               kind(c) = 2
+               limit = candidate%yield_force
+            else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
+                     reaction <= -(1.0_dp - near_yield)*candidate%uplift_force) .and. reaction < 0.0_dp) then
+               kind(c) = 3
+               limit = -candidate%uplift_force
+            end if
+            if (kind(c) >= 2) then
+               slack(c) = limit - reaction
+            else if (.not. candidate%bilateral) then
+               scale = force_scale
+               if (candidate%yield_force > 0.0_dp) scale = candidate%yield_force
+               if (reaction <= near_yield*scale) then
+                  kind(c) = 5
+                  slack(c) = -reaction
+               end if
+            end if
+         end associate
+      end do
+      if (.not. any(kind == 2 .or. kind == 3)) return
+      hold = reshape([((rate(c, j), c=1, n_c), j=1, m)], [n_c, m])
+      hold = hold(pack([(c, c=1, n_c)], kind == 1), :)
+      call null_space(hold, basis)
+      d = size(basis, 2)
+      if (d == 0) return
+      ! the motions of the basis, their load work and their Gram matrix in the displacement metric
+      modes = matmul(state%floating_motion, basis)
+      allocate (load(d))
+      gram = 0.0_dp
+      do k = 1, d
+         load(k) = dot_product(state%reference, modes(:, k))
+         do j = 1, d
+            gram(k, j) = sum(state%map%metric*modes(:, k)*modes(:, j))
+         end do
+      end do
+      if (maxval(abs(load)) <= 0.0_dp) return
+      ! the admissibility rows (yielding: the way they yield; lifting: opened, not closed); the open
+      ! contacts are no rows: the plateau ends where the first of them closes
+      allocate (constraint(d, 0))
+      do c = 1, n_c
+         if (kind(c) /= 2 .and. kind(c) /= 3 .and. kind(c) /= 5) cycle
+         y(1:d) = matmul(rate(c, :), basis)
+         if (maxval(abs(y(1:d))) <= row_tolerance*maxval(abs(rate(c, :)))) cycle
+         if (kind(c) == 2) y(1:d) = -y(1:d)
+         constraint = reshape([constraint, y(1:d)], [d, size(constraint, 2) + 1])
+      end do
+      n_con = size(constraint, 2)
+      best = -huge(1.0_dp)
+      chosen = 0.0_dp
+      call consider(solve_gram(load))
+      select case (d)
+      case (1)
+         call consider([1.0_dp])
+         call consider([-1.0_dp])
+      case (2)
+         do a = 1, n_con
+            call consider(on_face(constraint(:, a)))
+            call consider([-constraint(2, a), constraint(1, a)])
+            call consider([constraint(2, a), -constraint(1, a)])
+         end do
+      case default
+         do a = 1, min(n_con, max_pairs)
+            call consider(on_face(constraint(:, a)))
+            do b = a + 1, min(n_con, max_pairs)
+               y = cross(constraint(:, a), constraint(:, b))
+               call consider(y)
+               call consider(-y)
+            end do
+         end do
+      end select
+      if (best == -huge(1.0_dp)) return
+      ! the load at which the limit forces balance the loads along φ (the slack's virtual work)
+      work_load = dot_product(load, chosen(1:d))
+      dissipation = 0.0_dp
+      do c = 1, n_c
+         if (kind(c) == 2 .or. kind(c) == 3 .or. kind(c) == 5) &
+            dissipation = dissipation + slack(c)*(-dot_product(matmul(rate(c, :), basis), chosen(1:d)))
+      end do
+      dlambda = max(0.0_dp, dissipation)/work_load
+      if (dlambda > collapse_bracket*abs(state%lambda + dlambda)) return
+      ! the first open contact that φ closes: g + α a·φ = 0 (first order)
+      distance = huge(1.0_dp)
+      do c = 1, n_c
+         if (kind(c) /= 4) cycle
+         along = dot_product(matmul(rate(c, :), basis), chosen(1:d))
+         if (.not. along < 0.0_dp) cycle
+         if (max(gap_now(c), 0.0_dp)/(-along) < distance) then
+            distance = max(gap_now(c), 0.0_dp)/(-along)
+            contact = c
+         end if
+      end do
+      ! (a contact that touches already, not yet in the set, closes at α* = 0: the flexible beam's end
+      ! nodes at λ = 2.37; the plateau step then takes it into the set at the limits' load)
+      if (contact == 0) return
+      motion = distance*matmul(modes(:, 1:d), chosen(1:d))
+      found = .true.
+
+   contains
+
+      !> y maximising load·y/‖y‖ (‖y‖² = yᵀ gram y) on the plane row·y = 0: gram⁻¹(load − μ row).
+      function on_face(row) result(y_face)
+         real(dp), intent(in) :: row(:)
+         real(dp) :: y_face(size(row))
+         real(dp) :: g_load(size(row)), g_row(size(row)), mu
+         g_load = solve_gram(load)
+         g_row = solve_gram(row)
+         mu = 0.0_dp
+         if (abs(dot_product(row, g_row)) > 0.0_dp) mu = dot_product(row, g_load)/dot_product(row, g_row)
+         y_face = g_load - mu*g_row
+      end function on_face
+
+      !> gram⁻¹ v (d ≤ 3, Gaussian elimination with partial pivoting; gram is positive definite: the
+      !> motions are independent).
+      function solve_gram(v) result(x)
+         real(dp), intent(in) :: v(:)
+         real(dp) :: x(size(v))
+         real(dp) :: aug(3, 4), t(4)
+         integer :: i, p, r
+         aug = 0.0_dp
+         aug(1:d, 1:d) = gram(1:d, 1:d)
+         aug(1:d, 4) = v
+         do i = 1, d
+            p = i - 1 + maxloc(abs(aug(i:d, i)), 1)
+            t = aug(i, :)
+            aug(i, :) = aug(p, :)
+            aug(p, :) = t
+            if (.not. abs(aug(i, i)) > 0.0_dp) then
+               x = 0.0_dp
+               return
+            end if
+            do r = i + 1, d
+               aug(r, :) = aug(r, :) - aug(r, i)/aug(i, i)*aug(i, :)
+            end do
+         end do
+         do i = d, 1, -1
+            x(i) = (aug(i, 4) - dot_product(aug(i, i + 1:d), x(i + 1:d)))/aug(i, i)
+         end do
+      end function solve_gram
+
+      !> Keep y if it is admissible (every row·y ≥ 0 to round-off), the load drives it, and it is
+      !> better aligned with the load than the best so far.
+      subroutine consider(direction)
+         real(dp), intent(in) :: direction(:)
+         real(dp) :: norm, score
+         integer :: i
+         norm = sqrt(max(0.0_dp, dot_product(direction, matmul(gram(1:d, 1:d), direction))))
+         if (.not. norm > 0.0_dp) return
+         score = dot_product(load, direction)/norm
+         if (.not. score > row_tolerance*norm2(load)/sqrt(maxval([(gram(i, i), i=1, d)]))) return
+         do i = 1, n_con
+            if (dot_product(constraint(:, i), direction)/norm2(direction) < -row_tolerance*norm2(constraint(:, i))) return
+         end do
+         if (score > best) then
+            best = score
+            chosen(1:d) = direction/norm2(direction)
+         end if
+      end subroutine consider
+
+   end subroutine plastic_plateau
 
    !> An orthonormal basis (m, d) of the null space of `rows` (n, m ≤ 3), each row scaled to unit
    !> length, by the eigenvectors of rowsᵀrows (m × m, Jacobi rotations) whose eigenvalues are at most

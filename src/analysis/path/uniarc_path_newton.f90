@@ -563,6 +563,14 @@ contains
             trial%load_step = .true.
             trial%dlambda = 0.0_dp
          end if
+         if (state%plateau_due) then
+            ! The committed state was moved along a plastic plateau to the contact that ends it
+            ! (docs/theory.md §3.9): equilibrium is restored at the plateau's load, a load step of the
+            ! slack's Δλ, taken as a release step (no direction of the path, no critical point).
+            trial%release = .true.
+            trial%load_step = .true.
+            trial%dlambda = state%plateau_dlambda
+         end if
          if (options%control == control_displacement .and. .not. trial%release) then
             if (.not. (abs(ut(state%control_equation)) > 0.0_dp)) then
                ! The contacts carry the reference load at the controlled DOF: no Δλ moves it.

@@ -163,6 +163,12 @@ module uniarc_path_state
       !> The last commit switched off a tangential spring that follows its radial partner (its force
       !> is dropped, commit_tangential): the next step is a release step, Δλ = 0 (docs/theory.md §3.8).
       logical :: release_due = .false.
+      !> The last step failed on a plastic plateau (uniarc_path_collapse, plastic_plateau; docs/theory.md
+      !> §3.9): the committed state was moved along the rigid mechanism of its yielded supports to the
+      !> open contact it closes, and the next step is a plateau step, a load step of Δλ = plateau_dlambda
+      !> (the slack of the candidates short of their limits) that restores equilibrium there.
+      logical :: plateau_due = .false.
+      real(dp) :: plateau_dlambda = 0.0_dp
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.
