@@ -222,8 +222,7 @@ contains
    !> is solved as before). The floating motions are those of the linear stiffness with the unilateral
    !> candidates open (`matrix`, `residual` work space). Untouched without unilateral candidates or
    !> such a motion.
-   !> Errors (error_input): the load carries the structure away from every contact (rigid_approach,
-   !> push_free_motions).
+   !> Errors (error_input): the load carries the structure away from every contact (rigid_approach).
    subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, set, floating, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -252,7 +251,7 @@ contains
       if (allocated(error) .or. contact == 0) return
       call close_touching(model, map, shift, length_scale, set)
       call orthonormal_motions(map, motions, floating)
-      call push_free_motions(model, map, reference, length_scale, floating, shift, set, error)
+      call push_free_motions(model, map, reference, length_scale, floating, shift, set)
    end subroutine approach_first_contact
 
    !> Candidates of `set`'s complement whose linearised gap g(0) + a(0)·u at the rigid displacement
@@ -282,20 +281,18 @@ contains
    !> free rotation, leaves round-off: ~1e-16 of it) — the structure, still rigid at `shift` (n), moves
    !> along d to the first linearised gap it closes; those candidates join `set` (the set's own contacts
    !> do not see d, so they stay closed). At most k rounds (each new contact holds one more direction).
-   !> Errors (error_input): no candidate is ever met along d (the load carries the structure away: a
-   !> mechanism under its loads, as rigid_approach says).
-   subroutine push_free_motions(model, map, reference, length_scale, floating, shift, set, error)
+   !> No candidate met along d (the load lifts the structure off the contacts that could hold it) ends
+   !> the approach: the contact LCP then fails and the lift-off test explains it (docs/theory.md §3.12).
+   subroutine push_free_motions(model, map, reference, length_scale, floating, shift, set)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: reference(:), length_scale, floating(:, :)
       real(dp), intent(inout) :: shift(:)
       logical, intent(inout) :: set(:)
-      type(error_t), allocatable, intent(out) :: error
       !> the approach's tolerances (uniarc_path_approach: push_tolerance, slope_tolerance)
       real(dp), parameter :: push_tolerance = 1.0e-9_dp, slope_tolerance = 1.0e-12_dp
       real(dp), allocatable :: unheld(:, :), d(:), moved(:, :), along(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2), slope, s, s_best
-      character(len=:), allocatable :: deck
       integer :: round, c, node, met
       allocate (moved(dofs_per_node, model%n_nodes), along(dofs_per_node, model%n_nodes))
       do round = 1, size(floating, 2)
@@ -322,15 +319,9 @@ contains
                met = c
             end if
          end do
-         if (met == 0) then
-            deck = 'the model'
-            if (allocated(model%deck_path)) deck = model%deck_path//': the model'
-            call make_error(error, deck//' is a mechanism under its loads: held only by its contacts, it is '// &
-                            'pushed by the reference load along a rigid motion that its supports and the '// &
-                            'contacts it rests on leave free, and no contact is ever met that way '// &
-                            '(docs/theory.md §2.8); check the direction of the loads and the gaps', error_input)
-            return
-         end if
+         ! no contact along d: the load lifts the structure off what could hold it; the LCP and the
+         ! lift-off test say so (docs/theory.md §3.12, lift_off_error), as before the approach
+         if (met == 0) return
          shift = shift + s_best*d
          call close_touching(model, map, shift, length_scale, set)
          set(met) = .true.
