@@ -28,6 +28,7 @@ module uniarc_linear_static
    use uniarc_path_mechanism, only: find_mechanism, floating_motions
    use uniarc_path_approach, only: rigid_approach
    use uniarc_lift_off, only: describe_lift_off
+   use uniarc_floating_subspace, only: orthonormal_motions, unheld_motions, spring_equations, remove_unheld
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
    implicit none
@@ -78,10 +79,9 @@ contains
       type(contact_linearization_t) :: lin
       type(contact_selection_t) :: selection
       real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
-      !> the floating motions (n, k) of a structure held only by its contacts across a gap, and the
-      !> equations where each is held while no contact of the set sees it (unallocated: no approach)
-      real(dp), allocatable :: floating(:, :)
-      integer, allocatable :: held(:)
+      !> the floating motions (n, k, orthonormal in the metric) of a structure held only by its contacts
+      !> across a gap (unallocated: no approach), and those of them the working set leaves free (n, p)
+      real(dp), allocatable :: floating(:, :), unheld(:, :)
       logical, allocatable :: set(:)
       logical :: singular
       real(dp) :: length_scale, worst, bytes
@@ -120,13 +120,14 @@ contains
       call touching(model, map, length_scale, set)
       ! A structure held only by its contacts across a gap, that the load pushes along a free rigid
       ! translation (docs/theory.md §2.8): the first working set is the contacts its linearised gaps
-      ! meet first along that translation, and the motions no contact of a set sees are held.
-      call approach_first_contact(model, map, reference, length_scale, assembled, residual, set, floating, held, error)
+      ! meet first along that translation (then along any floating motion the load still pushes and the
+      ! set leaves free), and the floating motions no contact of a set holds are held.
+      call approach_first_contact(model, map, reference, length_scale, assembled, residual, set, floating, error)
       if (allocated(error)) return
       pivots = 0
       worst = 0.0_dp
       do round = 1, max_rounds
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
          if (allocated(error)) return
          call band_copy(assembled, factors, error)
          if (allocated(error)) return
@@ -141,14 +142,28 @@ contains
          call band_solve(factors, rhs, error)
          if (allocated(error)) return
          x(:) = rhs(:, 1) + rhs(:, 2)
+         ! The floating motions the set leaves free: defined up to them, the solution is taken with none
+         ! of them (its minimum-norm one), not with the amount the springs' equations and round-off set.
+         if (allocated(floating)) then
+            call unheld_motions(model, map, set, floating, unheld)
+         else
+            allocate (unheld(n, 0))
+         end if
+         call remove_unheld(map, unheld, x)
          call linear_contact_state(model, map, x, set, r, g)
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
          call refine_solution(model, map, set, applied, factors, assembled, length_scale, zero_nodal, x, r, g, &
                               worst, error)
          if (allocated(error)) return
+         if (size(unheld, 2) > 0) then
+            call remove_unheld(map, unheld, x)
+            call linear_contact_state(model, map, x, set, r, g)
+            worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
+         end if
+         deallocate (unheld)
          if (worst <= complementarity_tolerance) exit
          ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
          if (allocated(error)) return
          if (round == max_rounds) then
             call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
@@ -189,7 +204,7 @@ contains
          set = selection%active
       end do
 
-      call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
       if (allocated(error)) return
       ! Inertia of the final K_S: each contact row of the set adds one negative pivot to the
       ! saddle-point matrix (Haynsworth inertia additivity); what remains belongs to the structure.
@@ -215,14 +230,15 @@ contains
    !> along a rigid translation its supports leave free (docs/theory.md §2.8, uniarc_path_approach):
    !> `set` gets the candidates that the translation brings first to their linearised gap
    !> g(0) + a(0)·u = 0 (the gaps of the linear analysis stay linearised at u = 0: the solve with that
-   !> set closes them, the translation being part of its solution), and `floating` (n, k), `held` (k)
-   !> the structure's floating motions and the equations where assemble_set holds those no contact of
-   !> a set sees (allocated only then: every other model is solved as before). The floating motions
-   !> are those of the linear stiffness with the unilateral candidates open (`matrix`, `residual` work
-   !> space). Untouched without unilateral candidates or such a motion.
+   !> set closes them, the translation being part of its solution), then, while the load still pushes
+   !> along a floating motion the set leaves free (push_free_motions), those that motion brings first
+   !> to theirs; `floating` (n, k) gets the structure's floating motions, orthonormal in the metric, of
+   !> which assemble_set holds those no contact of a set holds (allocated only then: every other model
+   !> is solved as before). The floating motions are those of the linear stiffness with the unilateral
+   !> candidates open (`matrix`, `residual` work space). Untouched without unilateral candidates or
+   !> such a motion.
    !> Errors (error_input): the load carries the structure away from every contact (rigid_approach).
-   subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, set, floating, held, &
-                                     error)
+   subroutine approach_first_contact(model, map, reference, length_scale, matrix, residual, set, floating, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: reference(:), length_scale
@@ -230,13 +246,11 @@ contains
       real(dp), intent(inout) :: residual(:)
       logical, intent(inout) :: set(:)
       real(dp), allocatable, intent(out) :: floating(:, :)
-      integer, allocatable, intent(out) :: held(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), allocatable :: motions(:, :), shift(:), zero_nodal(:, :), moved(:, :)
+      real(dp), allocatable :: motions(:, :), shift(:), zero_nodal(:, :)
       integer, allocatable :: equations(:)
       logical, allocatable :: bonded(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2)
-      integer :: c, contact, node, status
+      integer :: c, contact, status
       logical :: unilateral
       unilateral = .false.
       do c = 1, size(map%candidate_equation)
@@ -245,9 +259,9 @@ contains
       if (.not. unilateral) return
       ! its arrays allocated with stat= (no array constructors of the candidates' length)
       allocate (zero_nodal(dofs_per_node, model%n_nodes), bonded(size(map%candidate_equation)), &
-                shift(map%n_equations), moved(dofs_per_node, model%n_nodes), stat=status)
+                shift(map%n_equations), stat=status)
       call allocation_failure(status, 'the vectors of the rigid approach of the linear analysis', &
-                              16.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*map%n_equations + &
+                              8.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*map%n_equations + &
                               4.0_dp*size(map%candidate_equation), error_analysis, error)
       if (allocated(error)) return
       zero_nodal(:, :) = 0.0_dp
@@ -262,6 +276,22 @@ contains
       if (allocated(error) .or. .not. allocated(motions)) return
       call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
+      call close_touching(model, map, shift, length_scale, set)
+      call orthonormal_motions(map, motions, floating)
+      call push_free_motions(model, map, reference, length_scale, floating, shift, set)
+   end subroutine approach_first_contact
+
+   !> Candidates of `set`'s complement whose linearised gap g(0) + a(0)·u at the rigid displacement
+   !> `shift` (n) is closed (within 1e-9 of the model size, uniarc_path_approach's touch fraction) join it.
+   subroutine close_touching(model, map, shift, length_scale, set)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: shift(:), length_scale
+      logical, intent(inout) :: set(:)
+      real(dp), allocatable :: moved(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      allocate (moved(dofs_per_node, model%n_nodes))
       call gather_nodal(map, shift, moved)
       do c = 1, size(set)
          if (set(c) .or. .not. candidate_live(map, c)) cycle
@@ -269,9 +299,61 @@ contains
          call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
          set(c) = gap + dot_product(gradient, moved(1:2, node)) <= 1.0e-9_dp*length_scale
       end do
-      call move_alloc(motions, floating)
-      call move_alloc(equations, held)
-   end subroutine approach_first_contact
+   end subroutine close_touching
+
+   !> The rigid approach continued over the whole floating subspace (docs/theory.md §2.8): while the
+   !> reference load does work along the floating motions U (n, p) that `set` leaves free
+   !> (unheld_motions) — d = U Uᵀ R, the load's direction in their span, with dᵀR = |UᵀR|² above
+   !> push_tolerance of Σ|d_j R_j| (a load with no component there, a symmetric ring's weight along its
+   !> free rotation, leaves round-off: ~1e-16 of it) — the structure, still rigid at `shift` (n), moves
+   !> along d to the first linearised gap it closes; those candidates join `set` (the set's own contacts
+   !> do not see d, so they stay closed). At most k rounds (each new contact holds one more direction).
+   !> No candidate met along d (the load lifts the structure off the contacts that could hold it) ends
+   !> the approach: the contact LCP then fails and the lift-off test explains it (docs/theory.md §3.12).
+   subroutine push_free_motions(model, map, reference, length_scale, floating, shift, set)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: reference(:), length_scale, floating(:, :)
+      real(dp), intent(inout) :: shift(:)
+      logical, intent(inout) :: set(:)
+      !> the approach's tolerances (uniarc_path_approach: push_tolerance, slope_tolerance)
+      real(dp), parameter :: push_tolerance = 1.0e-9_dp, slope_tolerance = 1.0e-12_dp
+      real(dp), allocatable :: unheld(:, :), d(:), moved(:, :), along(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2), slope, s, s_best
+      integer :: round, c, node, met
+      allocate (moved(dofs_per_node, model%n_nodes), along(dofs_per_node, model%n_nodes))
+      do round = 1, size(floating, 2)
+         call unheld_motions(model, map, set, floating, unheld)
+         if (size(unheld, 2) == 0) return
+         d = matmul(unheld, matmul(transpose(unheld), reference))
+         if (.not. dot_product(d, reference) > push_tolerance*sum(abs(d*reference))) return
+         d = d/maxval(abs(map%metric*d))
+         call gather_nodal(map, shift, moved)
+         call gather_nodal(map, d, along)
+         s_best = huge(1.0_dp)
+         met = 0
+         do c = 1, size(set)
+            if (set(c) .or. .not. candidate_live(map, c)) cycle
+            if (model%contacts(c)%bilateral .or. model%contacts(c)%tangential) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, &
+                               hessian)
+            slope = dot_product(gradient, along(1:2, node))
+            if (.not. slope < -slope_tolerance*norm2(gradient)) cycle
+            s = max(gap + dot_product(gradient, moved(1:2, node)), 0.0_dp)/(-slope)
+            if (s < s_best) then
+               s_best = s
+               met = c
+            end if
+         end do
+         ! no contact along d: the load lifts the structure off what could hold it; the LCP and the
+         ! lift-off test say so (docs/theory.md §3.12, lift_off_error), as before the approach
+         if (met == 0) return
+         shift = shift + s_best*d
+         call close_touching(model, map, shift, length_scale, set)
+         set(met) = .true.
+      end do
+   end subroutine push_free_motions
 
    !> Prescribed displacements ū of held DOFs (support settlements) as loads on the free DOFs:
    !> K_ff u_f = R_f − K_fp ū, element by element (−k_e ū_e scattered to the free equations; the held
@@ -384,13 +466,14 @@ contains
 
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
-   !> With `floating` (n, k) and `held` (k), the floating motions of a structure held only by its
-   !> contacts across a gap (approach_first_contact): each that no contact of the set sees is held at
-   !> its equation by a spring of the size of the diagonal there, in K_S only (the path's device,
-   !> docs/theory.md §2.8): a right-hand side with no component along the motion is then solved
-   !> exactly with that unknown zero and the spring's force zero; one with a component fails the
-   !> equilibrium check of the result (uniarc_static_balance).
-   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating, held)
+   !> With `floating` (n, k, orthonormal in the metric), the floating motions of a structure held only by
+   !> its contacts across a gap (approach_first_contact): those of their span that no contact of the set
+   !> holds (unheld_motions, the null space of the set's normals on that span) are held, in K_S only,
+   !> by springs of the size of the diagonal at the equations spring_equations picks (the path's device,
+   !> docs/theory.md §2.8): a right-hand side with no component along them is then solved exactly with
+   !> the springs' forces zero; one with a component fails the equilibrium check of the result
+   !> (uniarc_static_balance).
+   subroutine assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: zero_nodal(:, :)
@@ -399,9 +482,8 @@ contains
       real(dp), intent(out) :: residual(:)
       type(error_t), allocatable, intent(out) :: error   !< a band matrix that cannot be allocated (band_allocate)
       real(dp), allocatable, intent(in), optional :: floating(:, :)
-      integer, allocatable, intent(in), optional :: held(:)
-      real(dp), allocatable :: internal(:), no_reactions(:)
-      real(dp) :: diagonal
+      real(dp), allocatable :: internal(:), no_reactions(:), unheld(:, :), diagonal(:)
+      integer, allocatable :: equations(:)
       integer :: status, i
       if (assembled%n /= map%n_equations) then
          call band_allocate(assembled, map%n_equations, map%half_bandwidth, map%half_bandwidth, error)
@@ -417,42 +499,17 @@ contains
       if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, no_reactions, set, &
                                                                   assembled, internal)
       residual = -internal
-      if (.not. (present(floating) .and. present(held))) return
-      if (.not. (allocated(floating) .and. allocated(held))) return
-      do i = 1, size(held)
-         if (set_sees(model, map, set, floating(:, i))) cycle
-         diagonal = abs(band_get(assembled, held(i), held(i)))
-         if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
-         call band_add(assembled, held(i), held(i), diagonal)
+      if (.not. present(floating)) return
+      if (.not. allocated(floating)) return
+      call unheld_motions(model, map, set, floating, unheld)
+      call spring_equations(map, unheld, equations)
+      ! the diagonals before any spring: the springs do not depend on the order they are added in
+      diagonal = [(abs(band_get(assembled, equations(i), equations(i))), i=1, size(equations))]
+      do i = 1, size(equations)
+         if (.not. (diagonal(i) > 0.0_dp)) diagonal(i) = 1.0_dp
+         call band_add(assembled, equations(i), equations(i), diagonal(i))
       end do
    end subroutine assemble_set
-
-   !> A contact of `set` sees the rigid motion v (n): |a_cᵀv| > 1e-6 |a_c| max|v|, a_c at u = 0 (the
-   !> path's test, uniarc_path_state sees_floating).
-   logical function set_sees(model, map, set, v) result(sees)
-      type(model_t), intent(in) :: model
-      type(dof_map_t), intent(in) :: map
-      logical, intent(in) :: set(:)
-      real(dp), intent(in) :: v(:)
-      real(dp), parameter :: floating_tolerance = 1.0e-6_dp
-      real(dp) :: gap, gradient(2), hessian(2, 2), along
-      integer :: c, node, k
-      sees = .false.
-      do c = 1, size(set)
-         if (.not. (set(c) .and. candidate_live(map, c))) cycle
-         if (model%contacts(c)%tangential) cycle
-         node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
-         along = 0.0_dp
-         do k = 1, 2
-            if (map%equation(k, node) > 0) along = along + gradient(k)*v(map%equation(k, node))
-         end do
-         if (abs(along) > floating_tolerance*norm2(gradient)*maxval(abs(v))) then
-            sees = .true.
-            return
-         end if
-      end do
-   end function set_sees
 
    !> Candidates that touch at u = 0 (|g| within 1e-9 of the model size) or are bonded.
    subroutine touching(model, map, length_scale, set)
