@@ -848,10 +848,13 @@ contains
                end if
             end if
             ! A step that lands on a piece of the path traced before, going back along it, retraces the
-            ! path (a corner step whose piece rejoins the old one, pipeline over the hump: docs/theory.md
-            ! §2.3, "back along the path"); a corner step too.
-            if (len(jump) == 0 .and. .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. &
-                                            trial%release)) then
+            ! path (a corner step whose piece runs back along the old one, pipeline over the hump:
+            ! docs/theory.md §2.3, "back along the path"). Only where the tangent may jump: a corner step
+            ! or one whose working set changed. Along one smooth piece the path turns back only through a
+            ! limit point, whose far side may run within the sagitta of the near one at a sharp fold (ex. 3's
+            ! long path with max_increment 20: step 138 past the limit 422.63 lies along steps 134–135).
+            if (len(jump) == 0 .and. (corner_passed .or. any(trial%active .neqv. before%active)) .and. &
+                .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                revisited = retraced_step(state, before, trial%increment, trial%dlambda)
                if (revisited > 0) then
                   jump = 'it goes back along the path traced between steps '// &
@@ -923,9 +926,10 @@ contains
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
-               if (allocated(went_back) .and. index(trial%reason, went_back) == 0) &
-                  error%message = error%message//'; a converged step was rejected: '//went_back// &
-                                  ' (the path folds back here)'
+               if (allocated(went_back)) then
+                  if (index(trial%reason, went_back) == 0) error%message = error%message// &
+                     '; a converged step was rejected: '//went_back//' (the path folds back here)'
+               end if
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                if (present(cuts)) cuts = halvings
                return
