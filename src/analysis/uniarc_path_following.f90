@@ -61,6 +61,15 @@ module uniarc_path_following
    !> branch (measured on every deck of the repository: at most 1.25), while a step that
    !> crossed onto another branch lands at the distance between the branches.
    real(dp), parameter :: overlong_ratio = 2.0_dp
+   !> Committed states kept for the test of a step going back along the path (retraced_step).
+   integer, parameter :: traced_kept = 16
+   !> A state lies along a traced segment when within this share of the segment's chord of it: the
+   !> arc of a step deviates from its chord by its sagitta, |chord| tan(θ/4)/2 ≈ |chord| θ/8 for a turn θ
+   !> between its end tangents, 0.05 |chord| for the turns of at most 2 × 22° measured away from folds
+   !> (docs/theory.md §2.3); the pieces a corner step folds back onto run within 0.013 to 0.05 of the
+   !> chords of the steps they go back over (pipeline over the hump, weight then axial force), while
+   !> a new piece leaving a corner at an angle is off at first order.
+   real(dp), parameter :: sagitta_share = 0.15_dp
 
 contains
 
@@ -150,6 +159,8 @@ contains
       associate (options => model%analysis)
          state%lambda = 0.0_dp
          state%last_increment = 0.0_dp
+         ! The states traced so far belong to another load pattern: not this step's path.
+         call forget_traced(state)
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
@@ -282,6 +293,99 @@ contains
       call move_alloc(kept_u, state%corner_u)
       call move_alloc(kept_step, state%corner_step)
    end subroutine remember_corner
+
+   !> The committed states kept for the test of a step going back along the path (retraced_step) are
+   !> forgotten (the start of an analysis step: its λ measures another load pattern).
+   subroutine forget_traced(state)
+      type(path_state_t), intent(inout) :: state
+      if (allocated(state%trace_u)) deallocate (state%trace_u)
+      if (allocated(state%trace_lambda)) deallocate (state%trace_lambda)
+      if (allocated(state%trace_step)) deallocate (state%trace_step)
+   end subroutine forget_traced
+
+   !> The committed state of `state` appended to the states kept for retraced_step (the last
+   !> traced_kept; `before`, the start of the step, first if none is kept). A failed allocation forgets
+   !> them (they only guard against going back).
+   subroutine remember_traced(state, before)
+      type(path_state_t), intent(inout) :: state
+      type(path_state_t), intent(in) :: before
+      real(dp), allocatable :: kept_u(:, :), kept_lambda(:)
+      integer, allocatable :: kept_step(:)
+      integer :: n, status
+      n = 0
+      if (allocated(state%trace_step)) then
+         if (size(state%trace_u, 1) == size(state%u)) n = min(size(state%trace_step), traced_kept - 1)
+      end if
+      if (n == 0) then
+         ! the start of the step as the first state kept
+         allocate (kept_u(size(state%u), 2), kept_lambda(2), kept_step(2), stat=status)
+         if (status /= 0) then
+            call forget_traced(state)
+            return
+         end if
+         kept_u(:, 1) = before%u
+         kept_lambda(1) = before%lambda
+         kept_step(1) = before%point%step
+         n = 1
+      else
+         allocate (kept_u(size(state%u), n + 1), kept_lambda(n + 1), kept_step(n + 1), stat=status)
+         if (status /= 0) then
+            call forget_traced(state)
+            return
+         end if
+         kept_u(:, 1:n) = state%trace_u(:, size(state%trace_step) - n + 1:)
+         kept_lambda(1:n) = state%trace_lambda(size(state%trace_step) - n + 1:)
+         kept_step(1:n) = state%trace_step(size(state%trace_step) - n + 1:)
+      end if
+      kept_u(:, n + 1) = state%u
+      kept_lambda(n + 1) = state%lambda
+      kept_step(n + 1) = state%point%step
+      call move_alloc(kept_u, state%trace_u)
+      call move_alloc(kept_lambda, state%trace_lambda)
+      call move_alloc(kept_step, state%trace_step)
+   end subroutine remember_traced
+
+   !> The step number at the start of a traced segment (two consecutive kept states a, b, before the
+   !> step that started at `before`) along which the committed `state` lies, going back; 0 if none
+   !> (docs/theory.md §2.3, "back along the path"). Along the segment: the displacements' projection on
+   !> its chord b − a between −sagitta_share and 1 + sagitta_share of the way from a to b and within
+   !> sagitta_share of the chord's length of it, λ within sagitta_share of the segment's Δλ of its
+   !> range; going back: the step's `increment` makes an obtuse angle with b − a and its Δλ `dlambda`
+   !> has the other sign than the segment's (a piece whose displacements run back near the traced ones
+   !> while λ goes on the same way is another piece: pipeline_hump_corner_100 past its corner at step
+   !> 137, λ falling with two contacts where it fell with four). The working set is not
+   !> compared: the piece a corner step folds back onto differs from the traced one by a contact of
+   !> almost no reaction (pipeline over the hump, weight then axial force: one node). The segment that
+   !> ends at the step's start is not tested: going back over it is the reversal test's (and a corner
+   !> may turn back by more than a right angle there, §2.12).
+   integer function retraced_step(state, before, increment, dlambda) result(step)
+      type(path_state_t), intent(in) :: state, before
+      real(dp), intent(in) :: increment(:), dlambda
+      real(dp), allocatable :: chord(:), offset(:)
+      real(dp) :: length2, t, low, high
+      integer :: k
+      step = 0
+      if (.not. allocated(state%trace_step)) return
+      if (size(state%trace_u, 1) /= size(state%u)) return
+      do k = 1, size(state%trace_step) - 1
+         if (state%trace_step(k + 1) >= before%point%step) cycle
+         chord = state%trace_u(:, k + 1) - state%trace_u(:, k)
+         length2 = masked_dot(state%map, chord, chord)
+         if (length2 <= 0.0_dp) cycle
+         if (masked_dot(state%map, increment, chord) >= 0.0_dp) cycle
+         if (dlambda*(state%trace_lambda(k + 1) - state%trace_lambda(k)) >= 0.0_dp) cycle
+         offset = state%u - state%trace_u(:, k)
+         t = masked_dot(state%map, offset, chord)/length2
+         if (t < -sagitta_share .or. t > 1.0_dp + sagitta_share) cycle
+         offset = offset - t*chord
+         if (masked_norm(state%map, offset) > sagitta_share*sqrt(length2)) cycle
+         low = min(state%trace_lambda(k), state%trace_lambda(k + 1))
+         high = max(state%trace_lambda(k), state%trace_lambda(k + 1))
+         if (state%lambda < low - sagitta_share*(high - low) .or. state%lambda > high + sagitta_share*(high - low)) cycle
+         step = state%trace_step(k)
+         return
+      end do
+   end function retraced_step
 
    !> The model has an obstacle that moves with λ in its step (*MOVE, contact_candidate_t%gap_rate).
    pure logical function moving_obstacles(model)
@@ -497,7 +601,7 @@ contains
       type(path_state_t) :: before
       real(dp) :: length, factor, remaining, target, committed_lambda
       real(dp), allocatable :: landing(:)
-      character(len=:), allocatable :: jump
+      character(len=:), allocatable :: jump, went_back
       integer :: attempt, halvings
       logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved, multiple
       integer :: revisited
@@ -624,6 +728,12 @@ contains
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
+               ! A step that converged but went back along the path (the piece past a corner folding
+               ! back) is said: the path does not go on forward from here (docs/theory.md §2.3).
+               if (allocated(went_back)) then
+                  if (index(trial%reason, went_back) == 0) error%message = error%message// &
+                     '; a converged step was rejected: '//went_back//' (the path folds back here)'
+               end if
                call add_concave_corner_hint(model, state, error)
                if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
                    index(error%message, 'concave corner') == 0 .and. .not. at_bearing_limit(state)) then
@@ -753,6 +863,21 @@ contains
                                      'the path, two critical points, passed in one step'
                end if
             end if
+            ! A step that lands on a piece of the path traced before, going back along it, retraces the
+            ! path (a corner step whose piece runs back along the old one, pipeline over the hump:
+            ! docs/theory.md §2.3, "back along the path"). Only where the tangent may jump: a corner step
+            ! or one whose working set changed. Along one smooth piece the path turns back only through a
+            ! limit point, whose far side may run within the sagitta of the near one at a sharp fold (ex. 3's
+            ! long path with max_increment 20: step 138 past the limit 422.63 lies along steps 134–135).
+            if (len(jump) == 0 .and. (corner_passed .or. any(trial%active .neqv. before%active)) .and. &
+                .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
+               revisited = retraced_step(state, before, trial%increment, trial%dlambda)
+               if (revisited > 0) then
+                  jump = 'it goes back along the path traced between steps '// &
+                         integer_to_string(revisited)//' and '//integer_to_string(revisited + 1)
+                  went_back = jump
+               end if
+            end if
             ! A release step (Δλ = 0) is a jump of the law, not a piece of the path to re-solve.
             if (len(jump) == 0 .and. .not. trial%release) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
@@ -790,6 +915,7 @@ contains
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
+               call remember_traced(state, before)
                exit steps
             end if
             call move_state(before, state)   ! the step rejected: back to its start
@@ -816,6 +942,10 @@ contains
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
                                real_to_string(length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
+               if (allocated(went_back)) then
+                  if (index(trial%reason, went_back) == 0) error%message = error%message// &
+                     '; a converged step was rejected: '//went_back//' (the path folds back here)'
+               end if
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                if (present(cuts)) cuts = halvings
                return

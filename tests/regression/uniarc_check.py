@@ -415,6 +415,8 @@ def main():
     parser.add_argument('--expect-proportional', action='append', default=[])
     parser.add_argument('--expect-affine', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
+    parser.add_argument('--expect-no-return', action='append', default=[])
+    parser.add_argument('--expect-free-span', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
     parser.add_argument('--expect-stdout', action='append', default=[])
     parser.add_argument('--reject-stdout', action='append', default=[])
@@ -472,6 +474,11 @@ def main():
             failures.append('path file has fewer than two rows')
         else:
             failures += check_path_features(args, names, rows)
+    if args.expect_no_return:
+        names, rows = read_table(path_file)
+        failures += check_no_return(args.expect_no_return, names, rows)
+    for expectation in args.expect_free_span:
+        failures += check_free_span(expectation, os.path.join(args.out, stem + '.contact'))
     if (args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before
             or args.expect_crit_path or args.expect_crit_step_name):
         path_names, path_rows = read_table(path_file)
@@ -501,6 +508,79 @@ def main():
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
+
+
+def check_no_return(columns, names, rows):
+    """--expect-no-return COLUMN: past the largest lambda of the last analysis step, COLUMN never
+    decreases from one row to the next (a post-buckling trace whose buckle only grows; a row going back
+    along the traced path shows it shrinking)."""
+    failures = []
+    if 'analysis_step' in names:
+        last = max(row[names.index('analysis_step')] for row in rows)
+        rows = [row for row in rows if row[names.index('analysis_step')] == last]
+    if len(rows) < 2:
+        return ['fewer than two rows in the last analysis step']
+    peak = max(range(len(rows)), key=lambda i: rows[i][names.index('lambda')])
+    for column in columns:
+        if column not in names:
+            failures.append(f'no column {column} in {names}')
+            continue
+        c = [row[names.index(column)] for row in rows[peak:]]
+        back = [i for i in range(1, len(c)) if c[i] < c[i - 1]]
+        if back:
+            i = back[0] + peak
+            failures.append(f'{column} decreases past the largest lambda: {rows[i - 1][names.index(column)]!r} at step '
+                            f'{rows[i - 1][0]:g}, {rows[i][names.index(column)]!r} at step {rows[i][0]:g}')
+        else:
+            print(f'ok: {column} does not decrease over the {len(c)} rows from the largest lambda '
+                  f'(step {rows[peak][0]:g}) on')
+    return failures
+
+
+def check_free_span(expectation, contact_file):
+    """--expect-free-span LAMBDA_MAX,EI,H,S_MID=VALUE:TOL on STEM.contact (*OUTPUT, FORCES, EVERY=1): at
+    every step of the last analysis step past its largest lambda (post-buckling) with lambda <=
+    LAMBDA_MAX, the lifted span L between the
+    innermost candidates with a reaction on either side of S_MID (their coordinates s), plus H (the
+    lift-off point lies between that node and the next free one on each side: half of 2H on average),
+    gives lambda L^2/EI = VALUE within TOL (relative)."""
+    spec, target = expectation.split('=')
+    lam_max, ei, h, s_mid = (float(v) for v in spec.split(','))
+    value, tolerance = (float(v) for v in target.split(':'))
+    if not os.path.exists(contact_file):
+        return [f'no {contact_file}']
+    with open(contact_file) as f:
+        lines = [line.split() for line in f.read().splitlines() if line.strip() and not line.startswith('#')]
+    names = lines[0]
+    col = {n: names.index(n) for n in ('step', 'lambda', 's', 'reaction', 'analysis_step')}
+    # the medium column is a name: only the numeric columns used are read
+    rows = [[float(fields[i]) if i in col.values() else 0.0 for i in range(len(fields))] for fields in lines[1:]]
+    if not rows:
+        return [f'no rows in {contact_file}']
+    last = max(row[col['analysis_step']] for row in rows)
+    rows = [row for row in rows if row[col['analysis_step']] == last]
+    peak = max(rows, key=lambda row: row[col['lambda']])[col['step']]
+    steps = {}
+    for row in rows:
+        if row[col['step']] > peak and row[col['lambda']] <= lam_max:
+            steps.setdefault(row[col['step']], []).append(row)
+    if not steps:
+        return [f'no step with lambda <= {lam_max:g} in {contact_file}']
+    worst, worst_step, worst_value = 0.0, None, None
+    for step, cands in sorted(steps.items()):
+        s_left = [r[col['s']] for r in cands if r[col['reaction']] > 0.0 and r[col['s']] < s_mid]
+        s_right = [r[col['s']] for r in cands if r[col['reaction']] > 0.0 and r[col['s']] > s_mid]
+        if not s_left or not s_right:
+            return [f'step {step:g}: no contact on one side of s = {s_mid:g}']
+        span = min(s_right) - max(s_left) + h
+        got = cands[0][col['lambda']]*span**2/ei
+        error = abs(got - value)/value
+        if error >= worst:
+            worst, worst_step, worst_value = error, step, got
+    ok = worst <= tolerance
+    print(f'{"ok" if ok else "FAIL"}: lambda L^2/EI = {value!r} at the {len(steps)} steps with lambda <= {lam_max:g} '
+          f'(worst {worst_value!r} at step {worst_step:g}, relative error {worst:.3e}, tolerance {tolerance:.1e})')
+    return [] if ok else [f'lambda L^2/EI: relative error {worst:.3e} > {tolerance:.1e} at step {worst_step:g}']
 
 
 INTEGER_COLUMNS = ('step', 'node', 'n_contact', 'contact_regions', 'lcp_pivots', 'iterations', 'neg_pivots',
