@@ -31,14 +31,14 @@ module uniarc_contact
    use uniarc_model, only: model_t, contact_candidate_t, analysis_linear
    use uniarc_contact_law, only: candidate_gap
    use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force
-   use uniarc_dof_map, only: dof_map_t, bed_deflection
+   use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
-   public :: in_set, bed_values
+   public :: in_set
 
 contains
 
@@ -202,17 +202,6 @@ contains
       end function in_set_before
 
    end subroutine toggle_contacts
-
-   !> The Pasternak beds' surface deflections d_c in unknowns x, one per candidate (0 for the others).
-   pure function bed_values(map, x) result(values)
-      type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: x(:)
-      real(dp) :: values(size(map%candidate_equation))
-      integer :: c
-      do c = 1, size(values)
-         values(c) = bed_deflection(map, c, x)
-      end do
-   end function bed_values
 
    !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag; and
    !> in the static analysis (*STATIC), for a tangential spring that follows a radial partner

@@ -255,7 +255,7 @@ contains
       capacity = 0
       if (allocated(builder%element_kind)) capacity = size(builder%element_kind)
       if (maxval(elements) > capacity) then
-         ! grown with stat= (the kinds of element_kinds, in place of its function result)
+         ! grown with stat= (no array function result of the kinds: element_kind asks for one)
          n = max(maxval(elements), 2*capacity)
          if (present(status)) then
             allocate (grown(n), stat=stat)
@@ -645,7 +645,7 @@ contains
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
       if (allocated(builder%element_kind)) then
-         ! allocated with stat= and filled in place (element_kinds' function result is not checked)
+         ! allocated with stat= and filled in place (an array function result is not checked)
          allocate (model%element_kind(e), stat=status)
          call allocation_failure(status, 'the element kinds of the model', 4.0_dp*e, error_input, error)
          if (allocated(error)) return
