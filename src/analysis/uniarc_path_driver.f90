@@ -196,7 +196,7 @@ contains
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
       character(len=:), allocatable :: finding
-      integer :: k
+      integer :: k, status
       logical :: collapsed
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
@@ -289,7 +289,14 @@ contains
       end do
       if (driver%state%point%switched) then
          ! The switch's tracked values: those of the state at the bifurcation it left from.
-         allocate (nodal_switch, mold=driver%displacement)
+         allocate (nodal_switch(size(driver%displacement, 1), size(driver%displacement, 2)), stat=status)
+         call allocation_failure(status, 'the nodal displacements of the branch switch''s tracked values', &
+                                 8.0_dp*size(driver%displacement), error_analysis, error)
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
          call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_switch)
          call add_prescribed(model, driver%state%point%switch_lambda, nodal_switch)
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
