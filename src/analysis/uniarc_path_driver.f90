@@ -195,9 +195,11 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
-      character(len=:), allocatable :: finding
-      integer :: k
-      logical :: collapsed
+      character(len=:), allocatable :: finding, nodes
+      type(path_state_t), allocatable :: before
+      real(dp) :: upper
+      integer :: k, points
+      logical :: collapsed, near_collapse
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
          return
@@ -217,7 +219,36 @@ contains
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
+      ! A committed state that the certificate (points within near_yield of their limits counted as
+      ! yielding) finds within the bracket of a bearing collapse: the collapse load is at most `upper`
+      ! (docs/theory.md §3.9, "Collapse"), so a step that converges above it has left the collapse
+      ! (a large rotation of the mechanism) and is not taken; the state is kept to restore it.
+      near_collapse = .false.
+      if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion) .and. &
+          allocated(driver%state%active)) then
+         if (any(driver%state%yielding .and. driver%state%active)) &
+            call bearing_collapse(model, driver%state, .false., near_collapse, upper, points, nodes, &
+                                  bound_only=.true.)
+      end if
+      if (near_collapse) before = driver%state
       call path_advance(model, driver%state, error, outcome%cuts)
+      if (near_collapse .and. .not. allocated(error)) then
+         if (driver%state%lambda > upper) then
+            ! (the step converged beyond the upper bound: the committed state is the collapse)
+            driver%state = before
+            driver%collapse_upper = upper
+            driver%collapse_points = points
+            driver%collapse_nodes = nodes
+            driver%stop = stop_collapse
+            outcome%stop = stop_collapse
+            outcome%advanced = .false.
+            outcome%iterations = 0
+            outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
+                                               driver%state%lambda, 0.0_dp)]
+            outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+            return
+         end if
+      end if
       if (allocated(error)) then
          ! A step that fails from a state at a bearing collapse (docs/theory.md §3.9, "Collapse"): the
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
@@ -330,16 +361,39 @@ contains
       integer, intent(inout) :: cuts
       type(error_t), allocatable :: plateau_error
       real(dp), allocatable :: motion(:), saved(:)
+      logical, allocatable :: touching(:), saved_active(:)
       real(dp) :: dlambda
       integer :: contact, status, n, plateau_cuts
       logical :: found
       n = size(driver%state%u)
-      allocate (motion(n), saved(n), stat=status)
+      allocate (motion(n), saved(n), touching(size(driver%state%active)), &
+                saved_active(size(driver%state%active)), stat=status)
       if (status /= 0) return   ! no plateau tried: the failed step's error stands
-      call plastic_plateau(model, driver%state, found, motion, dlambda, contact)
-      if (.not. found) return
+      call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching)
       saved(:) = driver%state%u
+      saved_active(:) = driver%state%active
+      if (.not. found) then
+         if (.not. any(touching)) return
+         driver%state%active(:) = driver%state%active .or. touching
+         if (allocated(driver%state%system)) then
+            driver%state%system%holds_committed = .false.
+            driver%state%system%holds_converged = .false.
+         end if
+         call path_advance(model, driver%state, plateau_error, plateau_cuts)
+         if (allocated(plateau_error)) then
+            driver%state%active(:) = saved_active
+            if (allocated(driver%state%system)) then
+               driver%state%system%holds_committed = .false.
+               driver%state%system%holds_converged = .false.
+            end if
+            return
+         end if
+         cuts = cuts + plateau_cuts
+         deallocate (error)
+         return
+      end if
       driver%state%u(:) = driver%state%u + motion
+      driver%state%active(:) = driver%state%active .or. touching
       driver%state%plateau_due = .true.
       driver%state%plateau_dlambda = dlambda
       if (allocated(driver%state%system)) then
@@ -351,6 +405,7 @@ contains
       driver%state%plateau_dlambda = 0.0_dp
       if (allocated(plateau_error)) then
          driver%state%u(:) = saved
+         driver%state%active(:) = saved_active
          if (allocated(driver%state%system)) then
             driver%state%system%holds_committed = .false.
             driver%state%system%holds_converged = .false.
