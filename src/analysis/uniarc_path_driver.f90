@@ -233,7 +233,9 @@ contains
       if (near_collapse) before = driver%state
       call path_advance(model, driver%state, error, outcome%cuts)
       if (near_collapse .and. .not. allocated(error)) then
-         if (driver%state%lambda > upper) then
+         ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
+         ! which the equilibrium on either side of the step meets)
+         if (driver%state%lambda > upper + 100.0_dp*model%analysis%force_tolerance*abs(upper)) then
             ! (the step converged beyond the upper bound: the committed state is the collapse)
             driver%state = before
             driver%collapse_upper = upper
