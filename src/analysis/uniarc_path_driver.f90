@@ -352,8 +352,14 @@ contains
    !> step failed with its supports at their limits, the rigid mechanism of the yielded supports that
    !> the load drives and that closes an open contact (uniarc_path_collapse, plastic_plateau) moves the
    !> structure at constant load to that contact, the yielded supports flowing; a load step of the
-   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken.
-   !> On success `error` is deallocated and the committed state is the plateau's end (a converged step,
+   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken;
+   !> the contacts that touch already without being in the working set, and that the motion keeps
+   !> touching, start that step in the set with the contact that closes (alone, a touching one would
+   !> leave the turn about it free). Without a plateau, contacts that touch out of the set start the
+   !> normal step again in the set (a step of the load then presses them: docs/theory.md §3.9,
+   !> "Plateau of no length"). A plateau of no length (the motion within round-off, 1e-12, of the
+   !> displacements: no progress) is not taken: no row would differ from the last.
+   !> On success `error` is deallocated and the committed state is the step's end (a converged step,
    !> `cuts` its cut-backs); otherwise (no plateau, or its step does not converge) the committed state
    !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried.
    subroutine follow_plateau(model, driver, error, cuts)
@@ -372,6 +378,15 @@ contains
                 saved_active(size(driver%state%active)), stat=status)
       if (status /= 0) return   ! no plateau tried: the failed step's error stands
       call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching)
+      if (found) then
+         if (.not. sqrt(sum(driver%state%map%metric*motion**2)) > &
+             1.0e-12_dp*sqrt(sum(driver%state%map%metric*driver%state%u**2))) then
+            error%message = error%message//'; the plateau at constant load to the contact of node '// &
+                            integer_to_string(model%node_label(model%contacts(contact)%node))// &
+                            ' has no length (it touches already): no progress'
+            return
+         end if
+      end if
       saved(:) = driver%state%u
       saved_active(:) = driver%state%active
       if (.not. found) then
@@ -383,6 +398,7 @@ contains
          end if
          call path_advance(model, driver%state, plateau_error, plateau_cuts)
          if (allocated(plateau_error)) then
+            error%message = error%message//'; nor with the contacts that touch out of the working set in it'
             driver%state%active(:) = saved_active
             if (allocated(driver%state%system)) then
                driver%state%system%holds_committed = .false.
