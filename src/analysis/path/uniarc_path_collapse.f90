@@ -50,8 +50,9 @@ module uniarc_path_collapse
    !> max_pairs constraint rows only: a mechanism missed so is a collapse not certified (the run then
    !> ends as a failed step), never a false one.
    integer, parameter :: max_pairs = 300
-   !> A contact out of the working set whose gap is at most this fraction of the model's size touches
-   !> (uniarc_path_contact_set, touching_candidates: the same fraction).
+   !> A contact out of the working set whose gap is at most this fraction of the largest displacement
+   !> touches (round-off of a plateau that closed it; the model's size, which the working set's
+   !> touching test takes, can exceed the gaps of a lift-off on a fine mesh).
    real(dp), parameter :: touch_tolerance = 1.0e-9_dp
 
 contains
@@ -284,6 +285,10 @@ contains
    !> (first order in the rotation: the plateau step's Newton corrects the rest), `dlambda` = Δλ(φ)
    !> ≥ 0, `contact` the candidate that closes first. found = .false. when there is no such φ, or no
    !> open contact that it closes (then it is no plateau but a collapse, bearing_collapse's case).
+   !> A contact out of the set that touches (gap within touch_tolerance of the largest displacement)
+   !> may be lifted by φ, not pressed, and closes no plateau (docs/theory.md §3.9, "Plateau of no
+   !> length"). `touching` (candidates): on found, those that φ keeps touching and, with any of them,
+   !> `contact` — the plateau step's working set adds them; otherwise every touching one.
    subroutine plastic_plateau(model, state, found, motion, dlambda, contact, touching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
