@@ -287,8 +287,9 @@ contains
    !> open contact that it closes (then it is no plateau but a collapse, bearing_collapse's case).
    !> A contact out of the set that touches (gap within touch_tolerance of the largest displacement)
    !> may be lifted by φ, not pressed, and closes no plateau (docs/theory.md §3.9, "Plateau of no
-   !> length"). `touching` (candidates): on found, those that φ keeps touching and, with any of them,
-   !> `contact` — the plateau step's working set adds them; otherwise every touching one.
+   !> length"). `touching` (candidates): on found, those out of the set that φ keeps touching and,
+   !> when φ keeps any candidate touching with no force (in the set or out), `contact` — the plateau
+   !> step's working set adds them; otherwise every touching one.
    subroutine plastic_plateau(model, state, found, motion, dlambda, contact, touching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -302,6 +303,7 @@ contains
       integer, allocatable :: kind(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), chosen(3), force_scale
       real(dp) :: gram(3, 3), work_load, distance, along, dissipation, touch_gap
+      logical :: pivot
       integer :: n_c, m, c, j, node, d, n_con, a, b, k
       found = .false.
       motion = 0.0_dp
@@ -449,12 +451,21 @@ contains
       end do
       if (contact == 0) return
       motion = distance*matmul(modes(:, 1:d), chosen(1:d))
-      ! the touching ones that φ lifts off are out of the step's set; those it keeps touching are in
+      ! the touching ones (out of the set, or in it with no force) that φ lifts off are out of the
+      ! step's set; those it keeps touching are in, and then the contact it closes too (φ turns about
+      ! them: alone in the set they would leave that turn free, the step's tangent singular along it)
+      pivot = .false.
       do c = 1, n_c
-         if (touching(c)) touching(c) = gap_now(c) + distance*dot_product(matmul(rate(c, :), basis), chosen(1:d)) &
-                                        <= touch_gap
+         if (kind(c) /= 5) cycle
+         along = distance*dot_product(matmul(rate(c, :), basis), chosen(1:d))
+         if (touching(c)) along = along + gap_now(c)
+         if (along <= touch_gap) then
+            pivot = .true.
+         else
+            touching(c) = .false.
+         end if
       end do
-      if (any(touching)) touching(contact) = .true.
+      if (pivot) touching(contact) = .true.
       found = .true.
 
    contains
