@@ -219,10 +219,12 @@ contains
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
-      ! A committed state that the certificate (points within near_yield of their limits counted as
-      ! yielding) finds within the bracket of a bearing collapse: the collapse load is at most `upper`
-      ! (docs/theory.md §3.9, "Collapse"), so a step that converges above it has left the collapse
-      ! (a large rotation of the mechanism) and is not taken; the state is kept to restore it.
+      ! A committed state that the certificate (every point of the set counted as yielding, its slack
+      ! in the bound: the upper-bound theorem) finds within the bracket of a bearing collapse: the
+      ! collapse load is at most `upper` (docs/theory.md §3.9, "The step past the collapse"), so a step
+      ! that converges above it has left the collapse (a large rotation of the mechanism) and is not
+      ! taken; the state is kept to restore it (a copy made only near a collapse; unlike the point's,
+      ! copied with stat= above, this assignment is not checked for memory).
       near_collapse = .false.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion) .and. &
           allocated(driver%state%active)) then
