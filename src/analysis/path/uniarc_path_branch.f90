@@ -72,8 +72,11 @@ contains
    !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
    !> factorised into state%system) and the arc length goes on from it along the new branch;
    !> state%bifurcation stays until the next step (the switch's row in STEM.crit).
+   !> A converged step more than 60° from ξφ̂ (φ̂ᵀΔu < ‖Δu‖/2: on another branch, such as the primary
+   !> one) is refused and halved like a failed one (docs/theory.md §2.6).
    !> `cuts` returns the halvings made. Errors (error_analysis): no bifurcation kept, a singular tangent
-   !> at x_c, or no convergence down to the smallest step.
+   !> at x_c, no convergence down to the smallest step, or every converged step off the mode's
+   !> direction down to it ("no secondary branch found along the mode").
    subroutine switch_branch(model, state, error, cuts)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
