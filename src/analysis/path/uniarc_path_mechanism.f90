@@ -140,7 +140,7 @@ contains
       integer :: row, node, dof, largest, label, memory_category
       memory_category = error_input
       if (present(category)) memory_category = category
-      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, memory_category)
+      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, memory_category, axes=.true.)
       if (allocated(error)) return
       if (.not. allocated(motion)) then
          ! Stage 3: a weak pivot that no rigid motion of the whole explains may be a mechanism inside
@@ -223,7 +223,10 @@ contains
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
    !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
    !> Errors: its vectors refused by the system (out of memory, of `category`, uniarc_memory).
-   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category)
+   !> With `axes` true, a translation whose direction is within 1e-12 of an axis is tried along the
+   !> axis itself too (the refusal of a mechanism; not the floating motions of a model held by its
+   !> contacts, whose detection it would change).
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category, axes)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
@@ -233,9 +236,11 @@ contains
       character(len=:), allocatable, intent(out) :: what
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in) :: category
+      logical, intent(in), optional :: axes
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:), rotation(:), product(:), magnitude(:)
       real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force, direction(2)
       integer :: below, node, dof, status, n
+      logical :: snap
       what = ''
       ratio = huge(1.0_dp)
       row = 0
@@ -277,7 +282,9 @@ contains
       direction = [cos(angle), sin(angle)]
       candidate(:) = direction(1)*modes(:, 1) + direction(2)*modes(:, 2)
       best = held(candidate)
-      if (best > 1.0_dp .and. any(abs(direction) <= 1.0e-12_dp)) then
+      snap = .false.
+      if (present(axes)) snap = axes
+      if (snap .and. best > 1.0_dp .and. any(abs(direction) <= 1.0e-12_dp)) then
          ! cos and sin of an axis direction leave round-off (sin π = 1.2e-16): on a model whose other
          ! translation is held (a beam on two rollers) that sliver meets the supports, and the free
          ! translation looked held. The axis itself is tried too.
