@@ -161,6 +161,7 @@ contains
          state%last_increment = 0.0_dp
          ! The states traced so far belong to another load pattern: not this step's path.
          call forget_traced(state)
+         state%eigenvalue_slope_known = .false.
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
@@ -853,7 +854,8 @@ contains
                      multiple = .true.
                   end if
                else
-                  call find_hidden_pair(model, before, state, system, length, hidden, error)
+                  call find_hidden_pair(model, before, state, system, length, &
+                                        0.5_dp*length >= options%min_increment*state%first_length, hidden, error)
                   if (allocated(error)) then
                      call move_alloc(system, state%system)
                      call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
@@ -916,6 +918,15 @@ contains
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
                call remember_traced(state, before)
+               ! μ's slope along this step, for the next step's test of a hidden zero of μ
+               ! (uniarc_path_hidden): only across a smooth piece with one working set, where μ is
+               ! the least eigenvalue of one continuous tangent.
+               state%eigenvalue_slope_known = .not. (corner_passed .or. trial%floating_slide .or. &
+                  trial%release .or. degenerate_step(before, trial) .or. state%point%liftoff .or. &
+                  before%point%liftoff .or. state%point%switched)
+               if (state%eigenvalue_slope_known) state%eigenvalue_slope_known = size(state%active) == size(before%active)
+               state%previous_eigenvalue = before%point%min_eigenvalue
+               state%previous_s = before%point%s
                exit steps
             end if
             call move_state(before, state)   ! the step rejected: back to its start
