@@ -37,7 +37,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
-   use uniarc_path_hidden, only: find_hidden_pair
+   use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
@@ -853,9 +853,14 @@ contains
                   else
                      multiple = .true.
                   end if
+               else if (0.5_dp*length >= options%min_increment*state%first_length .and. &
+                        eigenvalue_overshoot(before, state)) then
+                  ! The count may have changed and changed back inside the step: μ, extrapolated
+                  ! from the last step, vanishes within it (docs/theory.md §2.3).
+                  jump = 'the least eigenvalue, extrapolated from the last step, vanishes inside it '// &
+                         'while the count of negative pivots at its end is that of its start'
                else
-                  call find_hidden_pair(model, before, state, system, length, &
-                                        0.5_dp*length >= options%min_increment*state%first_length, hidden, error)
+                  call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
                      call move_alloc(system, state%system)
                      call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)

@@ -16,7 +16,7 @@ module uniarc_path_hidden
    use uniarc_critical_points, only: opposite_signs, same_signs
    implicit none
    private
-   public :: find_hidden_pair
+   public :: find_hidden_pair, eigenvalue_overshoot
 
    !> A step is checked when the path's tangent at its end makes more than 25° with its chord (|cos|
    !> below this): the chord of a step on a branch is close to the tangents at its ends (at most 22°
@@ -41,14 +41,11 @@ contains
    !> the path's tangent at `after` makes more than 25° with the chord. `system` holds after's
    !> committed tangent on entry and on return. A half step that does not converge proves nothing
    !> (false).
-   !> `may_cut`: the step can still be halved; else the test of μ's zero (eigenvalue_overshoot) is
-   !> skipped.
-   subroutine find_hidden_pair(model, before, after, system, length, may_cut, hides, error)
+   subroutine find_hidden_pair(model, before, after, system, length, hides, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: before, after   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       real(dp), intent(in) :: length
-      logical, intent(in) :: may_cut
       logical, intent(out) :: hides
       type(error_t), allocatable, intent(out) :: error
       type(path_state_t) :: half
@@ -56,16 +53,6 @@ contains
       real(dp) :: size_chord, size_tangent, first, second
       logical :: ok
       hides = .false.
-      ! A step longer than twice the distance at which μ, extrapolated from the last step, vanishes,
-      ! with no change of the count or with one across a change of the working set: the count may
-      ! have changed and changed back inside it (docs/theory.md §2.3, "a zero of the least
-      ! eigenvalue inside the step"). Cut, the shorter step lands within that distance.
-      if (may_cut) then
-         if (eigenvalue_overshoot(before, after)) then
-            hides = .true.
-            return
-         end if
-      end if
       if (opposite_signs(before%point%dlambda_ds, after%point%dlambda_ds)) then
          ! A regular limit point changes the sign of det K_T (the augmented tangent is regular there,
          ! one eigenvalue of K_T crosses zero: docs/theory.md §2.2), so the count of negative pivots
@@ -150,20 +137,25 @@ contains
       call restore_tangent(model, after, system, error)
    end subroutine find_hidden_pair
 
-   !> Whether the step from `before` to `after` went more than twice as far along the path as the
-   !> distance d at which the least eigenvalue μ of the tangent, extrapolated linearly from the last
-   !> step (before%previous_eigenvalue at before%previous_s, before%point%min_eigenvalue at
+   !> Whether the step from `before` to `after` went farther along the path than the distance d at
+   !> which the least eigenvalue μ of the tangent, extrapolated linearly from the last step
+   !> (before%previous_eigenvalue at before%previous_s, before%point%min_eigenvalue at
    !> before%point%s), reaches zero, while the count of negative pivots at its end is that of its
-   !> start, or differs by one with the working set changed inside the step. Such a step may have
-   !> passed a zero of μ and come back across a second zero or a contact event that made μ jump (ex. 2
-   !> as a whole arch on its bed, 120 elements: the count went 0-1-0 between λ = 116.47 and 118.18,
-   !> μ 4.4e-7 and 3.2e-7 at the ends, falling by 3.6e-6 per unit λ over the step before). The
-   !> bound 2d lets a step reach past a zero that μ approaches linearly (a step within it crosses
-   !> and the locator brackets the change), so the cut steps do not creep up to it. Not tested
-   !> (false): μ's slope not known (the step before was not smooth on one working set, or a branch
-   !> switch, or the start of an analysis step), a lift-off state at either end (μ of a piece of the
-   !> cone test, docs/theory.md §2.2), μ moving away from zero or of the other sign at the end, a
-   !> step along which the path length did not grow.
+   !> start; or farther than d/2 with the working set changed inside the step and the count the same
+   !> or changed by one (docs/theory.md §2.3, "a zero of the least eigenvalue inside the step"). Such
+   !> a step may have passed a zero of μ and come back across a second zero, or across a contact event
+   !> whose springs made μ jump (ex. 2 as a whole arch on its bed, 120 elements: the count went 0-1-0
+   !> between λ = 116.47 and 118.18, μ 4.4e-7 and 3.2e-7 at the ends, falling by 3.6e-6 per unit λ
+   !> over the step before). Cut, the step lands short of the zero and the next one crosses it (a
+   !> change of the count on one working set is accepted and located). Across a change of the working
+   !> set μ curves (the contacts added one by one, the lumped bed's sawtooth): under load control the
+   !> step from 112.79 to 117.34 had d = 0.73 of path length and went 0.47, through the zero at 116.16
+   !> and the closing contacts at 116.95; hence d/2 there. Not tested (false): μ's slope not known (no
+   !> step before it in the analysis step, a corner, release or load step, a branch switch), a lift-off
+   !> state at either end (μ of a piece of the cone test, §2.2), μ moving away from zero, or of the
+   !> other sign at the end with the count unchanged, a count changed by more than one, a change by one
+   !> on one working set (the locator's), a step along which the path length did not grow, a step
+   !> whose dλ/ds changes sign (judged by find_hidden_pair).
    logical function eigenvalue_overshoot(before, after) result(over)
       type(path_state_t), intent(in) :: before, after
       real(dp) :: slope, distance, travelled, run
@@ -172,6 +164,11 @@ contains
       over = .false.
       if (.not. before%eigenvalue_slope_known .or. before%point%switched) return
       if (before%point%liftoff .or. after%point%liftoff) return
+      ! λ turns inside the step: the limit point's tests above (find_hidden_pair) judge it. At a
+      ! symmetric structure's bifurcation passed along its bifurcated branch μ touches zero where λ
+      ! turns, with the count unchanged (mirror images share their spectrum), and cutting steps there
+      ! only crept up to it (ex. 2 whole arch on its bed, SWITCH=1, at 146.969: exit 1).
+      if (.not. same_signs(before%point%dlambda_ds, after%point%dlambda_ds)) return
       change = abs(after%point%neg_pivots - before%point%neg_pivots)
       if (change > 1) return
       if (size(after%active) /= size(before%active)) return
