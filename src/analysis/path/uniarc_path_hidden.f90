@@ -137,25 +137,23 @@ contains
       call restore_tangent(model, after, system, error)
    end subroutine find_hidden_pair
 
-   !> Whether the step from `before` to `after` went farther along the path than the distance d at
-   !> which the least eigenvalue μ of the tangent, extrapolated linearly from the last step
-   !> (before%previous_eigenvalue at before%previous_s, before%point%min_eigenvalue at
-   !> before%point%s), reaches zero, while the count of negative pivots at its end is that of its
-   !> start; or farther than d/2 with the working set changed inside the step and the count the same
-   !> or changed by one (docs/theory.md §2.3, "a zero of the least eigenvalue inside the step"). Such
-   !> a step may have passed a zero of μ and come back across a second zero, or across a contact event
-   !> whose springs made μ jump (ex. 2 as a whole arch on its bed, 120 elements: the count went 0-1-0
-   !> between λ = 116.47 and 118.18, μ 4.4e-7 and 3.2e-7 at the ends, falling by 3.6e-6 per unit λ
-   !> over the step before). Cut, the step lands short of the zero and the next one crosses it (a
-   !> change of the count on one working set is accepted and located). Across a change of the working
-   !> set μ curves (the contacts added one by one, the lumped bed's sawtooth): under load control the
-   !> step from 112.79 to 117.34 had d = 0.73 of path length and went 0.47, through the zero at 116.16
-   !> and the closing contacts at 116.95; hence d/2 there. Not tested (false): μ's slope not known (no
-   !> step before it in the analysis step, a corner, release or load step, a branch switch), a lift-off
-   !> state at either end (μ of a piece of the cone test, §2.2), μ moving away from zero, or of the
-   !> other sign at the end with the count unchanged, a count changed by more than one, a change by one
-   !> on one working set (the locator's), a step along which the path length did not grow, a step
-   !> whose dλ/ds changes sign (judged by find_hidden_pair), a structure held only by its contacts.
+   !> Whether the step from `before` to `after`, whose working set changed, went farther along the
+   !> path than d/2, d the distance at which the least eigenvalue μ of the tangent, extrapolated
+   !> linearly from the last step (before%previous_eigenvalue at before%previous_s,
+   !> before%point%min_eigenvalue at before%point%s), reaches zero, from a stable state (count 0,
+   !> μ > 0) with μ falling, and with the count at its end the same or changed by one (docs/theory.md
+   !> §2.3, "a zero of the least eigenvalue inside the step"). Such a step may have passed a zero of μ
+   !> and come back across a contact event whose springs made μ jump up (ex. 2 as a whole arch on its
+   !> bed, 120 elements: the count went 0-1-0 between λ = 116.47 and 118.18, μ 4.4e-7 and 3.2e-7 at
+   !> the ends, falling by 3.6e-6 per unit λ over the step before). Cut, the step lands short of the
+   !> zero or where the count has changed, and the locator places it. d/2, not d: across a change of
+   !> the set μ curves down between its jumps (under load control the step from 112.79 to 117.34 went
+   !> 0.64 d through the zero at 116.16 and the closing contacts at 116.95). Not tested (false): μ's
+   !> slope not known (no step before it in the analysis step, a corner, release or load step, a
+   !> branch switch), a lift-off state at either end (μ of a piece of the cone test, §2.2), a
+   !> structure held only by its contacts, a step whose dλ/ds changes sign (judged by
+   !> find_hidden_pair), one on a single working set (μ smooth), a count changed by more than one,
+   !> μ of the other sign at the end with the count unchanged, a path length that did not grow.
    logical function eigenvalue_overshoot(before, after) result(over)
       type(path_state_t), intent(in) :: before, after
       real(dp) :: slope, distance, travelled, run
