@@ -37,7 +37,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
-   use uniarc_path_hidden, only: find_hidden_pair
+   use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
@@ -161,6 +161,7 @@ contains
          state%last_increment = 0.0_dp
          ! The states traced so far belong to another load pattern: not this step's path.
          call forget_traced(state)
+         state%eigenvalue_slope_known = .false.
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
@@ -852,6 +853,12 @@ contains
                   else
                      multiple = .true.
                   end if
+               else if (0.5_dp*length >= options%min_increment*state%first_length .and. &
+                        eigenvalue_overshoot(before, state)) then
+                  ! The count may have changed and changed back inside the step: μ, extrapolated
+                  ! from the last step, vanishes within it (docs/theory.md §2.3).
+                  jump = 'the least eigenvalue, extrapolated from the last step, vanishes inside it '// &
+                         'while the count of negative pivots at its end is that of its start'
                else
                   call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
@@ -916,6 +923,15 @@ contains
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
                call remember_traced(state, before)
+               ! μ's slope along this step, for the next step's test of a hidden zero of μ
+               ! (uniarc_path_hidden): only across a smooth piece with one working set, where μ is
+               ! the least eigenvalue of one continuous tangent.
+               state%eigenvalue_slope_known = .not. (corner_passed .or. trial%floating_slide .or. &
+                  trial%release .or. degenerate_step(before, trial) .or. state%point%liftoff .or. &
+                  before%point%liftoff .or. state%point%switched)
+               if (state%eigenvalue_slope_known) state%eigenvalue_slope_known = size(state%active) == size(before%active)
+               state%previous_eigenvalue = before%point%min_eigenvalue
+               state%previous_s = before%point%s
                exit steps
             end if
             call move_state(before, state)   ! the step rejected: back to its start
