@@ -544,6 +544,11 @@ contains
                   ! A load step of a degenerate tangent has no displacement predictor to be near; nor has
                   ! a release step (Δλ = 0, docs/theory.md §3.8).
                   if (degenerate_step(state, trial) .or. trial%release) exit
+                  ! Nor has a step whose committed K⁻¹R moves nothing (the contacts that touch at the
+                  ! start carry the load) but whose corrector closes the gap, within the touching
+                  ! tolerance, of a contact of the set: a rigid plane 1e-9 under the loaded node
+                  ! (docs/theory.md §2.3). Its landing is judged by the angle tests of its commit.
+                  if (degenerate_tangent(state, state%tangent_displacement)) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
@@ -687,7 +692,17 @@ contains
             ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
             multiple = .false.
-            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
+            ! With no increment yet (the start of a path or of an analysis step) forward is the sense of
+            ! λ the first increment sets: a first step whose λ goes the other way reversed the load (a
+            ! rigid plane 1e-9 under the loaded node, docs/theory.md §2.3).
+            if (options%control == control_arclength .and. .not. (trial%floating_slide .or. trial%release) .and. &
+                trial%dlambda*real(before%direction, dp) < 0.0_dp) then
+               if (.not. masked_norm(state%map, before%last_increment) > 0.0_dp) &
+                  jump = 'the first step goes against the sense of lambda its first increment sets'
+            end if
+            if (len(jump) > 0) then
+               continue
+            else if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then
