@@ -31,14 +31,14 @@ module uniarc_contact
    use uniarc_model, only: model_t, contact_candidate_t, analysis_linear
    use uniarc_contact_law, only: candidate_gap
    use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force
-   use uniarc_dof_map, only: dof_map_t, bed_deflection
+   use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
    private
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
-   public :: in_set, bed_values
+   public :: in_set
 
 contains
 
@@ -72,16 +72,14 @@ contains
       real(dp), intent(in), optional :: lambda
       real(dp), intent(inout), optional :: reference(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), rate, at, swing(2)
-      real(dp), allocatable :: d(:)
       integer :: c, i, j, row, node, eq(2), bed
       logical :: yields, curved
-      allocate (d(size(reactions)), source=0.0_dp)
-      if (present(deflections)) d = deflections
+      ! no copy of `deflections` (a hot path): read where present, 0 otherwise (add_bed_row, d_c below)
       at = 0.0_dp
       if (present(lambda)) at = lambda
       do c = 1, size(map%candidate_equation)
          bed = map%bed_equation(c)
-         if (bed > 0) call add_bed_row(model%contacts(c), map, c, d, reactions(c), tangent, internal)
+         if (bed > 0) call add_bed_row(model%contacts(c), map, c, reactions(c), tangent, internal, deflections)
          row = map%candidate_equation(c)
          yields = .false.
          if (present(yielding)) yields = yielding(c) .and. model%contacts(c)%plastic
@@ -101,7 +99,11 @@ contains
                                gradient, hessian, at, rate)
             curved = any(candidate%motion /= 0.0_dp)
             if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
-            gap = gap + d(c)
+            if (present(deflections)) then
+               gap = gap + deflections(c)
+            else
+               gap = gap + 0.0_dp   ! as with d_c = 0 before: a gap of −0 becomes +0
+            end if
             ! a moving curved obstacle: ∂(a r)/∂λ = −r h d, moved from F_aug into R (module header)
             swing = 0.0_dp
             if (curved .and. present(reference)) swing = -reactions(c)*matmul(hessian, candidate%motion)
@@ -165,14 +167,13 @@ contains
       real(dp), intent(in), optional :: lambda
       real(dp), intent(inout), optional :: reference(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), rate
-      logical, allocatable :: before(:)
       logical :: entering
       integer :: c, row, node
-      before = active .neqv. flip
       do c = 1, size(flip)
-         ! a tangential spring moves with its radial partner (in_set)
+         ! a tangential spring moves with its radial partner (in_set); the set before is active Δ flip,
+         ! read where needed (no copy of the set's length)
          entering = in_set(model, active, c)
-         if (entering .eqv. in_set(model, before, c)) cycle
+         if (entering .eqv. in_set_before(c)) cycle
          row = map%candidate_equation(c)
          if (row == 0 .and. .not. map%condensed(c)) cycle
          node = model%contacts(c)%node
@@ -187,18 +188,20 @@ contains
          if (rate /= 0.0_dp .and. present(reference) .and. row > 0) &
             reference(row) = merge(rate, 0.0_dp, entering)
       end do
-   end subroutine toggle_contacts
 
-   !> The Pasternak beds' surface deflections d_c in unknowns x, one per candidate (0 for the others).
-   pure function bed_values(map, x) result(values)
-      type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: x(:)
-      real(dp) :: values(size(map%candidate_equation))
-      integer :: c
-      do c = 1, size(values)
-         values(c) = bed_deflection(map, c, x)
-      end do
-   end function bed_values
+   contains
+
+      !> in_set of candidate i in the set before the flip, active Δ flip.
+      pure logical function in_set_before(i)
+         integer, intent(in) :: i
+         integer :: partner
+         in_set_before = active(i) .neqv. flip(i)
+         partner = model%contacts(i)%partner
+         if (partner > 0 .and. model%analysis%kind == analysis_linear) &
+            in_set_before = in_set_before .and. (active(partner) .neqv. flip(partner))
+      end function in_set_before
+
+   end subroutine toggle_contacts
 
    !> Whether candidate c acts in the working set `active` (one flag per candidate): its own flag; and
    !> in the static analysis (*STATIC), for a tangential spring that follows a radial partner
@@ -270,21 +273,24 @@ contains
 
    !> The row of Pasternak bed point c (module header): F_aug = Σ_j K_b(c, j) d_j − r_c on its deflection's
    !> equation, the tangent K_b(c, ·) on the deflections of c and its neighbours and −1 at its reaction.
-   pure subroutine add_bed_row(candidate, map, c, deflections, reaction, tangent, internal)
+   pure subroutine add_bed_row(candidate, map, c, reaction, tangent, internal, deflections)
       type(contact_candidate_t), intent(in) :: candidate
       type(dof_map_t), intent(in) :: map
       integer, intent(in) :: c
-      real(dp), intent(in) :: deflections(:)    !< (n_contacts) d of every candidate
       real(dp), intent(in) :: reaction          !< r_c
       type(band_matrix_t), intent(inout) :: tangent
       real(dp), intent(inout) :: internal(:)
+      real(dp), intent(in), optional :: deflections(:)    !< (n_contacts) d of every candidate (default 0)
+      real(dp) :: d
       integer :: bed, k, neighbours(3)
       bed = map%bed_equation(c)
       neighbours = [candidate%bed_previous, c, candidate%bed_next]
       internal(bed) = -reaction
       do k = 1, 3
          if (neighbours(k) == 0) cycle
-         internal(bed) = internal(bed) + candidate%bed_stiffness(k)*deflections(neighbours(k))
+         d = 0.0_dp
+         if (present(deflections)) d = deflections(neighbours(k))
+         internal(bed) = internal(bed) + candidate%bed_stiffness(k)*d
          call band_add(tangent, bed, map%bed_equation(neighbours(k)), candidate%bed_stiffness(k))
       end do
       if (map%candidate_equation(c) > 0) call band_add(tangent, bed, map%candidate_equation(c), -1.0_dp)

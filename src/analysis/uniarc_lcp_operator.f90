@@ -28,6 +28,7 @@ module uniarc_lcp_operator
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis, error_input
    use uniarc_foreign, only: dgetrf, dgetrs
+   use uniarc_memory, only: allocation_failure
    implicit none
    private
    public :: lcp_operator_t, dense_lcp_operator_t, dense_operator
@@ -104,11 +105,13 @@ module uniarc_lcp_operator
 contains
 
    !> The operator of the explicit LCP (M, q) in the frame F = ∅.
-   !> Errors (category input): M not square or not matching q, non-finite data.
+   !> Errors (category input): M not square or not matching q, non-finite data. Its copies refused by
+   !> the system: out of memory (error_analysis, uniarc_memory).
    subroutine dense_operator(matrix, q, operator, error)
       real(dp), intent(in) :: matrix(:, :), q(:)
       type(dense_lcp_operator_t), intent(out) :: operator
       type(error_t), allocatable, intent(out) :: error
+      integer :: m, status
       if (size(matrix, 1) /= size(q) .or. size(matrix, 2) /= size(q)) then
          call make_error(error, 'dense LCP operator: M must be m x m for q of size m', error_input)
          return
@@ -117,11 +120,16 @@ contains
          call make_error(error, 'dense LCP operator: M and q must be finite', error_input)
          return
       end if
-      operator%original_matrix = matrix
-      operator%original_q = q
-      operator%matrix = matrix
-      operator%q = q
-      allocate (operator%in_frame(size(q)), source=.false.)
+      m = size(q)
+      allocate (operator%original_matrix(m, m), operator%original_q(m), operator%matrix(m, m), operator%q(m), &
+                operator%in_frame(m), stat=status)
+      call allocation_failure(status, 'the dense LCP operator', 16.0_dp*m*m + 20.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
+      operator%original_matrix(:, :) = matrix
+      operator%original_q(:) = q
+      operator%matrix(:, :) = matrix
+      operator%q(:) = q
+      operator%in_frame(:) = .false.
       operator%unit = 1.0_dp
       if (size(q) > 0) operator%unit = max(maxval(abs(q)), tiny(1.0_dp))
    end subroutine dense_operator
@@ -164,7 +172,8 @@ contains
 
    !> F ← F Δ flip, and (M_F, q_F) recomputed from the original by the PPT formula of the module
    !> header. Error (category analysis) if M_FF is singular to working precision (LU pivot below
-   !> m ε ‖M_FF‖); the frame is then unchanged.
+   !> m ε ‖M_FF‖); the frame is then unchanged. Its frame flags, index lists and factors refused by
+   !> the system: out of memory (error_analysis), the frame unchanged.
    subroutine dense_exchange(self, flip, error)
       class(dense_lcp_operator_t), intent(inout) :: self
       logical, intent(in) :: flip(:)
@@ -172,20 +181,33 @@ contains
       logical, allocatable :: frame(:)
       integer, allocatable :: f(:), nf(:), pivots(:)
       real(dp), allocatable :: mff(:, :), rhs(:, :)
-      integer :: m, p, info, i
+      integer :: m, p, info, i, status
       m = size(self%original_q)
-      frame = self%in_frame .neqv. flip
-      f = pack([(i, i=1, m)], frame)
-      nf = pack([(i, i=1, m)], .not. frame)
-      p = size(f)
+      allocate (frame(m), stat=status)
+      call allocation_failure(status, 'the frame flags of a dense LCP operator', 4.0_dp*m, error_analysis, error)
+      if (allocated(error)) return
+      frame(:) = self%in_frame .neqv. flip
+      p = count(frame)
+      allocate (f(p), nf(m - p), pivots(p), mff(p, p), stat=status)
+      call allocation_failure(status, 'the principal block of a dense LCP operator', 8.0_dp*(m + p) + 8.0_dp*p*p, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      p = 0
+      do i = 1, m
+         if (frame(i)) then
+            p = p + 1
+            f(p) = i
+         else
+            nf(i - p) = i
+         end if
+      end do
       if (p == 0) then
          self%matrix = self%original_matrix
          self%q = self%original_q
          self%in_frame = frame
          return
       end if
-      mff = self%original_matrix(f, f)
-      allocate (pivots(p))
+      mff(:, :) = self%original_matrix(f, f)
       call dgetrf(p, p, mff, p, pivots, info)
       if (info /= 0) then
          call make_error(error, 'dense LCP operator: singular principal block in the exchange', error_analysis)
@@ -197,7 +219,10 @@ contains
          return
       end if
       ! rhs = M_FF⁻¹ [I, M_FN, q_F]
-      allocate (rhs(p, p + size(nf) + 1), source=0.0_dp)
+      allocate (rhs(p, p + size(nf) + 1), stat=status)
+      call allocation_failure(status, 'the exchange of a dense LCP operator', 8.0_dp*p*(m + 1), error_analysis, error)
+      if (allocated(error)) return
+      rhs = 0.0_dp
       do i = 1, p
          rhs(i, i) = 1.0_dp
       end do

@@ -137,6 +137,9 @@ contains
    !> map%n_equations; floating_motions); nodal (dofs_per_node, n_nodes), the displacements at
    !> which the gaps' gradients are taken; unbalanced (n), λR − F with every unilateral candidate
    !> open (the load the contacts would have to carry).
+   !> Its arrays (of the candidates' and the equations' length) are allocated with stat=: one the
+   !> system refuses leaves `message` unallocated (the caller's own message stands; docs/contracts.md,
+   !> "Memory").
    subroutine describe_lift_off(model, map, motions, nodal, unbalanced, message)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -148,13 +151,26 @@ contains
       logical :: lifts
       logical, allocatable :: unilateral(:)
       integer, allocatable :: which(:)
-      integer :: c, j, i, node, d, largest, label, k
+      integer :: c, j, i, node, d, largest, label, k, m, status
       character(len=2), parameter :: names(3) = ['UX', 'UY', 'RZ']
       k = size(motions, 2)
       if (k == 0 .or. .not. allocated(model%contacts)) return
-      unilateral = [(candidate_live(map, c) .and. .not. model%contacts(c)%bilateral, c=1, size(map%candidate_equation))]
-      which = pack([(c, c=1, size(unilateral))], unilateral)
-      allocate (rates(k, size(which)), c_motion(k))
+      m = size(map%candidate_equation)
+      allocate (unilateral(m), stat=status)
+      if (status /= 0) return
+      do c = 1, m
+         unilateral(c) = candidate_live(map, c) .and. .not. model%contacts(c)%bilateral
+      end do
+      allocate (which(count(unilateral)), stat=status)
+      if (status /= 0) return
+      i = 0
+      do c = 1, m
+         if (.not. unilateral(c)) cycle
+         i = i + 1
+         which(i) = c
+      end do
+      allocate (rates(k, size(which)), c_motion(k), motion(size(motions, 1)), stat=status)
+      if (status /= 0) return
       do i = 1, size(which)
          c = which(i)
          node = model%contacts(c)%node
@@ -168,7 +184,7 @@ contains
       end do
       call lifting_motion(rates, matmul(transpose(motions), unbalanced), lifts, c_motion)
       if (.not. lifts) return
-      motion = matmul(motions, c_motion)
+      motion(:) = matmul(motions, c_motion)
       largest = maxloc(abs(map%metric*motion), 1)
       label = 0
       d = 0

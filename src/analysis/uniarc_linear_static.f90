@@ -24,7 +24,7 @@ module uniarc_linear_static
                           band_product, band_zero, band_add, band_get
    use uniarc_assembly, only: assemble_linear_stiffness, assemble_reference_load, gather_nodal, scatter_add
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_linear
-   use uniarc_contact, only: candidate_gap, assemble_contact, in_set, bed_values
+   use uniarc_contact, only: candidate_gap, assemble_contact, in_set
    use uniarc_path_mechanism, only: find_mechanism, floating_motions
    use uniarc_path_approach, only: rigid_approach
    use uniarc_lift_off, only: describe_lift_off
@@ -219,11 +219,33 @@ contains
       if (allocated(error)) return
       call gather_nodal(map, x, displacement)
       if (allocated(model%prescribed)) displacement = displacement + model%prescribed
-      if (present(reactions)) reactions = r
-      if (present(active)) active = set
+      ! the caller's contact arrays allocated with stat= and filled in place (an assignment that
+      ! allocates, or a function result, is not checked)
+      if (present(reactions)) then
+         allocate (reactions(size(r)), stat=status)
+         call allocation_failure(status, 'the contact reactions of the linear analysis', 8.0_dp*size(r), &
+                                 error_analysis, error)
+         if (allocated(error)) return
+         reactions(:) = r
+      end if
+      if (present(active)) then
+         allocate (active(size(set)), stat=status)
+         call allocation_failure(status, 'the contact set of the linear analysis', 4.0_dp*size(set), &
+                                 error_analysis, error)
+         if (allocated(error)) return
+         active(:) = set
+      end if
       if (present(lcp_pivots)) lcp_pivots = pivots
       if (present(lcp_residual)) lcp_residual = worst
-      if (present(deflections)) deflections = bed_values(map, x)
+      if (present(deflections)) then
+         allocate (deflections(size(map%candidate_equation)), stat=status)
+         call allocation_failure(status, 'the bed deflections of the linear analysis', &
+                                 8.0_dp*size(map%candidate_equation), error_analysis, error)
+         if (allocated(error)) return
+         do c = 1, size(deflections)
+            deflections(c) = bed_deflection(map, c, x)
+         end do
+      end if
    end subroutine solve_linear_static
 
    !> A structure held only by its contacts across a gap, that the reference load `reference` pushes

@@ -8,7 +8,6 @@ module uniarc_run
    use uniarc_deck_source, only: echo_window
    use uniarc_linear_static, only: solve_linear_static, explain_static_imbalance
    use uniarc_path_following, only: candidate_reactions
-   use uniarc_contact, only: bed_values
    use uniarc_copy, only: copy_array, reserve
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &
@@ -697,7 +696,7 @@ contains
          record%neg_pivots = state%point%neg_pivots
          record%lcp_pivots = state%point%lcp_pivots
          record%lcp_residual = state%point%lcp_residual
-         ! candidate_reactions and bed_values (uniarc_path_state, uniarc_contact) into the record
+         ! candidate_reactions and the bed deflections (uniarc_path_state, bed_deflection) into the record
          record%reactions = 0.0_dp
          if (allocated(state%reactions)) then
             ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.

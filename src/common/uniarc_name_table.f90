@@ -39,18 +39,57 @@ contains
    !> Add `name` to `table` as name number table%count + 1 and return that number in `index`; a name
    !> the table already holds (any case, trailing blanks ignored) is not added again, and `index` is
    !> its number.
-   pure subroutine add_name(table, name, index)
+   !> status (optional): the stat= of the growth of the table (its entries or its slots; nonzero:
+   !> refused by the system, the name not added, `index` 0; for uniarc_memory, allocation_failure);
+   !> absent, a refusal stops the program.
+   pure subroutine add_name(table, name, index, status)
       type(name_table_t), intent(inout) :: table
       character(len=*), intent(in) :: name
       integer, intent(out) :: index
+      integer, intent(out), optional :: status
       type(name_entry_t), allocatable :: grown(:)
-      integer :: i
+      integer, allocatable :: slots(:)
+      integer :: i, stat
 
+      if (present(status)) status = 0
       index = find_name(table, name)
       if (index > 0) return
-      if (.not. allocated(table%entries)) allocate (table%entries(8))
+      stat = 0
+      if (.not. allocated(table%entries)) then
+         if (present(status)) then
+            allocate (table%entries(8), stat=stat)
+         else
+            allocate (table%entries(8))
+         end if
+      end if
+      if (.not. allocated(table%slots) .and. stat == 0) then
+         if (present(status)) then
+            allocate (table%slots(initial_slots), stat=stat)
+         else
+            allocate (table%slots(initial_slots))
+         end if
+         if (stat == 0) table%slots(:) = 0
+      end if
+      ! the larger slots first (kept aside until the name is in): a refusal leaves the table as it was
+      if (2*(table%count + 1) > size(table%slots) .and. stat == 0) then
+         if (present(status)) then
+            allocate (slots(2*size(table%slots)), stat=stat)
+         else
+            allocate (slots(2*size(table%slots)))
+         end if
+      end if
+      if (table%count == size(table%entries) .and. stat == 0) then
+         if (present(status)) then
+            allocate (grown(2*size(table%entries)), stat=stat)
+         else
+            allocate (grown(2*size(table%entries)))
+         end if
+      end if
+      if (stat /= 0) then
+         if (present(status)) status = stat
+         return
+      end if
       if (table%count == size(table%entries)) then
-         allocate (grown(2*size(table%entries)))
          do i = 1, table%count
             call move_alloc(table%entries(i)%name, grown(i)%name)
             call move_alloc(table%entries(i)%key, grown(i)%key)
@@ -60,9 +99,8 @@ contains
       table%count = table%count + 1
       table%entries(table%count)%name = trim(name)
       table%entries(table%count)%key = to_upper(trim(name))
-      if (.not. allocated(table%slots)) allocate (table%slots(initial_slots), source=0)
-      if (2*table%count > size(table%slots)) then
-         call rehash(table, 2*size(table%slots))
+      if (allocated(slots)) then
+         call rehash(table, slots)
       else
          call insert_slot(table, table%count)
       end if
@@ -107,13 +145,14 @@ contains
       end do
    end subroutine look_up
 
-   !> Give the table `slots` slots (a power of 2) and index every name in them.
+   !> Give the table the slots `slots` (allocated, a power of 2 in size; moved in) and index every name
+   !> in them.
    pure subroutine rehash(table, slots)
       type(name_table_t), intent(inout) :: table
-      integer, intent(in) :: slots
+      integer, allocatable, intent(inout) :: slots(:)
       integer :: i
-      deallocate (table%slots)
-      allocate (table%slots(slots), source=0)
+      slots(:) = 0
+      call move_alloc(slots, table%slots)
       do i = 1, table%count
          call insert_slot(table, i)
       end do

@@ -18,7 +18,7 @@ module uniarc_deck
    use uniarc_deck_source, only: source_t, card_t, read_source, next_card, raise, raise_plain, clip, &
                                  check_options, field_real
    use uniarc_model, only: model_t, analysis_nonlinear, control_arclength
-   use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kinds
+   use uniarc_model_builder, only: finish_model, unused_node, element_without_section, element_kind
    use uniarc_deck_element, only: restrain_truss_nodes, read_release, check_moment_limit_analysis
    use uniarc_deck_state, only: parameter_override_t, deck_t
    use uniarc_deck_mesh, only: read_section, read_node, read_element, read_generator, read_node_set, &
@@ -74,7 +74,10 @@ contains
       call finish_steps(source, deck, error)
       if (allocated(error)) return
       call check_whole_deck(source, deck, error)
-      if (allocated(error)) return
+      if (allocated(error)) then
+         if (index(error%message, 'the model does not fit in memory') == 1) call add_context(error, path)
+         return
+      end if
       call check_prescribed_nodes(source, deck, error)
       if (allocated(error)) return
       call finish_model(deck%model, model, error, origin=source%path)
@@ -201,7 +204,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, line, equals, first, k, column, existing
+      integer :: i, line, equals, first, k, column, existing, status
       character(len=:), allocatable :: text, name, message
       type(field_t) :: field
       real(dp) :: value
@@ -259,8 +262,14 @@ contains
             call field_real(source, deck%parameters, line, field, 'an expression', value, error)
             if (allocated(error)) return
          end if
-         call set_parameter(deck%parameters, name, value)
-         call grow_integers(deck%parameter_line, deck%parameters%names%count)
+         call set_parameter(deck%parameters, name, value, status)
+         call allocation_failure(status, 'the table of parameters', 48.0_dp*(deck%parameters%names%count + 1), &
+                                 error_input, error)
+         if (allocated(error)) return
+         call grow_integers(deck%parameter_line, deck%parameters%names%count, status)
+         call allocation_failure(status, 'the deck positions of the parameters', &
+                                 8.0_dp*deck%parameters%names%count, error_input, error)
+         if (allocated(error)) return
          deck%parameter_line(deck%parameters%names%count) = line
       end do
    end subroutine read_parameter
@@ -272,9 +281,9 @@ contains
       type(source_t), intent(in) :: source
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, bad
+      integer :: i, bad, status, n
       real(dp), allocatable :: loads(:, :)
-      integer, allocatable :: load_line(:), load_column(:)
+      integer, allocatable :: load_line(:), load_column(:), kinds(:)
 
       do i = 1, size(deck%overrides)
          if (.not. deck%override_used(i)) then
@@ -327,21 +336,31 @@ contains
          return
       end if
       associate (model => deck%model)
+         ! The check's arrays allocated with stat= and filled in place (function results, merged
+         ! arrays and reallocations on assignment of the model's length are not checked).
+         n = model%n_nodes
+         allocate (loads(size(model%nodal_load, 1), n), load_line(n), load_column(n), kinds(model%n_elements), &
+                   stat=status)
+         if (status == 0) call grow_integers(deck%moment_line, n, status)
+         if (status == 0) call grow_integers(deck%moment_column, n, status)
+         call allocation_failure(status, 'the arrays of the truss nodes'' check', &
+                                 8.0_dp*size(model%nodal_load, 1)*n + 16.0_dp*n + 4.0_dp*model%n_elements, &
+                                 error_input, error)
+         if (allocated(error)) return
          ! The nodal loads of every analysis step count as the model's (a moment on a truss node).
-         loads = abs(model%nodal_load(:, 1:model%n_nodes))
+         loads(:, :) = abs(model%nodal_load(:, 1:n))
          do i = 1, deck%n_steps
-            loads = loads + abs(deck%steps(i)%loads%nodal_load)
+            loads(:, :) = loads + abs(deck%steps(i)%loads%nodal_load)
          end do
          ! A moment that such a node cannot carry is reported at its first *CLOAD line, else (no line
          ! recorded) at the node's own line.
-         call grow_integers(deck%moment_line, model%n_nodes)
-         call grow_integers(deck%moment_column, model%n_nodes)
-         load_line = merge(deck%moment_line(1:model%n_nodes), deck%node_line(1:model%n_nodes), &
-                           deck%moment_line(1:model%n_nodes) > 0)
-         load_column = merge(deck%moment_column(1:model%n_nodes), deck%node_column(1:model%n_nodes), &
-                             deck%moment_line(1:model%n_nodes) > 0)
+         load_line(:) = merge(deck%moment_line(1:n), deck%node_line(1:n), deck%moment_line(1:n) > 0)
+         load_column(:) = merge(deck%moment_column(1:n), deck%node_column(1:n), deck%moment_line(1:n) > 0)
+         do i = 1, model%n_elements
+            kinds(i) = element_kind(model, i)
+         end do
          call restrain_truss_nodes(source, model%connectivity(:, 1:model%n_elements), &
-                                   element_kinds(model, model%n_elements), model%node_label(1:model%n_nodes), &
+                                   kinds, model%node_label(1:n), &
                                    load_line, load_column, &
                                    model%fixed(:, 1:model%n_nodes), loads, error, &
                                    joints=model%end_joints)

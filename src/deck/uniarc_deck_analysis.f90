@@ -2,7 +2,8 @@
 !> *PATH (path following, docs/theory.md §2) and *OUTPUT (extra result files), docs/input.md.
 module uniarc_deck_analysis
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, to_upper, is_name, same_text, integer_to_string, real_to_string
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, require_option, &
                                  data_fields, require_field_count, field_real, field_integer
@@ -33,7 +34,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, dof
+      integer :: i, j, line, dof, status
       real(dp) :: scale
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
@@ -90,8 +91,11 @@ contains
 
          call add_track(deck%model, fields(1)%text, nodes(1), dof, scale)
          ! grown by doubling (amortised O(1) a track; issue 14), entries 1..n_tracks in use
-         call grow_integers(deck%track_line, deck%model%n_tracks)
-         call grow_integers(deck%track_column, deck%model%n_tracks)
+         call grow_integers(deck%track_line, deck%model%n_tracks, status)
+         if (status == 0) call grow_integers(deck%track_column, deck%model%n_tracks, status)
+         call allocation_failure(status, 'the deck positions of the tracks', 16.0_dp*deck%model%n_tracks, &
+                                 error_input, error)
+         if (allocated(error)) return
          deck%track_line(deck%model%n_tracks) = line
          deck%track_column(deck%model%n_tracks) = fields(1)%column
       end do

@@ -6,14 +6,15 @@
 !> elements a card created, and at the end the tables of the whole deck.
 module uniarc_deck_element
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, to_upper, integer_to_string, real_to_string
    use uniarc_deck_source, only: source_t, card_t, raise, clip, option_index, check_options, data_fields, &
                                  require_field_count, field_real, field_integer
    use uniarc_deck_state, only: deck_t, resolve_elements, option_real
    use uniarc_model, only: element_beam_column, element_truss, element_timoshenko, dof_rz, section_t, &
                            end_joint_t
-   use uniarc_model_builder, only: set_end_joint, element_kinds
+   use uniarc_model_builder, only: set_end_joint, element_kind
    implicit none
    private
    public :: read_element_type, check_element_section, read_release, restrain_truss_nodes
@@ -75,8 +76,8 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, end, e
-      integer, allocatable :: elements(:), kinds(:)
+      integer :: i, j, line, end, e, status, capacity
+      integer, allocatable :: elements(:)
       type(field_t), allocatable :: fields(:)
       type(end_joint_t) :: joint
       real(dp) :: stiffness, moment_limit
@@ -146,10 +147,9 @@ contains
             end if
             joint%moment_limit = moment_limit
          end if
-         kinds = element_kinds(deck%model, deck%model%n_elements)
          do j = 1, size(elements)
             e = elements(j)
-            if (kinds(e) == element_truss) then
+            if (element_kind(deck%model, e) == element_truss) then
                call raise(source, line, fields(1)%column, 'expected beam elements, found truss element '// &
                           integer_to_string(deck%model%element_label(e))//' (it carries no moment to release)', &
                           error)
@@ -165,7 +165,13 @@ contains
                   end if
                end if
             end if
-            call set_end_joint(deck%model, e, end, joint)
+            capacity = 0
+            if (allocated(deck%model%end_joints)) capacity = size(deck%model%end_joints, 2)
+            call set_end_joint(deck%model, e, end, joint, status)
+            ! (the size of set_end_joint's growth: max(e, 2 capacity) elements of two joints)
+            call allocation_failure(status, 'the end joints of the model', &
+                                    2.0_dp*storage_size(joint)/8.0_dp*max(e, 2*capacity), error_input, error)
+            if (allocated(error)) return
          end do
       end do
    end subroutine read_release
@@ -191,7 +197,8 @@ contains
    !> `node_line`, `node_column` (the caller gives the node's first moment line, uniarc_deck). (A distributed load on a truss is refused where
    !> `*DLOAD` is read, uniarc_deck_loads.) Arrays: connectivity (2, n_elements), kinds (n_elements),
    !> node_label/node_line/node_column (n_nodes), fixed and nodal_load (3, n_nodes); `joints` (optional,
-   !> (2, ≥ 0)) the end joints of the first elements (the others rigid).
+   !> (2, ≥ 0)) the end joints of the first elements (the others rigid). Its work arrays refused by
+   !> the system: error_input, the model does not fit in memory (uniarc_memory).
    subroutine restrain_truss_nodes(source, connectivity, kinds, node_label, node_line, node_column, &
                                    fixed, nodal_load, error, joints)
       type(source_t), intent(in) :: source
@@ -202,9 +209,16 @@ contains
       real(dp), intent(in) :: nodal_load(:, :)
       type(error_t), allocatable, intent(out) :: error
       type(end_joint_t), intent(in), optional :: joints(:, :)
-      logical :: held(size(node_label)), touched(size(node_label)), free_end(2, size(kinds))
-      integer :: e, i
-      free_end = spread(kinds == element_truss, 1, 2)
+      logical, allocatable :: held(:), touched(:), free_end(:, :)
+      integer :: e, i, status
+      ! allocated with stat= (automatic arrays of the model's length are not checked)
+      allocate (held(size(node_label)), touched(size(node_label)), free_end(2, size(kinds)), stat=status)
+      call allocation_failure(status, 'the work arrays of the truss nodes'' check', &
+                              8.0_dp*size(node_label) + 8.0_dp*size(kinds), error_input, error)
+      if (allocated(error)) return
+      do e = 1, size(kinds)
+         free_end(:, e) = kinds(e) == element_truss
+      end do
       if (present(joints)) then
          do e = 1, min(size(kinds), size(joints, 2))
             free_end(:, e) = free_end(:, e) .or. joints(:, e)%hinge

@@ -3,13 +3,14 @@
 !> are reference loads, multiplied by the load parameter λ of the analysis.
 module uniarc_deck_loads
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t
+   use uniarc_error, only: error_t, error_input
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, to_upper, is_name, integer_to_string, real_to_string
    use uniarc_expression, only: find_parameter, parameter_table_t, set_parameter, sin_degrees, cos_degrees
    use uniarc_deck_source, only: source_t, card_t, raise, clip, check_options, option_index, data_fields, &
                                  require_field_count, field_real
    use uniarc_model, only: dof_ux, dof_uy, dof_rz, element_truss
-   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kinds, &
+   use uniarc_model_builder, only: add_support, add_nodal_load, add_line_load, add_pressure, element_kind, &
                                    add_thermal_load, add_prescribed_displacement, remove_support
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
    use uniarc_growth, only: grow_integers
@@ -31,7 +32,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, k, line, first_dof, last_dof, c
+      integer :: i, j, k, line, first_dof, last_dof, c, status
       logical :: held(3), named, remove, both(3)
       character(len=2), parameter :: dof_names(3) = ['UX', 'UY', 'RZ']
       real(dp) :: settlement
@@ -124,12 +125,18 @@ contains
                if (allocated(error)) return
                do j = 1, size(nodes)
                   do k = first_dof, last_dof
-                     call add_prescribed_displacement(deck%model, nodes(j), k, settlement)
+                     call add_prescribed_displacement(deck%model, nodes(j), k, settlement, status)
+                     call allocation_failure(status, 'the prescribed displacements of the model', &
+                                             16.0_dp*deck%model%n_prescribed, error_input, error)
+                     if (allocated(error)) return
                   end do
                   deck%n_prescribed = deck%n_prescribed + 1
-                  call grow_integers(deck%prescribed_node, deck%n_prescribed)
-                  call grow_integers(deck%prescribed_line, deck%n_prescribed)
-                  call grow_integers(deck%prescribed_column, deck%n_prescribed)
+                  call grow_integers(deck%prescribed_node, deck%n_prescribed, status)
+                  if (status == 0) call grow_integers(deck%prescribed_line, deck%n_prescribed, status)
+                  if (status == 0) call grow_integers(deck%prescribed_column, deck%n_prescribed, status)
+                  call allocation_failure(status, 'the list of prescribed displacements', &
+                                          24.0_dp*deck%n_prescribed, error_input, error)
+                  if (allocated(error)) return
                   deck%prescribed_node(deck%n_prescribed) = nodes(j)
                   deck%prescribed_line(deck%n_prescribed) = line
                   deck%prescribed_column(deck%n_prescribed) = fields(4)%column
@@ -190,7 +197,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, dof
+      integer :: i, j, line, dof, status
       real(dp) :: value
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: nodes(:)
@@ -227,8 +234,11 @@ contains
          do j = 1, size(nodes)
             call add_nodal_load(deck%model, nodes(j), dof, value)
             if (dof == dof_rz .and. value /= 0.0_dp) then
-               call grow_integers(deck%moment_line, nodes(j))
-               call grow_integers(deck%moment_column, nodes(j))
+               call grow_integers(deck%moment_line, nodes(j), status)
+               if (status == 0) call grow_integers(deck%moment_column, nodes(j), status)
+               call allocation_failure(status, 'the deck positions of the moments', 16.0_dp*nodes(j), error_input, &
+                                       error)
+               if (allocated(error)) return
                if (deck%moment_line(nodes(j)) == 0) then
                   deck%moment_line(nodes(j)) = line
                   deck%moment_column(nodes(j)) = fields(2)%column
@@ -259,7 +269,7 @@ contains
       logical :: follower
       real(dp) :: value, angle, centre(2)
       type(field_t), allocatable :: fields(:)
-      integer, allocatable :: elements(:), kinds(:)
+      integer, allocatable :: elements(:)
       character(len=:), allocatable :: load_type
       type(parameter_table_t) :: table
       real(dp), allocatable :: position(:, :)
@@ -291,9 +301,8 @@ contains
          if (allocated(error)) return
          ! A truss, pinned at both ends, has no transverse stiffness over its span: it takes loads at
          ! its nodes only.
-         kinds = element_kinds(deck%model, deck%model%n_elements)
          do j = 1, size(elements)
-            if (kinds(elements(j)) == element_truss) then
+            if (element_kind(deck%model, elements(j)) == element_truss) then
                call raise(source, line, fields(1)%column, 'expected beam elements for a distributed load, '// &
                           'found truss element '//integer_to_string(deck%model%element_label(elements(j)))// &
                           ' (a truss takes loads at its nodes: *CLOAD)', error)
@@ -315,7 +324,8 @@ contains
                        clip(fields(2)%text)//'''', error)
             return
          end select
-         position = element_positions(deck, elements, centre)
+         call element_positions(deck, elements, centre, position, error)
+         if (allocated(error)) return
          table = deck%parameters
          do j = 1, size(elements)
             call set_parameter(table, 'x', position(1, j))
@@ -359,15 +369,21 @@ contains
 
    !> Position variables of the elements `elements` (in that order) at their midpoints on the initial
    !> chord: (x, y, s, theta) per element (4, n); s the arc length along the list to the midpoint,
-   !> theta = atan2(y − yc, x − xc) in degrees, (−180, 180].
-   pure function element_positions(deck, elements, centre) result(position)
+   !> theta = atan2(y − yc, x − xc) in degrees, (−180, 180]. `position` is allocated here (4, n).
+   !> Errors: `position` refused by the system (error_input: the model does not fit in memory).
+   subroutine element_positions(deck, elements, centre, position, error)
       type(deck_t), intent(in) :: deck
       integer, intent(in) :: elements(:)
       real(dp), intent(in) :: centre(2)
-      real(dp) :: position(4, size(elements))
+      real(dp), allocatable, intent(out) :: position(:, :)
+      type(error_t), allocatable, intent(out) :: error
       real(dp) :: ends(2, 2), middle(2), length, travelled
       real(dp), parameter :: degrees = 180.0_dp/acos(-1.0_dp)
-      integer :: j
+      integer :: j, status
+      allocate (position(4, size(elements)), stat=status)
+      call allocation_failure(status, 'the positions of the elements of a line', 32.0_dp*size(elements), &
+                              error_input, error)
+      if (allocated(error)) return
       travelled = 0.0_dp
       do j = 1, size(elements)
          ends(:, 1) = deck%model%coordinates(:, deck%model%connectivity(1, elements(j)))
@@ -380,7 +396,7 @@ contains
          if (any(middle /= centre)) position(4, j) = degrees*atan2(middle(2) - centre(2), middle(1) - centre(1))
          travelled = travelled + length
       end do
-   end function element_positions
+   end subroutine element_positions
 
    !> *TEMPERATURE: lines `elset, alpha, dT [, dT_difference, depth]`: a temperature change dT at the
    !> elements' axis (axial strain alpha dT) and, optionally, a difference dT_left − dT_right between the
@@ -395,7 +411,7 @@ contains
       integer :: i, j, line
       real(dp) :: alpha, delta_t, difference, depth
       type(field_t), allocatable :: fields(:)
-      integer, allocatable :: elements(:), kinds(:)
+      integer, allocatable :: elements(:)
       type(parameter_table_t) :: table
       real(dp), allocatable :: position(:, :)
 
@@ -413,8 +429,8 @@ contains
          end if
          call resolve_elements(source, deck, line, fields(1), elements, error)
          if (allocated(error)) return
-         kinds = element_kinds(deck%model, deck%model%n_elements)
-         position = element_positions(deck, elements, [0.0_dp, 0.0_dp])
+         call element_positions(deck, elements, [0.0_dp, 0.0_dp], position, error)
+         if (allocated(error)) return
          table = deck%parameters
          do j = 1, size(elements)
             call set_parameter(table, 'x', position(1, j))
@@ -443,7 +459,7 @@ contains
                              clip(fields(5)%text)//'''', error)
                   return
                end if
-               if (difference /= 0.0_dp .and. kinds(elements(j)) == element_truss) then
+               if (difference /= 0.0_dp .and. element_kind(deck%model, elements(j)) == element_truss) then
                   call raise(source, line, fields(4)%column, 'expected no temperature difference on truss element '// &
                              integer_to_string(deck%model%element_label(elements(j)))// &
                              ' (a truss has no bending)', error)

@@ -7,7 +7,8 @@ module uniarc_deck_source
    use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_kinds, only: dp
    use uniarc_foreign, only: file_status
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, add_context
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, split_fields, to_upper, is_name, first_nonblank, last_nonblank, &
                              same_text, integer_to_string
    use uniarc_expression, only: parameter_table_t, evaluate_expression, evaluate_integer
@@ -90,6 +91,10 @@ contains
       allocate (source%lines(0))
       limit = max_line_length
       if (present(line_limit)) limit = line_limit
+      if (len(path) == 0) then
+         call make_error(error, 'the deck: expected the path of a deck file, found an empty argument', error_input)
+         return
+      end if
       call file_status(path, kind, bytes, failure)
       if (allocated(failure)) then
          call make_error(error, path//': cannot open ('//failure//')', error_input)
@@ -113,7 +118,7 @@ contains
       open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
             iostat=status, iomsg=message)
       if (status /= 0) then
-         call make_error(error, path//': cannot open ('//trim(message)//')', error_input)
+         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
          return
       end if
       do offset = 0, int(bytes) - 1, chunk_bytes
@@ -128,6 +133,18 @@ contains
       call split_lines(buffer, limit, source, error)
    end subroutine read_source
 
+   !> The reason in gfortran's message of a failed OPEN, "Cannot open file 'PATH': REASON", without its
+   !> prefix (the caller names the file and says it cannot be opened); the whole message otherwise.
+   pure function runtime_reason(message) result(reason)
+      character(len=*), intent(in) :: message
+      character(len=:), allocatable :: reason
+      integer :: at
+      reason = trim(message)
+      if (index(reason, 'Cannot open file ') /= 1) return
+      at = index(reason, "': ", back=.true.)
+      if (at > 0) reason = reason(at + 3:)
+   end function runtime_reason
+
    !> Split the deck's text into `source%lines` at line feeds (a last line without one counts).
    subroutine split_lines(text, limit, source, error)
       character(len=*), intent(in) :: text
@@ -135,7 +152,7 @@ contains
       type(source_t), intent(inout) :: source
       type(error_t), allocatable, intent(out) :: error
       character(len=1), parameter :: line_feed = achar(10), carriage_return = achar(13), tab = achar(9)
-      integer :: n, start, length, i, k, status
+      integer :: n, start, length, i, k, status, kept
 
       n = 0
       start = 1
@@ -157,11 +174,21 @@ contains
          length = index(text(start:), line_feed) - 1
          if (length < 0) length = len(text) - start + 1
          associate (line => source%lines(i))
-            line%text = text(start:start + length - 1)
-            start = start + length + 1
+            ! the line's text (less a carriage return before its line feed) allocated with stat= at its
+            ! length: the assignment then allocates nothing
+            kept = length
             if (length > 0) then
-               if (line%text(length:length) == carriage_return) line%text = line%text(1:length - 1)
+               if (text(start + length - 1:start + length - 1) == carriage_return) kept = length - 1
             end if
+            allocate (character(len=kept) :: line%text, stat=status)
+            if (status /= 0) then
+               call allocation_failure(status, 'the text of line '//integer_to_string(i)//' of the deck', &
+                                       real(kept, dp), error_input, error)
+               call add_context(error, source%path//':'//integer_to_string(i))
+               return
+            end if
+            line%text(:) = text(start:start + kept - 1)
+            start = start + length + 1
             if (len(line%text) > limit) then
                source%n_lines = i
                call raise(source, i, limit + 1, 'expected a line of at most '//integer_to_string(limit)// &
@@ -229,7 +256,7 @@ contains
       type(card_t), intent(out) :: card
       logical, intent(out) :: found
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, first
+      integer :: i, first, status
       integer, allocatable :: grown(:)
 
       found = .false.
@@ -259,7 +286,13 @@ contains
          if (is_comment(source%lines(i)%text, first)) cycle
          if (source%lines(i)%text(first:first) == '*') exit
          if (card%n_data == size(card%data_lines)) then
-            allocate (grown(2*size(card%data_lines)))
+            allocate (grown(2*size(card%data_lines)), stat=status)
+            if (status /= 0) then
+               call allocation_failure(status, 'the data lines of the card', 8.0_dp*size(card%data_lines), &
+                                       error_input, error)
+               call add_context(error, source%path//':'//integer_to_string(card%line))
+               return
+            end if
             grown(1:card%n_data) = card%data_lines(1:card%n_data)
             call move_alloc(grown, card%data_lines)
          end if

@@ -136,7 +136,9 @@ contains
          end if
          return
       end if
-      call add_name(deck%step_names, deck%steps(deck%n_steps + 1)%name, j)
+      call add_name(deck%step_names, deck%steps(deck%n_steps + 1)%name, j, status)
+      call allocation_failure(status, 'the table of step names', 32.0_dp*(deck%n_steps + 1), error_input, error)
+      if (allocated(error)) return
       deck%in_step = .true.
       deck%step_line = card%line
       deck%step_column = card%column

@@ -20,17 +20,31 @@ module uniarc_parameter_table
 contains
 
    !> Define `name` with `value`, or change the value of the parameter of that name (any case).
-   pure subroutine set_parameter(table, name, value)
+   !> status (optional): the stat= of the growth of the table (nonzero: refused by the system, the
+   !> parameter's value not set and the table not to be used further; for uniarc_memory,
+   !> allocation_failure); absent, a refusal stops the program.
+   pure subroutine set_parameter(table, name, value, status)
       type(parameter_table_t), intent(inout) :: table
       character(len=*), intent(in) :: name
       real(dp), intent(in) :: value
+      integer, intent(out), optional :: status
       real(dp), allocatable :: grown(:)
-      integer :: i
+      integer :: i, stat
 
-      call add_name(table%names, name, i)
-      if (.not. allocated(table%values)) allocate (table%values(8))
+      stat = 0
+      if (present(status)) then
+         status = 0
+         call add_name(table%names, name, i, stat)
+         if (stat == 0 .and. .not. allocated(table%values)) allocate (table%values(8), stat=stat)
+         if (stat == 0 .and. i > size(table%values)) allocate (grown(2*size(table%values)), stat=stat)
+         status = stat
+         if (stat /= 0) return
+      else
+         call add_name(table%names, name, i)
+         if (.not. allocated(table%values)) allocate (table%values(8))
+         if (i > size(table%values)) allocate (grown(2*size(table%values)))
+      end if
       if (i > size(table%values)) then
-         allocate (grown(2*size(table%values)))
          grown(1:size(table%values)) = table%values
          call move_alloc(grown, table%values)
       end if

@@ -36,7 +36,7 @@ module uniarc_model_builder
    public :: model_builder_t, finish_model
    public :: add_section, add_node, add_element, add_to_node_set, add_to_element_set
    public :: add_support, add_nodal_load, add_line_load, add_pressure, add_track
-   public :: set_element_kind, element_kinds
+   public :: set_element_kind, element_kind
    public :: set_end_joint
    public :: node_index, element_index, section_index, node_set_index, element_set_index, track_index
    public :: contact_group_index
@@ -255,7 +255,7 @@ contains
       capacity = 0
       if (allocated(builder%element_kind)) capacity = size(builder%element_kind)
       if (maxval(elements) > capacity) then
-         ! grown with stat= (the kinds of element_kinds, in place of its function result)
+         ! grown with stat= (no array function result of the kinds: element_kind asks for one)
          n = max(maxval(elements), 2*capacity)
          if (present(status)) then
             allocate (grown(n), stat=stat)
@@ -274,34 +274,36 @@ contains
 
    !> Put the joint `joint` (a hinge or a rotational spring, uniarc_model end_joint_t) between end `end`
    !> (1 or 2) of element `element` (internal index) and its node; joints never set are rigid.
-   pure subroutine set_end_joint(builder, element, end, joint)
+   !> status: the stat= of the growth of the joints' array (nonzero: refused by the system, the joints
+   !> left as they were; for uniarc_memory, allocation_failure).
+   pure subroutine set_end_joint(builder, element, end, joint, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: element, end
       type(end_joint_t), intent(in) :: joint
+      integer, intent(out) :: status
       type(end_joint_t), allocatable :: grown(:, :)
       integer :: capacity
+      status = 0
       capacity = 0
       if (allocated(builder%end_joints)) capacity = size(builder%end_joints, 2)
       if (element > capacity) then
-         allocate (grown(2, max(element, 2*capacity)))
+         allocate (grown(2, max(element, 2*capacity)), stat=status)
+         if (status /= 0) return
          if (capacity > 0) grown(:, 1:capacity) = builder%end_joints
          call move_alloc(grown, builder%end_joints)
       end if
       builder%end_joints(end, element) = joint
    end subroutine set_end_joint
 
-   !> The kinds of elements 1..n (shape (n)): those set by set_element_kind, the beam-column for the
-   !> others.
-   pure function element_kinds(builder, n) result(kinds)
+   !> The kind of element e (internal index): that set by set_element_kind, the beam-column for the
+   !> others (a scalar: no array of the model's length is made for a question about one element).
+   pure integer function element_kind(builder, e)
       type(model_builder_t), intent(in) :: builder
-      integer, intent(in) :: n
-      integer :: kinds(n)
-      integer :: k
-      kinds = element_beam_column
+      integer, intent(in) :: e
+      element_kind = element_beam_column
       if (.not. allocated(builder%element_kind)) return
-      k = min(size(builder%element_kind), n)
-      kinds(1:k) = builder%element_kind(1:k)
-   end function element_kinds
+      if (e <= size(builder%element_kind)) element_kind = builder%element_kind(e)
+   end function element_kind
 
    !> Add `members` (node indices) to node set `name` (created if new), skipping nodes already in it.
    !> Errors: an allocation the system refuses (error_input, uniarc_memory: allocation_failure); the
@@ -331,7 +333,9 @@ contains
          builder%n_node_sets = builder%n_node_sets + 1
          set = builder%n_node_sets
          builder%node_sets(set)%name = name
-         call add_name(builder%node_set_names, name, k)
+         call add_name(builder%node_set_names, name, k, status)
+         call allocation_failure(status, 'the table of node set names', 32.0_dp*set, error_input, error)
+         if (allocated(error)) return
          allocate (builder%node_sets(set)%nodes(0))
       end if
       call merge_members(builder%node_sets(set)%nodes, members, builder%n_nodes, 'node set '''//name//'''', error)
@@ -363,7 +367,9 @@ contains
          builder%n_element_sets = builder%n_element_sets + 1
          set = builder%n_element_sets
          builder%element_sets(set)%name = name
-         call add_name(builder%element_set_names, name, k)
+         call add_name(builder%element_set_names, name, k, status)
+         call allocation_failure(status, 'the table of element set names', 32.0_dp*set, error_input, error)
+         if (allocated(error)) return
          allocate (builder%element_sets(set)%elements(0))
       end if
       call merge_members(builder%element_sets(set)%elements, members, builder%n_elements, &
@@ -457,16 +463,28 @@ contains
 
    !> Hold DOF `dof` of `node` and prescribe its displacement `value` (a support settlement), a reference
    !> value scaled by λ like the loads; values on one DOF add up.
-   pure subroutine add_prescribed_displacement(builder, node, dof, value)
+   !> status: the stat= of the growth of the lists (nonzero: refused by the system, nothing added; for
+   !> uniarc_memory, allocation_failure).
+   pure subroutine add_prescribed_displacement(builder, node, dof, value, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: node, dof
       real(dp), intent(in) :: value
-      if (.not. allocated(builder%prescribed_node)) allocate (builder%prescribed_node(8), builder%prescribed_dof(8), &
-                                                              builder%prescribed_value(8))
+      integer, intent(out) :: status
+      real(dp), allocatable :: grown(:)
+      status = 0
+      if (.not. allocated(builder%prescribed_node)) then
+         allocate (builder%prescribed_node(8), builder%prescribed_dof(8), builder%prescribed_value(8), stat=status)
+         if (status /= 0) return
+      end if
       if (builder%n_prescribed == size(builder%prescribed_node)) then
-         call grow_integers(builder%prescribed_node, 2*builder%n_prescribed)
-         call grow_integers(builder%prescribed_dof, 2*builder%n_prescribed)
-         builder%prescribed_value = [builder%prescribed_value, spread(0.0_dp, 1, builder%n_prescribed)]
+         ! grown with stat= (a growth by an array constructor is not checked)
+         call grow_integers(builder%prescribed_node, 2*builder%n_prescribed, status)
+         if (status == 0) call grow_integers(builder%prescribed_dof, 2*builder%n_prescribed, status)
+         if (status == 0) allocate (grown(2*builder%n_prescribed), stat=status)
+         if (status /= 0) return
+         grown(1:builder%n_prescribed) = builder%prescribed_value(1:builder%n_prescribed)
+         grown(builder%n_prescribed + 1:) = 0.0_dp
+         call move_alloc(grown, builder%prescribed_value)
       end if
       builder%n_prescribed = builder%n_prescribed + 1
       builder%prescribed_node(builder%n_prescribed) = node
@@ -627,7 +645,7 @@ contains
       model%element_label = builder%element_label(1:e)
       model%element_section = builder%element_section(1:e)
       if (allocated(builder%element_kind)) then
-         ! allocated with stat= and filled in place (element_kinds' function result is not checked)
+         ! allocated with stat= and filled in place (an array function result is not checked)
          allocate (model%element_kind(e), stat=status)
          call allocation_failure(status, 'the element kinds of the model', 4.0_dp*e, error_input, error)
          if (allocated(error)) return

@@ -282,7 +282,9 @@ contains
          builder%contacts(first:first + size(candidates) - 1)%bed_next + first - 1
       builder%n_contacts = builder%n_contacts + size(candidates)
       builder%contact_groups(group)%name = name
-      call add_name(builder%contact_group_names, name, i)
+      call add_name(builder%contact_group_names, name, i, status)
+      call allocation_failure(status, 'the table of contact group names', 32.0_dp*group, error_input, error)
+      if (allocated(error)) return
       do i = 1, size(members)
          members(i) = first + i - 1
       end do

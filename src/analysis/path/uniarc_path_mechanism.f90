@@ -149,7 +149,7 @@ contains
          call free_internal_motion(map, stiffness, motion, error, memory_category)
          if (allocated(error)) return
          if (.not. allocated(motion)) return
-         call internal_mechanism_error(model, map, motion, ratio, row, error)
+         call internal_mechanism_error(model, map, motion, ratio, row, error, memory_category)
          return
       end if
       largest = maxloc(abs(map%metric*motion), 1)
@@ -421,19 +421,28 @@ contains
 
    !> The message of a mechanism inside the model (error_input): the nodes that move (labels, the
    !> first ten) with the node and component where the motion is largest, and the elements that move
-   !> with them.
-   subroutine internal_mechanism_error(model, map, motion, ratio, row, error)
+   !> with them. Its arrays (nodes' and elements' length) allocated with stat=: one the system refuses
+   !> is out of memory, of `category` (find_mechanism), in place of the message.
+   subroutine internal_mechanism_error(model, map, motion, ratio, row, error, category)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: motion(:), ratio
       integer, intent(in) :: row
       type(error_t), allocatable, intent(out) :: error
+      integer, intent(in) :: category
       real(dp), allocatable :: size_at(:)
-      logical, allocatable :: moving(:)
+      logical, allocatable :: moving(:), element_moving(:)
+      integer, allocatable :: labels(:)
       character(len=:), allocatable :: deck, nodes, elements
       real(dp) :: largest
-      integer :: node, dof, e, worst_node, worst_dof
-      allocate (size_at(model%n_nodes), source=0.0_dp)
+      integer :: node, dof, e, worst_node, worst_dof, status
+      allocate (size_at(model%n_nodes), moving(model%n_nodes), element_moving(model%n_elements), &
+                labels(max(model%n_nodes, model%n_elements)), stat=status)
+      call allocation_failure(status, 'the arrays of a mechanism''s message', &
+                              13.0_dp*model%n_nodes + 5.0_dp*model%n_elements + &
+                              4.0_dp*max(model%n_nodes, model%n_elements), category, error)
+      if (allocated(error)) return
+      size_at = 0.0_dp
       largest = 0.0_dp
       worst_node = 1
       worst_dof = 1
@@ -450,10 +459,15 @@ contains
       end do
       ! A node moves with the mechanism when it moves at least 1e-3 of the largest motion.
       moving = size_at > 1.0e-3_dp*largest
-      nodes = listed(count(moving), [(label_of_node(node), node=1, model%n_nodes)], moving)
-      elements = listed(count([(any(moving(model%connectivity(:, e))), e=1, model%n_elements)]), &
-                        [(label_of_element(e), e=1, model%n_elements)], &
-                        [(any(moving(model%connectivity(:, e))), e=1, model%n_elements)])
+      do node = 1, model%n_nodes
+         labels(node) = label_of_node(node)
+      end do
+      nodes = listed(count(moving), labels(1:model%n_nodes), moving)
+      do e = 1, model%n_elements
+         labels(e) = label_of_element(e)
+         element_moving(e) = any(moving(model%connectivity(:, e)))
+      end do
+      elements = listed(count(element_moving), labels(1:model%n_elements), element_moving)
       deck = 'the model'
       if (allocated(model%deck_path)) deck = model%deck_path//': the model'
       call make_error(error, deck//' is a mechanism (its stiffness is singular): a part of it can move without '// &

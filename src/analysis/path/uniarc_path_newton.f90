@@ -16,14 +16,14 @@ module uniarc_path_newton
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: reserve
    use uniarc_model, only: model_t, analysis_options_t
-   use uniarc_dof_map, only: dof_map_t
+   use uniarc_dof_map, only: dof_map_t, bed_deflection
    use uniarc_band, only: band_matrix_t, band_solve, band_copy, band_factorize
    use uniarc_assembly, only: gather_nodal
    use uniarc_contact_lcp, only: path_constraint_t
    use uniarc_path_state, only: path_state_t, path_system_t, step_trial_t, fail_attempt, linearization_t, masked_dot, &
                                 masked_norm, equilibrium_at, factorize_and_solve, constraint_residual, &
-                                has_contacts, new_linearization, candidate_values, floating_touched
-   use uniarc_contact, only: toggle_contacts, bed_values
+                                has_contacts, new_linearization, floating_touched
+   use uniarc_contact, only: toggle_contacts
    use uniarc_path_integrator, only: predictor_dlambda, step_constraint, correction_constraint, iteration_dlambda, &
                                      degenerate_tangent
    use uniarc_model, only: control_arclength, control_displacement
@@ -166,10 +166,12 @@ contains
       type(set_update_t) :: update
       type(error_t), allocatable :: error
       real(dp), allocatable :: predictor(:)
-      logical, allocatable :: new_active(:)
+      ! the candidates' unknowns and bed deflections, and the flipped set, of the sign rule's edit
+      real(dp), allocatable :: values(:), deflections(:)
+      logical, allocatable :: new_active(:), flip(:)
       character(len=:), allocatable :: reason
       real(dp) :: lambda, dl, force_scale, bytes
-      integer :: n, m, status
+      integer :: n, m, status, c
       logical :: contacts, predicted, reuse_factors, in_equilibrium, update_set, solved, fresh_set, lands
       trial%converged = .false.
       system%holds_converged = .false.
@@ -185,6 +187,9 @@ contains
       if (status == 0) call reserve(trial%predictor, n, status, bytes)
       if (status == 0) call reserve(predictor, n, status, bytes)
       if (status == 0) call reserve(new_active, m, status, bytes)
+      if (status == 0) call reserve(flip, m, status, bytes)
+      if (status == 0) call reserve(values, m, status, bytes)
+      if (status == 0) call reserve(deflections, m, status, bytes)
       if (status == 0) call reserve(system%converged_internal, n, status, bytes)
       if (status == 0) call reserve(system%converged_reference, n, status, bytes)
       call allocation_failure(status, 'a work vector of a Newton attempt', bytes, error_analysis, error)
@@ -328,9 +333,16 @@ contains
                      trial%set_changes = trial%set_changes + 1
                      ! The tangent and residual of the new set at this same state: the flipped
                      ! candidates' rows and springs edited in place, no assembly.
-                     call toggle_contacts(model, state%map, lin%nodal, candidate_values(state%map, lin%x), &
-                                          new_active .neqv. trial%active, new_active, system%tangent, &
-                                          lin%rhs(:, 1), state%slip, bed_values(state%map, lin%x), &
+                     ! (in the attempt's work vectors: no function results or temporaries of length m)
+                     do c = 1, m
+                        values(c) = 0.0_dp
+                        if (state%map%candidate_equation(c) > 0) values(c) = lin%x(state%map%candidate_equation(c))
+                        deflections(c) = bed_deflection(state%map, c, lin%x)
+                        flip(c) = new_active(c) .neqv. trial%active(c)
+                     end do
+                     call toggle_contacts(model, state%map, lin%nodal, values, &
+                                          flip, new_active, system%tangent, &
+                                          lin%rhs(:, 1), state%slip, deflections, &
                                           lambda=lambda, reference=lin%reference)
                      trial%active = new_active
                      call restart_test(test)

@@ -28,7 +28,7 @@ module uniarc_path_state
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
    public :: commit_joint_state, yielded_joints
    public :: masked_dot, masked_norm, nodal_displacements, candidate_reactions, equilibrium_at, &
-             factorize_and_solve, constraint_residual, has_contacts, new_linearization, candidate_values
+             factorize_and_solve, constraint_residual, has_contacts, new_linearization
    public :: hold_floating, floating_touched
    public :: commit_plastic, accept_trial
    public :: fail_attempt
@@ -481,18 +481,6 @@ contains
       end do
       if (count > 8) labels = labels//', ...'
    end subroutine yielded_joints
-
-   !> The reaction unknowns of x, one per candidate (0 for inert ones).
-   pure function candidate_values(map, x) result(values)
-      type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: x(:)
-      real(dp) :: values(size(map%candidate_equation))
-      integer :: c
-      values = 0.0_dp
-      do c = 1, size(values)
-         if (map%candidate_equation(c) > 0) values(c) = x(map%candidate_equation(c))
-      end do
-   end function candidate_values
 
    !> Largest residual of the contact rows (gap units for the working set, reactions for the rest).
    pure real(dp) function constraint_residual(map, residual) result(largest)
