@@ -21,7 +21,7 @@ module uniarc_path_driver
    use uniarc_error, only: error_t, make_error, error_input, error_internal, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, tracked_values
-   use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
+   use uniarc_path_following, only: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
    use uniarc_path_collapse, only: bearing_collapse, plastic_plateau
@@ -62,6 +62,9 @@ module uniarc_path_driver
    !> (a caller may change `rules` between steps).
    type :: path_driver_t
       type(path_state_t) :: state                  !< committed state (uniarc_path_following), point included
+      !> the memory of the path traced (the last committed states and corners, uniarc_path_trace): path_advance's,
+      !> kept here so that no copy of the state copies it
+      type(path_trace_t) :: trace
       type(stop_rules_t) :: rules
       real(dp), allocatable :: displacement(:, :)  !< (dofs_per_node, n_nodes) nodal displacements at the committed state
       real(dp), allocatable :: tracked(:)          !< (size(model%tracks)) tracked values at the committed state
@@ -122,7 +125,7 @@ contains
                          integer_to_string(n_tracks)//' tracks of the model', error_input)
          return
       end if
-      call path_initialize(model, driver%state, error)
+      call path_initialize(model, driver%state, driver%trace, error)
       if (allocated(error)) return
       call nodal_displacements(model, driver%state, driver%displacement, error)
       if (allocated(error)) return
@@ -164,7 +167,7 @@ contains
             return
          end if
       end if
-      call path_restart(model, driver%state, error)
+      call path_restart(model, driver%state, driver%trace, error)
       if (allocated(error)) then
          driver%stop = stop_failure
          return
@@ -233,12 +236,14 @@ contains
                                   bound_only=.true.)
       end if
       if (near_collapse) before = driver%state
-      call path_advance(model, driver%state, error, outcome%cuts)
+      call path_advance(model, driver%state, driver%trace, error, outcome%cuts)
       if (near_collapse .and. .not. allocated(error)) then
          ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
          ! which the equilibrium on either side of the step meets)
          if (driver%state%lambda > upper + 100.0_dp*model%analysis%force_tolerance*abs(upper)) then
             ! (the step converged beyond the upper bound: the committed state is the collapse)
+            ! (the trace keeps the step taken back: the path, or the analysis step, ends here, and
+            ! path_restart forgets the kept states)
             driver%state = before
             driver%collapse_upper = upper
             driver%collapse_points = points
@@ -405,7 +410,7 @@ contains
             driver%state%system%holds_committed = .false.
             driver%state%system%holds_converged = .false.
          end if
-         call path_advance(model, driver%state, plateau_error, plateau_cuts)
+         call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
          if (allocated(plateau_error)) then
             error%message = error%message//'; nor with the contacts that touch out of the working set in it'
             driver%state%active(:) = saved_active
@@ -427,7 +432,7 @@ contains
          driver%state%system%holds_committed = .false.
          driver%state%system%holds_converged = .false.
       end if
-      call path_advance(model, driver%state, plateau_error, plateau_cuts)
+      call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
       driver%state%plateau_due = .false.
       driver%state%plateau_dlambda = 0.0_dp
       if (allocated(plateau_error)) then

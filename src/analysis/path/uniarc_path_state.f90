@@ -132,16 +132,6 @@ module uniarc_path_state
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
       real(dp), allocatable :: tangent_displacement(:)  !< K_T⁻¹ R at the committed state
       real(dp), allocatable :: last_increment(:)
-      !> (n, ≤ 8) the committed states at which the last corners of the path were passed, and
-      !> (≤ 8) their step numbers: a corner met again at one of them is a loop (docs/theory.md §2.12)
-      real(dp), allocatable :: corner_u(:, :)
-      integer, allocatable :: corner_step(:)
-      !> (n, ≤ 16) the last committed states of the analysis step (displacements), (≤ 16) their λ and
-      !> (≤ 16) their step numbers: a step that lands along the path traced before, going back, is
-      !> rejected (docs/theory.md §2.3, "back along the path")
-      real(dp), allocatable :: trace_u(:, :)
-      real(dp), allocatable :: trace_lambda(:)
-      integer, allocatable :: trace_step(:)
       real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
       real(dp) :: first_length = 0.0_dp
       !> Δl, Δλ or Δu_c the last converged step was taken with (the units of step_length; 0 before the
