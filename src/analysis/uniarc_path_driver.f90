@@ -195,9 +195,11 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
-      character(len=:), allocatable :: finding
-      integer :: k, status
-      logical :: collapsed
+      character(len=:), allocatable :: finding, nodes
+      type(path_state_t), allocatable :: before
+      real(dp) :: upper
+      integer :: k, points, status
+      logical :: collapsed, near_collapse
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
          return
@@ -217,7 +219,40 @@ contains
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
+      ! A committed state that the certificate (every point of the set counted as yielding, its slack
+      ! in the bound: the upper-bound theorem) finds within the bracket of a bearing collapse: the
+      ! collapse load is at most `upper` (docs/theory.md §3.9, "The step past the collapse"), so a step
+      ! that converges above it has left the collapse (a large rotation of the mechanism) and is not
+      ! taken; the state is kept to restore it (a copy made only near a collapse; unlike the point's,
+      ! copied with stat= above, this assignment is not checked for memory).
+      near_collapse = .false.
+      if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion) .and. &
+          allocated(driver%state%active)) then
+         if (any(driver%state%yielding .and. driver%state%active)) &
+            call bearing_collapse(model, driver%state, .false., near_collapse, upper, points, nodes, &
+                                  bound_only=.true.)
+      end if
+      if (near_collapse) before = driver%state
       call path_advance(model, driver%state, error, outcome%cuts)
+      if (near_collapse .and. .not. allocated(error)) then
+         ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
+         ! which the equilibrium on either side of the step meets)
+         if (driver%state%lambda > upper + 100.0_dp*model%analysis%force_tolerance*abs(upper)) then
+            ! (the step converged beyond the upper bound: the committed state is the collapse)
+            driver%state = before
+            driver%collapse_upper = upper
+            driver%collapse_points = points
+            driver%collapse_nodes = nodes
+            driver%stop = stop_collapse
+            outcome%stop = stop_collapse
+            outcome%advanced = .false.
+            outcome%iterations = 0
+            outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
+                                               driver%state%lambda, 0.0_dp)]
+            outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+            return
+         end if
+      end if
       if (allocated(error)) then
          ! A step that fails from a state at a bearing collapse (docs/theory.md §3.9, "Collapse"): the
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
@@ -326,8 +361,14 @@ contains
    !> step failed with its supports at their limits, the rigid mechanism of the yielded supports that
    !> the load drives and that closes an open contact (uniarc_path_collapse, plastic_plateau) moves the
    !> structure at constant load to that contact, the yielded supports flowing; a load step of the
-   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken.
-   !> On success `error` is deallocated and the committed state is the plateau's end (a converged step,
+   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken;
+   !> the contacts that touch already without being in the working set, and that the motion keeps
+   !> touching, start that step in the set with the contact that closes (alone, a touching one would
+   !> leave the turn about it free). Without a plateau, contacts that touch out of the set start the
+   !> normal step again in the set (a step of the load then presses them: docs/theory.md §3.9,
+   !> "Plateau of no length"). A plateau of no length (the motion within round-off, 1e-12, of the
+   !> displacements: no progress) is not taken: no row would differ from the last.
+   !> On success `error` is deallocated and the committed state is the step's end (a converged step,
    !> `cuts` its cut-backs); otherwise (no plateau, or its step does not converge) the committed state
    !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried.
    subroutine follow_plateau(model, driver, error, cuts)
@@ -337,16 +378,49 @@ contains
       integer, intent(inout) :: cuts
       type(error_t), allocatable :: plateau_error
       real(dp), allocatable :: motion(:), saved(:)
+      logical, allocatable :: touching(:), saved_active(:)
       real(dp) :: dlambda
       integer :: contact, status, n, plateau_cuts
       logical :: found
       n = size(driver%state%u)
-      allocate (motion(n), saved(n), stat=status)
+      allocate (motion(n), saved(n), touching(size(driver%state%active)), &
+                saved_active(size(driver%state%active)), stat=status)
       if (status /= 0) return   ! no plateau tried: the failed step's error stands
-      call plastic_plateau(model, driver%state, found, motion, dlambda, contact)
-      if (.not. found) return
+      call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching)
+      if (found) then
+         if (.not. sqrt(sum(driver%state%map%metric*motion**2)) > &
+             1.0e-12_dp*sqrt(sum(driver%state%map%metric*driver%state%u**2))) then
+            error%message = error%message//'; the plateau at constant load to the contact of node '// &
+                            integer_to_string(model%node_label(model%contacts(contact)%node))// &
+                            ' has no length (it touches already): no progress'
+            return
+         end if
+      end if
       saved(:) = driver%state%u
+      saved_active(:) = driver%state%active
+      if (.not. found) then
+         if (.not. any(touching)) return
+         driver%state%active(:) = driver%state%active .or. touching
+         if (allocated(driver%state%system)) then
+            driver%state%system%holds_committed = .false.
+            driver%state%system%holds_converged = .false.
+         end if
+         call path_advance(model, driver%state, plateau_error, plateau_cuts)
+         if (allocated(plateau_error)) then
+            error%message = error%message//'; nor with the contacts that touch out of the working set in it'
+            driver%state%active(:) = saved_active
+            if (allocated(driver%state%system)) then
+               driver%state%system%holds_committed = .false.
+               driver%state%system%holds_converged = .false.
+            end if
+            return
+         end if
+         cuts = cuts + plateau_cuts
+         deallocate (error)
+         return
+      end if
       driver%state%u(:) = driver%state%u + motion
+      driver%state%active(:) = driver%state%active .or. touching
       driver%state%plateau_due = .true.
       driver%state%plateau_dlambda = dlambda
       if (allocated(driver%state%system)) then
@@ -358,6 +432,7 @@ contains
       driver%state%plateau_dlambda = 0.0_dp
       if (allocated(plateau_error)) then
          driver%state%u(:) = saved
+         driver%state%active(:) = saved_active
          if (allocated(driver%state%system)) then
             driver%state%system%holds_committed = .false.
             driver%state%system%holds_converged = .false.
