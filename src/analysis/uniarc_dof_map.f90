@@ -70,7 +70,9 @@ contains
       if (status == 0) allocate (natural(model%n_nodes), stat=status)
       if (status == 0) call reverse_cuthill_mckee(model%n_nodes, start, neighbours, rcm, status)
       if (status == 0) then
-         natural = [(i, i=1, model%n_nodes)]
+         do i = 1, model%n_nodes   ! in place: no array constructor of the nodes' length
+            natural(i) = i
+         end do
          call ordering_bandwidth(rcm, start, neighbours, rcm_bandwidth, status)
       end if
       if (status == 0) call ordering_bandwidth(natural, start, neighbours, natural_bandwidth, status)

@@ -14,6 +14,8 @@ module uniarc_floating_subspace
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact_law, only: candidate_gap
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    implicit none
    private
    public :: orthonormal_motions, unheld_motions, spring_equations, remove_unheld
@@ -32,14 +34,19 @@ contains
    !> `basis` (n, k): the columns of `motions` (n, k) orthonormal in the displacement metric
    !> (map%metric: reactions weigh nothing), modified Gram–Schmidt. A column dependent on the previous
    !> ones (none is: floating_motions holds each before looking for the next) is left out.
-   pure subroutine orthonormal_motions(map, motions, basis)
+   !> Errors (error_analysis, out of memory): the work copy or `basis` refused by the system.
+   subroutine orthonormal_motions(map, motions, basis, error)
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: motions(:, :)
       real(dp), allocatable, intent(out) :: basis(:, :)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: work(:, :)
       real(dp) :: d
-      integer :: k, j, kept
-      work = motions
+      integer :: k, j, kept, status
+      allocate (work(size(motions, 1), size(motions, 2)), stat=status)
+      call allocation_failure(status, 'the orthonormal floating motions', 8.0_dp*size(motions), error_analysis, error)
+      if (allocated(error)) return
+      work(:, :) = motions
       kept = 0
       do k = 1, size(motions, 2)
          do j = 1, kept
@@ -50,7 +57,11 @@ contains
          kept = kept + 1
          work(:, kept) = work(:, k)/d
       end do
-      basis = work(:, 1:kept)
+      allocate (basis(size(motions, 1), kept), stat=status)
+      call allocation_failure(status, 'the orthonormal floating motions', 8.0_dp*size(motions, 1)*kept, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      basis(:, :) = work(:, 1:kept)
    end subroutine orthonormal_motions
 
    !> `unheld` (n, p ≤ k): an orthonormal basis (metric) of the motions of span(`basis`) that no contact
@@ -58,19 +69,27 @@ contains
    !> of the set's live, non-tangential candidates applied to each motion's displacement at their node;
    !> columns: `basis`, orthonormal in the metric) whose singular value is at most floating_tolerance of
    !> the motion's largest component. p = 0: the set holds every floating motion.
-   subroutine unheld_motions(model, map, set, basis, unheld)
+   !> Errors (error_analysis, out of memory): B, its rotations, the motions or `unheld` refused by the
+   !> system (each allocated with stat=, no array constructor of the set's length).
+   subroutine unheld_motions(model, map, set, basis, unheld, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       logical, intent(in) :: set(:)
       real(dp), intent(in) :: basis(:, :)
       real(dp), allocatable, intent(out) :: unheld(:, :)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: b(:, :), z(:, :), v(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2), sigma
       logical, allocatable :: free(:)
-      integer :: c, node, i, m, k, kept
+      integer :: c, node, i, m, k, kept, status
       k = size(basis, 2)
-      m = count([(set(c) .and. candidate_live(map, c) .and. .not. model%contacts(c)%tangential, c=1, size(set))])
-      allocate (b(m, k), source=0.0_dp)
+      m = 0
+      do c = 1, size(set)
+         if (set(c) .and. candidate_live(map, c) .and. .not. model%contacts(c)%tangential) m = m + 1
+      end do
+      allocate (b(m, k), source=0.0_dp, stat=status)
+      call allocation_failure(status, 'the contact normals on the floating motions', 8.0_dp*m*k, error_analysis, error)
+      if (allocated(error)) return
       m = 0
       do c = 1, size(set)
          if (.not. (set(c) .and. candidate_live(map, c))) cycle
@@ -84,14 +103,23 @@ contains
             if (map%equation(i, node) > 0) b(m, :) = b(m, :) + gradient(i)*basis(map%equation(i, node), :)
          end do
       end do
-      call jacobi_svd(b, z)
-      v = matmul(basis, z)
-      allocate (free(k))
+      call jacobi_svd(b, z, status)
+      call allocation_failure(status, 'the rotations of the floating motions'' singular value decomposition', &
+                              8.0_dp*(m + 2*k + k*k), error_analysis, error)
+      if (allocated(error)) return
+      allocate (v(size(basis, 1), k), free(k), stat=status)
+      call allocation_failure(status, 'the rotated floating motions', 8.0_dp*size(basis, 1)*k + 4.0_dp*k, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      v(:, :) = matmul(basis, z)
       do i = 1, k
          sigma = norm2(b(:, i))
          free(i) = sigma <= floating_tolerance*maxval(abs(v(:, i)))
       end do
-      allocate (unheld(size(basis, 1), count(free)))
+      allocate (unheld(size(basis, 1), count(free)), stat=status)
+      call allocation_failure(status, 'the floating motions no contact holds', 8.0_dp*size(basis, 1)*count(free), &
+                              error_analysis, error)
+      if (allocated(error)) return
       kept = 0
       do i = 1, k
          if (.not. free(i)) cycle
@@ -103,15 +131,20 @@ contains
    !> One-sided Jacobi SVD of b (m, k): on return the columns of b are mutually orthogonal (b·z of the
    !> input, their norms the singular values) and z (k, k) is the orthogonal matrix of the rotations
    !> (its columns the right singular vectors). Hestenes 1958; Demmel & Veselić 1992, Algorithm 4.1.
-   pure subroutine jacobi_svd(b, z)
+   !> `status`: the stat= of z and of the column work vectors (nonzero: refused, b untouched).
+   pure subroutine jacobi_svd(b, z, status)
       real(dp), intent(inout) :: b(:, :)
       real(dp), allocatable, intent(out) :: z(:, :)
+      integer, intent(out) :: status
       real(dp) :: alpha, beta, gamma, zeta, t, cs, sn
       real(dp), allocatable :: column(:), zcolumn(:)
       integer :: k, p, q, sweep, i
       logical :: rotated
       k = size(b, 2)
-      allocate (z(k, k), source=0.0_dp)
+      allocate (z(k, k), source=0.0_dp, stat=status)
+      if (status /= 0) return
+      allocate (column(size(b, 1)), zcolumn(k), stat=status)
+      if (status /= 0) return
       do i = 1, k
          z(i, i) = 1.0_dp
       end do
@@ -128,10 +161,10 @@ contains
                t = sign(1.0_dp, zeta)/(abs(zeta) + sqrt(1.0_dp + zeta**2))
                cs = 1.0_dp/sqrt(1.0_dp + t**2)
                sn = cs*t
-               column = b(:, p)
+               column(:) = b(:, p)
                b(:, p) = cs*column - sn*b(:, q)
                b(:, q) = sn*column + cs*b(:, q)
-               zcolumn = z(:, p)
+               zcolumn(:) = z(:, p)
                z(:, p) = cs*zcolumn - sn*z(:, q)
                z(:, q) = sn*zcolumn + cs*z(:, q)
             end do
@@ -143,18 +176,24 @@ contains
    !> The equations (p) at which springs hold the motions `unheld` (n, p): Gaussian elimination with
    !> complete pivoting on their displacements (metric), so that the p × p matrix of the motions at
    !> those equations is regular and the springs leave no combination of them free.
-   pure subroutine spring_equations(map, unheld, equations)
+   !> Errors (error_analysis, out of memory): the work copy of the motions or `equations` refused.
+   subroutine spring_equations(map, unheld, equations, error)
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: unheld(:, :)
       integer, allocatable, intent(out) :: equations(:)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: w(:, :)
       logical, allocatable :: done(:)
       real(dp) :: best
-      integer :: p, i, l, j, column, row
+      integer :: p, i, l, j, column, row, status
       p = size(unheld, 2)
-      allocate (equations(p), source=0)
-      allocate (done(p), source=.false.)
-      w = unheld
+      allocate (equations(p), source=0, stat=status)
+      if (status == 0) allocate (done(p), source=.false., stat=status)
+      if (status == 0) allocate (w(size(unheld, 1), p), stat=status)
+      call allocation_failure(status, 'the spring equations of the floating motions', 8.0_dp*size(unheld) + 8.0_dp*p, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      w(:, :) = unheld
       do i = 1, p
          w(:, i) = map%metric*w(:, i)
       end do

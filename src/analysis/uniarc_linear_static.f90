@@ -145,9 +145,12 @@ contains
          ! The floating motions the set leaves free: defined up to them, the solution is taken with none
          ! of them (its minimum-norm one), not with the amount the springs' equations and round-off set.
          if (allocated(floating)) then
-            call unheld_motions(model, map, set, floating, unheld)
+            call unheld_motions(model, map, set, floating, unheld, error)
+            if (allocated(error)) return
          else
-            allocate (unheld(n, 0))
+            allocate (unheld(n, 0), stat=status)
+            call allocation_failure(status, 'the floating motions no contact holds', 0.0_dp, error_analysis, error)
+            if (allocated(error)) return
          end if
          call remove_unheld(map, unheld, x)
          call linear_contact_state(model, map, x, set, r, g)
@@ -298,22 +301,29 @@ contains
       if (allocated(error) .or. .not. allocated(motions)) return
       call rigid_approach(model, map, motions, reference, zero_nodal, length_scale, .true., shift, contact, error)
       if (allocated(error) .or. contact == 0) return
-      call close_touching(model, map, shift, length_scale, set)
-      call orthonormal_motions(map, motions, floating)
-      call push_free_motions(model, map, reference, length_scale, floating, shift, set)
+      call close_touching(model, map, shift, length_scale, set, error)
+      if (allocated(error)) return
+      call orthonormal_motions(map, motions, floating, error)
+      if (allocated(error)) return
+      call push_free_motions(model, map, reference, length_scale, floating, shift, set, error)
    end subroutine approach_first_contact
 
    !> Candidates of `set`'s complement whose linearised gap g(0) + a(0)·u at the rigid displacement
    !> `shift` (n) is closed (within 1e-9 of the model size, uniarc_path_approach's touch fraction) join it.
-   subroutine close_touching(model, map, shift, length_scale, set)
+   !> Errors (error_analysis, out of memory): its nodal displacements refused (`set` untouched).
+   subroutine close_touching(model, map, shift, length_scale, set, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: shift(:), length_scale
       logical, intent(inout) :: set(:)
+      type(error_t), allocatable, intent(out) :: error
       real(dp), allocatable :: moved(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2)
-      integer :: c, node
-      allocate (moved(dofs_per_node, model%n_nodes))
+      integer :: c, node, status
+      allocate (moved(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal displacements of the rigid approach', &
+                              8.0_dp*dofs_per_node*model%n_nodes, error_analysis, error)
+      if (allocated(error)) return
       call gather_nodal(map, shift, moved)
       do c = 1, size(set)
          if (set(c) .or. .not. candidate_live(map, c)) cycle
@@ -332,22 +342,30 @@ contains
    !> do not see d, so they stay closed). At most k rounds (each new contact holds one more direction).
    !> No candidate met along d (the load lifts the structure off the contacts that could hold it) ends
    !> the approach: the contact LCP then fails and the lift-off test explains it (docs/theory.md §3.12).
-   subroutine push_free_motions(model, map, reference, length_scale, floating, shift, set)
+   !> Errors (error_analysis, out of memory): its vectors, nodal displacements or the unheld motions
+   !> refused by the system.
+   subroutine push_free_motions(model, map, reference, length_scale, floating, shift, set, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: reference(:), length_scale, floating(:, :)
       real(dp), intent(inout) :: shift(:)
       logical, intent(inout) :: set(:)
+      type(error_t), allocatable, intent(out) :: error
       !> the approach's tolerances (uniarc_path_approach: push_tolerance, slope_tolerance)
       real(dp), parameter :: push_tolerance = 1.0e-9_dp, slope_tolerance = 1.0e-12_dp
       real(dp), allocatable :: unheld(:, :), d(:), moved(:, :), along(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2), slope, s, s_best
-      integer :: round, c, node, met
-      allocate (moved(dofs_per_node, model%n_nodes), along(dofs_per_node, model%n_nodes))
+      integer :: round, c, node, met, status
+      allocate (moved(dofs_per_node, model%n_nodes), along(dofs_per_node, model%n_nodes), d(size(shift)), &
+                stat=status)
+      call allocation_failure(status, 'the vectors of the rigid approach along the floating motions', &
+                              16.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*size(shift), error_analysis, error)
+      if (allocated(error)) return
       do round = 1, size(floating, 2)
-         call unheld_motions(model, map, set, floating, unheld)
+         call unheld_motions(model, map, set, floating, unheld, error)
+         if (allocated(error)) return
          if (size(unheld, 2) == 0) return
-         d = matmul(unheld, matmul(transpose(unheld), reference))
+         d(:) = matmul(unheld, matmul(transpose(unheld), reference))
          if (.not. dot_product(d, reference) > push_tolerance*sum(abs(d*reference))) return
          d = d/maxval(abs(map%metric*d))
          call gather_nodal(map, shift, moved)
@@ -372,7 +390,8 @@ contains
          ! lift-off test say so (docs/theory.md §3.12, lift_off_error), as before the approach
          if (met == 0) return
          shift = shift + s_best*d
-         call close_touching(model, map, shift, length_scale, set)
+         call close_touching(model, map, shift, length_scale, set, error)
+         if (allocated(error)) return
          set(met) = .true.
       end do
    end subroutine push_free_motions
@@ -523,8 +542,10 @@ contains
       residual = -internal
       if (.not. present(floating)) return
       if (.not. allocated(floating)) return
-      call unheld_motions(model, map, set, floating, unheld)
-      call spring_equations(map, unheld, equations)
+      call unheld_motions(model, map, set, floating, unheld, error)
+      if (allocated(error)) return
+      call spring_equations(map, unheld, equations, error)
+      if (allocated(error)) return
       ! the diagonals before any spring: the springs do not depend on the order they are added in
       diagonal = [(abs(band_get(assembled, equations(i), equations(i))), i=1, size(equations))]
       do i = 1, size(equations)

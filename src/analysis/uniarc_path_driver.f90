@@ -30,7 +30,7 @@ module uniarc_path_driver
    use uniarc_model_steps, only: has_prescribed
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_band, only: band_allocate
-   use uniarc_path_state_copy, only: copy_point_record, move_map
+   use uniarc_path_state_copy, only: copy_point_record, move_map, copy_state, move_state
    use uniarc_memory, only: allocation_failure
    use uniarc_path_pace, only: pace_t, pace_start, pace_record
    implicit none
@@ -202,7 +202,8 @@ contains
       type(path_state_t), allocatable :: before
       real(dp) :: upper
       integer :: k, points, status
-      logical :: collapsed, near_collapse
+      logical :: collapsed, near_collapse, short
+      type(error_t), allocatable :: memory_error
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
          return
@@ -226,16 +227,32 @@ contains
       ! in the bound: the upper-bound theorem) finds within the bracket of a bearing collapse: the
       ! collapse load is at most `upper` (docs/theory.md §3.9, "The step past the collapse"), so a step
       ! that converges above it has left the collapse (a large rotation of the mechanism) and is not
-      ! taken; the state is kept to restore it (a copy made only near a collapse; unlike the point's,
-      ! copied with stat= above, this assignment is not checked for memory).
+      ! taken; the state is kept to restore it (a copy made only near a collapse, component by component
+      ! with stat=, copy_state; restored by moving it back, not copying).
       near_collapse = .false.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion) .and. &
           allocated(driver%state%active)) then
          if (any(driver%state%yielding .and. driver%state%active)) &
-            call bearing_collapse(model, driver%state, .false., near_collapse, upper, points, nodes, &
+            call bearing_collapse(model, driver%state, .false., near_collapse, upper, points, nodes, error, &
                                   bound_only=.true.)
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
       end if
-      if (near_collapse) before = driver%state
+      if (near_collapse) then
+         allocate (before, stat=status)
+         call allocation_failure(status, 'the state before a step near a bearing collapse', 0.0_dp, error_analysis, &
+                                 error)
+         if (.not. allocated(error)) &
+            call copy_state(driver%state, before, 'the state before a step near a bearing collapse', error)
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
+      end if
       call path_advance(model, driver%state, driver%trace, error, outcome%cuts)
       if (near_collapse .and. .not. allocated(error)) then
          ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
@@ -244,7 +261,7 @@ contains
             ! (the step converged beyond the upper bound: the committed state is the collapse)
             ! (the trace keeps the step taken back: the path, or the analysis step, ends here, and
             ! path_restart forgets the kept states)
-            driver%state = before
+            call move_state(before, driver%state)
             driver%collapse_upper = upper
             driver%collapse_points = points
             driver%collapse_nodes = nodes
@@ -263,12 +280,17 @@ contains
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
          if (.not. error%out_of_memory) then
             call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
-                                  driver%collapse_points, driver%collapse_nodes, finding)
+                                  driver%collapse_points, driver%collapse_nodes, memory_error, finding)
+            ! (an array of the certificate refused: the run ends out of memory, not as the failed step)
+            if (allocated(memory_error)) call move_alloc(memory_error, error)
             ! No collapse, but perhaps a plateau: the yielded supports let the structure sink at constant
             ! load until an open contact closes (docs/theory.md §3.9, "Plateaus"); the step is then
             ! that motion, and the path goes on from the contact it closed (error deallocated).
-            if (.not. collapsed) call follow_plateau(model, driver, error, outcome%cuts)
-            if (allocated(error) .and. .not. collapsed .and. allocated(driver%state%yielding) .and. &
+            short = error%out_of_memory
+            if (.not. collapsed .and. .not. short) call follow_plateau(model, driver, error, outcome%cuts)
+            if (allocated(error)) short = error%out_of_memory
+            if (short) collapsed = .false.
+            if (allocated(error) .and. .not. collapsed .and. .not. short .and. allocated(driver%state%yielding) .and. &
                 allocated(driver%state%active)) then
                ! Points at their bearing limit, but neither a certified collapse nor a plateau: say what
                ! the certificate found, and what the user can do, without claiming a collapse
@@ -350,7 +372,12 @@ contains
       ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then
          call bearing_collapse(model, driver%state, .true., collapsed, driver%collapse_upper, &
-                               driver%collapse_points, driver%collapse_nodes)
+                               driver%collapse_points, driver%collapse_nodes, error)
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
          if (collapsed) then
             driver%stop = stop_collapse
             outcome%events = [outcome%events, critical_event_t('bearing_collapse', real(outcome%step, dp), &
@@ -375,7 +402,8 @@ contains
    !> displacements: no progress) is not taken: no row would differ from the last.
    !> On success `error` is deallocated and the committed state is the step's end (a converged step,
    !> `cuts` its cut-backs); otherwise (no plateau, or its step does not converge) the committed state
-   !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried.
+   !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried; an
+   !> array of plastic_plateau refused by the system replaces it (out of memory: the run ends).
    subroutine follow_plateau(model, driver, error, cuts)
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(inout) :: driver
@@ -391,7 +419,12 @@ contains
       allocate (motion(n), saved(n), touching(size(driver%state%active)), &
                 saved_active(size(driver%state%active)), stat=status)
       if (status /= 0) return   ! no plateau tried: the failed step's error stands
-      call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching)
+      call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching, plateau_error)
+      if (allocated(plateau_error)) then
+         ! an array of the plateau refused: the run ends out of memory (not as the failed step)
+         call move_alloc(plateau_error, error)
+         return
+      end if
       if (found) then
          if (.not. sqrt(sum(driver%state%map%metric*motion**2)) > &
              1.0e-12_dp*sqrt(sum(driver%state%map%metric*driver%state%u**2))) then

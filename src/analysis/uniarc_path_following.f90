@@ -354,8 +354,14 @@ contains
       end if
       ! The touching unilateral contacts released (the bonded ones stay), in a system of its own:
       ! the committed factors stay for the first predictor.
-      bonded = [(state%active(c) .and. model%contacts(c)%bilateral .and. model%contacts(c)%partner == 0, &
-                 c=1, size(state%active))]
+      ! (allocated with stat= and filled in a loop: no array constructor of the candidates' length)
+      allocate (bonded(size(state%active)), stat=status)
+      call allocation_failure(status, 'the bonded contacts of the released structure', 4.0_dp*size(state%active), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      do c = 1, size(state%active)
+         bonded(c) = state%active(c) .and. model%contacts(c)%bilateral .and. model%contacts(c)%partner == 0
+      end do
       if (all(bonded .eqv. state%active)) then
          call supports_carry_all(state, natural)
          return

@@ -89,7 +89,10 @@ contains
             if (allocated(error)) return
          end if
 
-         call add_track(deck%model, fields(1)%text, nodes(1), dof, scale)
+         call add_track(deck%model, fields(1)%text, nodes(1), dof, scale, status)
+         call allocation_failure(status, 'the list of tracks and its name table', 80.0_dp*(deck%model%n_tracks + 1), &
+                                 error_input, error)
+         if (allocated(error)) return
          ! grown by doubling (amortised O(1) a track; issue 14), entries 1..n_tracks in use
          call grow_integers(deck%track_line, deck%model%n_tracks, status)
          if (status == 0) call grow_integers(deck%track_column, deck%model%n_tracks, status)

@@ -44,7 +44,7 @@ contains
       real(dp), parameter :: stiffness_limit = 1.0e100_dp
       real(dp), parameter :: stiffness_floor = 1.0e-100_dp
       real(dp) :: stiffnesses(3)
-      integer :: n_stiffnesses, column
+      integer :: n_stiffnesses, column, status
       character(len=:), allocatable :: name, what
 
       call check_options(source, card, [character(len=9) :: 'NAME=', 'TYPE=', 'STIFFNESS', 'WEIGHT=', 'ALPHA='], &
@@ -140,15 +140,18 @@ contains
          end if
       end do
       if (stiffness_form .and. n_values == 3) then
-         call add_section(deck%model, name, ea=values(1), ei=values(2), gas=values(3))
+         call add_section(deck%model, name, ea=values(1), ei=values(2), gas=values(3), status=status)
       else if (stiffness_form) then
-         call add_section(deck%model, name, ea=values(1), ei=values(2))
+         call add_section(deck%model, name, ea=values(1), ei=values(2), status=status)
       else if (n_values == 5) then
          call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3), &
-                          gas=values(5)*values(4)*values(2))
+                          gas=values(5)*values(4)*values(2), status=status)
       else
-         call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3))
+         call add_section(deck%model, name, ea=values(1)*values(2), ei=values(1)*values(3), status=status)
       end if
+      call allocation_failure(status, 'the list of sections and its name table', &
+                              96.0_dp*(deck%model%n_sections + 1), error_input, error)
+      if (allocated(error)) return
       call read_section_loads(source, card, deck, error)
    end subroutine read_section
 

@@ -113,22 +113,42 @@ contains
    !> Add a section of axial stiffness `ea` and bending stiffness `ei` (both > 0; force, force × length²);
    !> it becomes section `builder%n_sections`. Names are compared case-insensitively by `section_index`.
    !> `gas` (optional, > 0): the shear stiffness κGA (force) a Timoshenko beam needs.
-   pure subroutine add_section(builder, name, ea, ei, gas)
+   !> `status` (optional): nonzero, the stat= of the growth of the list of sections or of their name
+   !> table refused by the system (the section is then not added; without it the runtime stops the
+   !> program). The list is grown by moving its entries, not copying them.
+   pure subroutine add_section(builder, name, ea, ei, gas, status)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       real(dp), intent(in) :: ea, ei
       real(dp), intent(in), optional :: gas
+      integer, intent(out), optional :: status
       type(section_t), allocatable :: grown(:)
-      integer :: index
-      if (.not. allocated(builder%sections)) allocate (builder%sections(4))
-      if (builder%n_sections == size(builder%sections)) then
-         allocate (grown(2*size(builder%sections)))
-         grown(1:size(builder%sections)) = builder%sections
+      character(len=:), allocatable :: moved
+      integer :: index, k
+      ! with `status`, each allocation with stat= and a refusal returned before anything changes
+      if (present(status)) then
+         if (.not. allocated(builder%sections)) allocate (builder%sections(4), stat=status)
+         if (status /= 0) return
+         if (builder%n_sections == size(builder%sections)) allocate (grown(2*size(builder%sections)), stat=status)
+         if (status /= 0) return
+         call add_name(builder%section_names, name, index, status)
+         if (status /= 0) return
+      else
+         if (.not. allocated(builder%sections)) allocate (builder%sections(4))
+         if (builder%n_sections == size(builder%sections)) allocate (grown(2*size(builder%sections)))
+         call add_name(builder%section_names, name, index)
+      end if
+      if (allocated(grown)) then
+         do k = 1, builder%n_sections
+            ! the name moved, not copied: the assignment then copies scalars only (allocates nothing)
+            call move_alloc(builder%sections(k)%name, moved)
+            grown(k) = builder%sections(k)
+            call move_alloc(moved, grown(k)%name)
+         end do
          call move_alloc(grown, builder%sections)
       end if
       builder%n_sections = builder%n_sections + 1
       builder%sections(builder%n_sections)%name = name
-      call add_name(builder%section_names, name, index)
       builder%sections(builder%n_sections)%ea = ea
       builder%sections(builder%n_sections)%ei = ei
       builder%sections(builder%n_sections)%gas = 0.0_dp
@@ -560,22 +580,42 @@ contains
    end subroutine load_record
 
    !> Add the path-file column `name` holding scale × u(dof) of `node` (dof_ux, dof_uy or dof_rz).
-   pure subroutine add_track(builder, name, node, dof, scale)
+   !> `status` (optional): nonzero, the stat= of the growth of the list of tracks or of their name
+   !> table refused by the system (the track is then not added; without it the runtime stops the
+   !> program). The list is grown by moving its entries, not copying them.
+   pure subroutine add_track(builder, name, node, dof, scale, status)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: node, dof
       real(dp), intent(in) :: scale
+      integer, intent(out), optional :: status
       type(track_t), allocatable :: grown(:)
-      integer :: index
-      if (.not. allocated(builder%tracks)) allocate (builder%tracks(4))
-      if (builder%n_tracks == size(builder%tracks)) then
-         allocate (grown(2*size(builder%tracks)))
-         grown(1:builder%n_tracks) = builder%tracks(1:builder%n_tracks)
+      character(len=:), allocatable :: moved
+      integer :: index, k
+      ! with `status`, each allocation with stat= and a refusal returned before anything changes
+      if (present(status)) then
+         if (.not. allocated(builder%tracks)) allocate (builder%tracks(4), stat=status)
+         if (status /= 0) return
+         if (builder%n_tracks == size(builder%tracks)) allocate (grown(2*size(builder%tracks)), stat=status)
+         if (status /= 0) return
+         call add_name(builder%track_names, name, index, status)
+         if (status /= 0) return
+      else
+         if (.not. allocated(builder%tracks)) allocate (builder%tracks(4))
+         if (builder%n_tracks == size(builder%tracks)) allocate (grown(2*size(builder%tracks)))
+         call add_name(builder%track_names, name, index)
+      end if
+      if (allocated(grown)) then
+         do k = 1, builder%n_tracks
+            ! the name moved, not copied: the assignment then copies scalars only (allocates nothing)
+            call move_alloc(builder%tracks(k)%name, moved)
+            grown(k) = builder%tracks(k)
+            call move_alloc(moved, grown(k)%name)
+         end do
          call move_alloc(grown, builder%tracks)
       end if
       builder%n_tracks = builder%n_tracks + 1
       builder%tracks(builder%n_tracks) = track_t(name=name, node=node, dof=dof, scale=scale)
-      call add_name(builder%track_names, name, index)
    end subroutine add_track
 
 

@@ -12,7 +12,8 @@
 !> structure keeps the behaviour of §2.8.
 module uniarc_path_approach
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_input
+   use uniarc_error, only: error_t, make_error, error_input, error_analysis
+   use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: real_to_string
    use uniarc_model, only: model_t, gap_fixed_direction
    use uniarc_dof_map, only: dof_map_t, candidate_live
@@ -53,7 +54,8 @@ contains
    !> `nodal` (those of the linear analysis) instead of the exact ones (the path's: a translation is
    !> exact in it). `contact` returns the candidate met (0: none).
    !> Errors (error_input): the load pushes the structure along a free translation on which no contact
-   !> is ever met (a mechanism under its loads).
+   !> is ever met (a mechanism under its loads); (error_analysis, out of memory): the work copies of the
+   !> motions' basis and of the uniform translations refused by the system.
    subroutine rigid_approach(model, map, motions, reference, nodal, length_scale, linearised, shift, contact, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
@@ -64,10 +66,13 @@ contains
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: free(2, 2), force(2), push(2), e(2), total, s, s_best, gap, gradient(2), hessian(2, 2), slope
       character(len=:), allocatable :: deck
-      integer :: n_free, c, i, node
+      integer :: n_free, c, i, node, status
+      real(dp) :: bytes
       shift = 0.0_dp
       contact = 0
-      call free_translations(model, map, motions, free, n_free)
+      call free_translations(model, map, motions, free, n_free, status, bytes)
+      call allocation_failure(status, 'the translations of the rigid approach', bytes, error_analysis, error)
+      if (allocated(error)) return
       if (n_free == 0) return
       ! The resultant of R (its translational part: the free DOFs' forces) along the free translations.
       force = 0.0_dp
@@ -137,21 +142,28 @@ contains
    !> floating motions: the component of the uniform translations (1, 0) and (0, 1) of every free
    !> translational DOF outside that span (in the displacement metric) is formed for each, and the
    !> directions where their 2 × 2 Gram matrix vanishes (relative to the translations' own size) are
-   !> free.
-   subroutine free_translations(model, map, motions, free, n_free)
+   !> free. `status`: the stat= of the basis' and the translations' work arrays, of `bytes` together
+   !> (nonzero: refused, n_free = 0).
+   subroutine free_translations(model, map, motions, free, n_free, status, bytes)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: motions(:, :)
       real(dp), intent(out) :: free(2, 2)
-      integer, intent(out) :: n_free
+      integer, intent(out) :: n_free, status
+      real(dp), intent(out) :: bytes
       real(dp), allocatable :: basis(:, :), translation(:, :)
       real(dp) :: gram(2, 2), size2, eigen(2), vector(2, 2), half_trace, radius, a, b, d
       integer :: k, j, i, node
       free = 0.0_dp
       n_free = 0
+      status = 0
+      bytes = 8.0_dp*size(motions, 1)*(size(motions, 2) + 2)
       if (size(motions, 2) == 0) return
-      ! an orthonormal basis of the motions' span in the metric (modified Gram–Schmidt)
-      basis = motions
+      ! an orthonormal basis of the motions' span in the metric (modified Gram–Schmidt); its work
+      ! arrays allocated with stat= (an assignment that allocates is not checked)
+      allocate (basis(size(motions, 1), size(motions, 2)), translation(size(motions, 1), 2), stat=status)
+      if (status /= 0) return
+      basis(:, :) = motions
       do k = 1, size(basis, 2)
          do j = 1, k - 1
             basis(:, k) = basis(:, k) - sum(map%metric*basis(:, j)*basis(:, k))*basis(:, j)
@@ -160,7 +172,7 @@ contains
          if (.not. d > 0.0_dp) return
          basis(:, k) = basis(:, k)/d
       end do
-      allocate (translation(size(motions, 1), 2), source=0.0_dp)
+      translation(:, :) = 0.0_dp
       do node = 1, model%n_nodes
          do i = 1, 2
             if (map%equation(i, node) > 0) translation(map%equation(i, node), i) = 1.0_dp

@@ -31,6 +31,8 @@ module uniarc_path_collapse
    use uniarc_assembly, only: gather_nodal
    use uniarc_path_state, only: path_state_t
    use uniarc_strings, only: real_to_string
+   use uniarc_error, only: error_t, error_analysis
+   use uniarc_memory, only: allocation_failure
    implicit none
    private
    public :: bearing_collapse, plastic_plateau, near_yield, collapse_bracket
@@ -64,7 +66,9 @@ contains
    !> floating motion, no candidate at a limit, no admissible mechanism that the load drives, or a
    !> bracket wider than collapse_bracket; then `finding` (if present) says which, in words for a
    !> message (e.g. "no mechanism that the load drives is admissible", or the bracket it found).
-   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, finding, bound_only)
+   !> Errors (error_analysis, out of memory; collapsed = .false.): its arrays of the candidates' or the
+   !> equations' length (candidate_kinds, the constraint rows, the load's work) refused by the system.
+   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, error, finding, bound_only)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       !> .true.: only the candidates of the yielding set count as yielding (a converged state that is
@@ -75,6 +79,7 @@ contains
       real(dp), intent(out) :: upper
       integer, intent(out) :: count
       character(len=:), allocatable, intent(out) :: nodes
+      type(error_t), allocatable, intent(out) :: error
       !> why the certificate refused (collapsed = .false.), or '' when it certified the collapse
       character(len=:), allocatable, intent(out), optional :: finding
       !> .true.: every candidate of the set with a limit counts as yielding, its slack to the limit in
@@ -83,12 +88,12 @@ contains
       !> of the small-displacement problem from any statically admissible state; collapsed then says
       !> that the bracket [λ_n, upper] is within collapse_bracket
       logical, intent(in), optional :: bound_only
-      real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
-      real(dp), allocatable :: constraint(:, :), slack(:), load(:)
+      real(dp), allocatable :: nodal(:, :), rate(:, :), basis(:, :), hold(:, :)
+      real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), mode(:)
       integer, allocatable :: kind(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), margin, force_scale
-      integer :: n_c, m, c, j, node, d, n_con, a, b, k
-      logical :: any_yield, every
+      real(dp) :: best, y(3), margin
+      integer :: n_c, m, c, d, n_con, a, b, k, status
+      logical :: every
       collapsed = .false.
       upper = state%lambda
       count = 0
@@ -99,70 +104,19 @@ contains
       m = size(state%floating_motion, 2)
       n_c = size(state%active)
       if (m == 0 .or. n_c == 0) return
-      allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes))
-      call gather_nodal(state%map, state%u, nodal)
-      ! rate(c, j) = a_c·v_j, the first-order gap change of candidate c along floating motion j
-      allocate (rate(n_c, m), source=0.0_dp)
-      allocate (kind(n_c), source=0)   ! 0 none, 1 holder, 2 bearing yield, 3 uplift yield, 4 open
-      allocate (slack(n_c), source=0.0_dp)
-      do j = 1, m
-         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
-         scale = maxval(abs(motion_nodal(1:2, :)))
-         do c = 1, n_c
-            if (.not. candidate_live(state%map, c)) cycle
-            node = model%contacts(c)%node
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, state%lambda)
-            rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
-            if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
-         end do
-      end do
       margin = near_yield
       if (strict) margin = 0.0_dp
       every = .false.
       if (present(bound_only)) every = bound_only
       if (every) margin = 1.0_dp
-      force_scale = 0.0_dp
-      do c = 1, n_c
-         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
-      end do
       if (present(finding)) finding = 'no contact point at or within 0.1 % of its limit'
       if (strict .and. .not. every .and. .not. any(state%yielding .and. state%active)) return
-      any_yield = .false.
-      do c = 1, n_c
-         if (.not. candidate_live(state%map, c)) cycle
-         associate (candidate => model%contacts(c))
-            if (.not. in_set(model, state%active, c)) then
-               if (.not. candidate%bilateral) kind(c) = 4
-               cycle
-            end if
-            reaction = state%reactions(c)
-            kind(c) = 1
-            if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
-                ((every .or. .not. strict) .and. reaction >= (1.0_dp - margin)*candidate%yield_force)) .and. &
-                reaction >= 0.0_dp) then
-               kind(c) = 2
-               limit = candidate%yield_force
-            else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
-                     ((every .or. .not. strict) .and. reaction <= -(1.0_dp - margin)*candidate%uplift_force)) .and. &
-                     reaction < 0.0_dp) then
-               kind(c) = 3
-               limit = -candidate%uplift_force
-            end if
-            if (kind(c) >= 2) then
-               slack(c) = limit - reaction
-               any_yield = .true.
-            else if (.not. candidate%bilateral .and. reaction <= margin*release_scale(c)) then
-               ! touching with (almost) no force, at the edge of the contact region: the mechanism
-               ! may lift it off (a·φ ≥ 0), its force r then lost to the media (r_lim = 0)
-               kind(c) = 5
-               slack(c) = -reaction
-            end if
-         end associate
-      end do
-      if (.not. any_yield) return
+      call candidate_kinds(model, state, margin, every .or. .not. strict, nodal, rate, kind, slack, gap_now, error)
+      if (allocated(error)) return
+      if (.not. any(kind == 2 .or. kind == 3)) return
       ! The null space of the holders' rows (m ≤ 3 columns): the mechanisms they do not resist.
-      hold = reshape([((rate(c, j), c=1, n_c), j=1, m)], [n_c, m])
-      hold = hold(pack([(c, c=1, n_c)], kind == 1), :)
+      call holder_rows(rate, kind, hold, error)
+      if (allocated(error)) return
       call null_space(hold, basis)
       d = size(basis, 2)
       if (present(finding)) finding = 'the elastic contacts hold every rigid motion'
@@ -170,21 +124,19 @@ contains
       ! The load's work on each basis motion, and the constraint rows (one per yielding or open
       ! candidate that the subspace moves), oriented so that an admissible φ = basis·y has row·y ≥ 0:
       ! bearing a·φ ≤ 0 (the penetration grows), uplift and open a·φ ≥ 0 (an open one not closed).
-      allocate (load(d))
+      ! (the motion of each basis vector in a work vector allocated with stat=, not a temporary)
+      allocate (load(d), mode(size(state%floating_motion, 1)), stat=status)
+      call allocation_failure(status, 'the load''s work on the rigid motions of the collapse certificate', &
+                              8.0_dp*(d + size(state%floating_motion, 1)), error_analysis, error)
+      if (allocated(error)) return
       do k = 1, d
-         load(k) = dot_product(state%reference, matmul(state%floating_motion, basis(:, k)))
+         mode(:) = matmul(state%floating_motion, basis(:, k))
+         load(k) = dot_product(state%reference, mode)
       end do
       if (present(finding)) finding = 'the load does no work on the rigid motions the elastic contacts leave free'
       if (maxval(abs(load)) <= 0.0_dp) return
-      allocate (constraint(d, 0))
-      do c = 1, n_c
-         if (kind(c) < 2) cycle
-         y(1:d) = matmul(rate(c, :), basis)
-         if (maxval(abs(y(1:d))) <= row_tolerance*maxval(abs(rate(c, :)))) cycle
-         if (kind(c) == 2) y(1:d) = -y(1:d)
-         constraint = reshape([constraint, y(1:d)], [d, size(constraint, 2) + 1])
-      end do
-      n_con = size(constraint, 2)
+      call constraint_rows(rate, kind, basis, .true., constraint, n_con, error)
+      if (allocated(error)) return
       ! Extreme rays of {y : constraintᵀy ≥ 0}: in 1-D ±1; in 2-D the normals to one row; in 3-D the
       ! cross products of two rows; with fewer rows than needed, the load's own direction too.
       best = huge(1.0_dp)
@@ -234,14 +186,6 @@ contains
 
    contains
 
-      !> The force below whose near_yield share a unilateral candidate of the set counts as lifting
-      !> off: its bearing limit if it has one, else the largest reaction of the set.
-      real(dp) function release_scale(i)
-         integer, intent(in) :: i
-         release_scale = force_scale
-         if (model%contacts(i)%yield_force > 0.0_dp) release_scale = model%contacts(i)%yield_force
-      end function release_scale
-
       !> Keep Δλ(φ) of φ = basis·y if φ is admissible (every constraint row·y ≥ 0 to round-off) and
       !> the load drives it (R·φ > 0).
       subroutine try(direction)
@@ -290,7 +234,9 @@ contains
    !> length"). `touching` (candidates): on found, those out of the set that φ keeps touching and,
    !> when φ keeps any candidate touching with no force (in the set or out), `contact` — the plateau
    !> step's working set adds them; otherwise every touching one.
-   subroutine plastic_plateau(model, state, found, motion, dlambda, contact, touching)
+   !> Errors (error_analysis, out of memory; found = .false.): its arrays of the candidates' or the
+   !> equations' length (candidate_kinds, the constraint rows, the basis' motions) refused by the system.
+   subroutine plastic_plateau(model, state, found, motion, dlambda, contact, touching, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(out) :: found
@@ -298,13 +244,14 @@ contains
       real(dp), intent(out) :: dlambda
       integer, intent(out) :: contact
       logical, intent(out) :: touching(:)
-      real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), rate(:, :), basis(:, :), hold(:, :)
       real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), modes(:, :)
       integer, allocatable :: kind(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), chosen(3), force_scale
+      real(dp) :: best, y(3), chosen(3)
       real(dp) :: gram(3, 3), work_load, distance, along, dissipation, touch_gap
       logical :: pivot
-      integer :: n_c, m, c, j, node, d, n_con, a, b, k
+      integer :: n_c, m, c, j, d, n_con, a, b, k, status
       found = .false.
       motion = 0.0_dp
       dlambda = 0.0_dp
@@ -315,77 +262,32 @@ contains
       m = size(state%floating_motion, 2)
       n_c = size(state%active)
       if (m == 0 .or. n_c == 0) return
-      allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes))
-      call gather_nodal(state%map, state%u, nodal)
+      ! the candidates' kinds as the certificate's with strict = .false. (1 holder, 2 bearing, 3 uplift,
+      ! 4 open, 5 lifting)
+      call candidate_kinds(model, state, near_yield, .true., nodal, rate, kind, slack, gap_now, error)
+      if (allocated(error)) return
       touch_gap = touch_tolerance*maxval(abs(nodal(1:2, :)))
-      allocate (rate(n_c, m), source=0.0_dp)
-      allocate (kind(n_c), source=0)   ! as bearing_collapse: 1 holder, 2 bearing, 3 uplift, 4 open, 5 lifting
-      allocate (slack(n_c), source=0.0_dp)
-      allocate (gap_now(n_c), source=0.0_dp)
-      do j = 1, m
-         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
-         scale = maxval(abs(motion_nodal(1:2, :)))
-         do c = 1, n_c
-            if (.not. candidate_live(state%map, c)) cycle
-            node = model%contacts(c)%node
-            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, &
-                               hessian, state%lambda)
-            gap_now(c) = gap
-            if (allocated(state%slip)) gap_now(c) = gap + state%slip(c)
-            rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
-            if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
-         end do
-      end do
-      force_scale = 0.0_dp
       do c = 1, n_c
-         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
-      end do
-      do c = 1, n_c
-         if (.not. candidate_live(state%map, c)) cycle
-         associate (candidate => model%contacts(c))
-            if (.not. in_set(model, state%active, c)) then
-               if (.not. candidate%bilateral) kind(c) = 4
-               ! one that touches already (within the working set's touching tolerance) but is not in
-               ! the set: φ may lift it off but not press it (it would hold elastically), as one of
-               ! the set with no force — it ends no plateau (that would be one of no length)
-               if (kind(c) == 4 .and. gap_now(c) <= touch_gap) then
-                  kind(c) = 5
-                  touching(c) = .true.
-               end if
-               cycle
-            end if
-            reaction = state%reactions(c)
-            kind(c) = 1
-            if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
-                reaction >= (1.0_dp - near_yield)*candidate%yield_force) .and. reaction >= 0.0_dp) then
-               kind(c) = 2
-               limit = candidate%yield_force
-            else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
-                     reaction <= -(1.0_dp - near_yield)*candidate%uplift_force) .and. reaction < 0.0_dp) then
-               kind(c) = 3
-               limit = -candidate%uplift_force
-            end if
-            if (kind(c) >= 2) then
-               slack(c) = limit - reaction
-            else if (.not. candidate%bilateral) then
-               scale = force_scale
-               if (candidate%yield_force > 0.0_dp) scale = candidate%yield_force
-               if (reaction <= near_yield*scale) then
-                  kind(c) = 5
-                  slack(c) = -reaction
-               end if
-            end if
-         end associate
+         ! one that touches already (within the working set's touching tolerance) but is not in the
+         ! set: φ may lift it off but not press it (it would hold elastically), as one of the set with
+         ! no force — it ends no plateau (that would be one of no length)
+         if (kind(c) == 4 .and. gap_now(c) <= touch_gap) then
+            kind(c) = 5
+            touching(c) = .true.
+         end if
       end do
       if (.not. any(kind == 2 .or. kind == 3)) return
-      hold = reshape([((rate(c, j), c=1, n_c), j=1, m)], [n_c, m])
-      hold = hold(pack([(c, c=1, n_c)], kind == 1), :)
+      call holder_rows(rate, kind, hold, error)
+      if (allocated(error)) return
       call null_space(hold, basis)
       d = size(basis, 2)
       if (d == 0) return
       ! the motions of the basis, their load work and their Gram matrix in the displacement metric
-      modes = matmul(state%floating_motion, basis)
-      allocate (load(d))
+      allocate (modes(size(state%floating_motion, 1), d), load(d), stat=status)
+      call allocation_failure(status, 'the rigid motions of the plateau', 8.0_dp*(size(state%floating_motion, 1) + 1)*d, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      modes(:, :) = matmul(state%floating_motion, basis)
       gram = 0.0_dp
       do k = 1, d
          load(k) = dot_product(state%reference, modes(:, k))
@@ -396,15 +298,8 @@ contains
       if (maxval(abs(load)) <= 0.0_dp) return
       ! the admissibility rows (yielding: the way they yield; lifting: opened, not closed); the open
       ! contacts are no rows: the plateau ends where the first of them closes
-      allocate (constraint(d, 0))
-      do c = 1, n_c
-         if (kind(c) /= 2 .and. kind(c) /= 3 .and. kind(c) /= 5) cycle
-         y(1:d) = matmul(rate(c, :), basis)
-         if (maxval(abs(y(1:d))) <= row_tolerance*maxval(abs(rate(c, :)))) cycle
-         if (kind(c) == 2) y(1:d) = -y(1:d)
-         constraint = reshape([constraint, y(1:d)], [d, size(constraint, 2) + 1])
-      end do
-      n_con = size(constraint, 2)
+      call constraint_rows(rate, kind, basis, .false., constraint, n_con, error)
+      if (allocated(error)) return
       best = -huge(1.0_dp)
       chosen = 0.0_dp
       call consider(solve_gram(load))
@@ -450,7 +345,9 @@ contains
          end if
       end do
       if (contact == 0) return
-      motion = distance*matmul(modes(:, 1:d), chosen(1:d))
+      ! (the product in place: no temporary of the equations' length)
+      motion(:) = matmul(modes(:, 1:d), chosen(1:d))
+      motion(:) = distance*motion
       ! the touching ones (out of the set, or in it with no force) that φ lifts off are out of the
       ! step's set; those it keeps touching are in, and then the contact it closes too (φ turns about
       ! them: alone in the set they would leave that turn free, the step's tangent singular along it)
@@ -530,6 +427,159 @@ contains
       end subroutine consider
 
    end subroutine plastic_plateau
+
+   !> The candidates of the committed `state` as the certificate and the plateau see them (one
+   !> procedure for both): `rate` (n_c, m) = a_c·v_j, the first-order gap change of candidate c along
+   !> floating motion j (0 within row_tolerance of |a_c| max|v_j|); `kind` (n_c): 0 none (dead or
+   !> bonded out of the set), 1 holder, 2 bearing yield, 3 uplift yield, 4 open unilateral, 5 in the set
+   !> touching with at most `margin` of its release scale (its bearing limit, else the set's largest
+   !> reaction); `slack` (n_c) the force r_lim − r to the limit of kinds 2, 3 and 5 (r_lim = 0 for 5);
+   !> `gap_now` (n_c) the gap at the committed displacements `nodal` (dofs_per_node, n_nodes), with
+   !> the slip of a tangential spring. A candidate of the set counts as yielding when it is in
+   !> state%yielding or, with `widened`, when its reaction is within `margin` of its limit.
+   !> Errors (error_analysis, out of memory): an array refused by the system (each allocated with stat=).
+   subroutine candidate_kinds(model, state, margin, widened, nodal, rate, kind, slack, gap_now, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: margin
+      logical, intent(in) :: widened
+      real(dp), allocatable, intent(out) :: nodal(:, :), rate(:, :), slack(:), gap_now(:)
+      integer, allocatable, intent(out) :: kind(:)
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: motion_nodal(:, :)
+      real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, force_scale
+      integer :: n_c, m, c, j, node, status
+      n_c = size(state%active)
+      m = size(state%floating_motion, 2)
+      allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes), rate(n_c, m), &
+                kind(n_c), slack(n_c), gap_now(n_c), stat=status)
+      call allocation_failure(status, 'the kinds and rates of the contacts for the collapse certificate', &
+                              16.0_dp*dofs_per_node*model%n_nodes + 8.0_dp*n_c*m + 20.0_dp*n_c, error_analysis, error)
+      if (allocated(error)) return
+      rate(:, :) = 0.0_dp
+      kind(:) = 0
+      slack(:) = 0.0_dp
+      gap_now(:) = 0.0_dp
+      call gather_nodal(state%map, state%u, nodal)
+      do j = 1, m
+         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
+         scale = maxval(abs(motion_nodal(1:2, :)))
+         do c = 1, n_c
+            if (.not. candidate_live(state%map, c)) cycle
+            node = model%contacts(c)%node
+            call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, &
+                               hessian, state%lambda)
+            gap_now(c) = gap
+            if (allocated(state%slip)) gap_now(c) = gap + state%slip(c)
+            rate(c, j) = dot_product(gradient, motion_nodal(1:2, node))
+            if (abs(rate(c, j)) <= row_tolerance*norm2(gradient)*scale) rate(c, j) = 0.0_dp
+         end do
+      end do
+      force_scale = 0.0_dp
+      do c = 1, n_c
+         if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
+      end do
+      do c = 1, n_c
+         if (.not. candidate_live(state%map, c)) cycle
+         associate (candidate => model%contacts(c))
+            if (.not. in_set(model, state%active, c)) then
+               if (.not. candidate%bilateral) kind(c) = 4
+               cycle
+            end if
+            reaction = state%reactions(c)
+            kind(c) = 1
+            if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
+                (widened .and. reaction >= (1.0_dp - margin)*candidate%yield_force)) .and. &
+                reaction >= 0.0_dp) then
+               kind(c) = 2
+               limit = candidate%yield_force
+            else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
+                     (widened .and. reaction <= -(1.0_dp - margin)*candidate%uplift_force)) .and. &
+                     reaction < 0.0_dp) then
+               kind(c) = 3
+               limit = -candidate%uplift_force
+            end if
+            if (kind(c) >= 2) then
+               slack(c) = limit - reaction
+            else if (.not. candidate%bilateral) then
+               ! touching with (almost) no force, at the edge of the contact region: the mechanism
+               ! may lift it off (a·φ ≥ 0), its force r then lost to the media (r_lim = 0)
+               scale = force_scale
+               if (candidate%yield_force > 0.0_dp) scale = candidate%yield_force
+               if (reaction <= margin*scale) then
+                  kind(c) = 5
+                  slack(c) = -reaction
+               end if
+            end if
+         end associate
+      end do
+   end subroutine candidate_kinds
+
+   !> `hold` (h, m): the rows of `rate` (n_c, m) of the holders (kind 1), in order; allocated with stat=
+   !> (no array constructor or pack of the candidates' length). Errors: out of memory (error_analysis).
+   subroutine holder_rows(rate, kind, hold, error)
+      real(dp), intent(in) :: rate(:, :)
+      integer, intent(in) :: kind(:)
+      real(dp), allocatable, intent(out) :: hold(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer :: c, h, status
+      h = 0
+      do c = 1, size(kind)
+         if (kind(c) == 1) h = h + 1
+      end do
+      allocate (hold(h, size(rate, 2)), stat=status)
+      call allocation_failure(status, 'the holders'' rows of the collapse certificate', 8.0_dp*h*size(rate, 2), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      h = 0
+      do c = 1, size(kind)
+         if (kind(c) /= 1) cycle
+         h = h + 1
+         hold(h, :) = rate(c, :)
+      end do
+   end subroutine holder_rows
+
+   !> The admissibility rows (d, n_con) on the null-space `basis` (m, d) of the candidates of kind 2, 3
+   !> and 5 — and 4 (open) with `open_rows` — that the subspace moves (y = rateᵀ basis above
+   !> row_tolerance of the candidate's largest rate), oriented so that an admissible φ = basis·y has
+   !> row·y ≥ 0 (bearing: sign changed). `constraint` allocated with stat= for every such candidate, its
+   !> first `n_con` columns in use (no growth by reshape per row). Errors: out of memory (error_analysis).
+   subroutine constraint_rows(rate, kind, basis, open_rows, constraint, n_con, error)
+      real(dp), intent(in) :: rate(:, :), basis(:, :)
+      integer, intent(in) :: kind(:)
+      logical, intent(in) :: open_rows
+      real(dp), allocatable, intent(out) :: constraint(:, :)
+      integer, intent(out) :: n_con
+      type(error_t), allocatable, intent(out) :: error
+      real(dp) :: y(3)
+      integer :: c, d, status
+      d = size(basis, 2)
+      n_con = 0
+      do c = 1, size(kind)
+         if (row_kind(kind(c))) n_con = n_con + 1
+      end do
+      allocate (constraint(d, n_con), stat=status)
+      call allocation_failure(status, 'the admissibility rows of the collapse certificate', 8.0_dp*d*n_con, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      n_con = 0
+      do c = 1, size(kind)
+         if (.not. row_kind(kind(c))) cycle
+         y(1:d) = matmul(rate(c, :), basis)
+         if (maxval(abs(y(1:d))) <= row_tolerance*maxval(abs(rate(c, :)))) cycle
+         if (kind(c) == 2) y(1:d) = -y(1:d)
+         n_con = n_con + 1
+         constraint(:, n_con) = y(1:d)
+      end do
+
+   contains
+
+      logical function row_kind(k)
+         integer, intent(in) :: k
+         row_kind = k == 2 .or. k == 3 .or. k == 5 .or. (open_rows .and. k == 4)
+      end function row_kind
+
+   end subroutine constraint_rows
 
    !> An orthonormal basis (m, d) of the null space of `rows` (n, m ≤ 3), each row scaled to unit
    !> length, by the eigenvectors of rowsᵀrows (m × m, Jacobi rotations) whose eigenvalues are at most

@@ -361,16 +361,20 @@ contains
    !> only: the residual is untouched, so a converged state is in exact equilibrium, and a right-hand
    !> side with no component along v (every self-equilibrated one: no contact force) is solved exactly,
    !> with δx_j = 0 — the structure does not drift while nothing pushes it (docs/theory.md §2.8).
-   subroutine hold_floating(model, state, active, nodal, tangent)
+   !> `released` (optional, one per candidate): candidates of `active` left out of the set (the
+   !> lift-off test's pieces), read in place of an array expression `active .and. .not. released`
+   !> (a temporary of the candidates' length, not checked).
+   subroutine hold_floating(model, state, active, nodal, tangent, released)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       type(band_matrix_t), intent(inout) :: tangent
+      logical, intent(in), optional :: released(:)
       real(dp) :: diagonal
       integer :: i, j
       do i = 1, size(state%floating_equation)
-         if (sees_floating(model, state, active, nodal, i)) cycle
+         if (sees_floating(model, state, active, nodal, i, released)) cycle
          j = state%floating_equation(i)
          diagonal = abs(band_get(tangent, j, j))
          if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
@@ -400,19 +404,23 @@ contains
 
    !> Whether a contact of the working set `active` sees the free rigid motion i (at nodal displacements
    !> `nodal`): its normal moves the gap at first order along the motion, |a_cᵀv| above
-   !> floating_tolerance × |a_c| max|v|.
-   logical function sees_floating(model, state, active, nodal, i) result(sees)
+   !> floating_tolerance × |a_c| max|v|. `released` (optional): candidates of `active` not in the set.
+   logical function sees_floating(model, state, active, nodal, i, released) result(sees)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       integer, intent(in) :: i
+      logical, intent(in), optional :: released(:)
       real(dp) :: g, gradient(2), hessian(2, 2), along, size_v
       integer :: c, node, k
       sees = .false.
       size_v = maxval(abs(state%floating_motion(:, i)))
       do c = 1, size(active)
          if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
+         if (present(released)) then
+            if (released(c)) cycle
+         end if
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, hessian, state%lambda)
          along = 0.0_dp
