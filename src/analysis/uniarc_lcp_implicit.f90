@@ -69,7 +69,10 @@ module uniarc_lcp_implicit
       integer :: block_threshold = 4
       !> Columns of the Schur complement before they are absorbed into the frame (≥ 1).
       integer :: complement_limit = 48
-      !> Lemke pivots in one round; 0: automatic, max(1000, 4 m).
+      !> Lemke pivots in one round; 0: automatic, max(1000, 20 m). Lemke's path can be O(m) long with a
+      !> large constant: a lift-off front that travels the whole model takes 5–16 pivots per candidate
+      !> (a long cantilever on a tensionless bed, docs/benchmarks.md §11; 4 m stopped it at n = 300). The
+      !> same cap as the dense `lemke_solve` (20 n); for a P-matrix the path is finite without a cap.
       integer :: max_pivots = 0
       !> Verification rounds (a round = block phase, then Lemke if needed, then a fresh q_F).
       integer :: rounds = 4
@@ -132,7 +135,7 @@ contains
          call make_error(error, 'implicit LCP solver: w must have the order of the operator', error_input)
          return
       end if
-      if (opts%max_pivots == 0) opts%max_pivots = max(1000, 4*m)
+      if (opts%max_pivots == 0) opts%max_pivots = max(1000, 20*m)
       allocate (q(m), scale(m), stat=status)
       call allocation_failure(status, 'the vectors of the contact LCP''s solver', 16.0_dp*m, error_analysis, error)
       if (allocated(error)) return
