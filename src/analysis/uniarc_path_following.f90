@@ -42,6 +42,7 @@ module uniarc_path_following
    use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
+   use uniarc_path_acceptance, only: degenerate_step, far_from_predictor, off_branch
    use uniarc_path_branch, only: switch_branch
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
@@ -862,53 +863,6 @@ contains
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
-
-   !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
-   !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has
-   !> no direction for the angle and distance tests of a step.
-   pure logical function degenerate_step(state, trial)
-      type(path_state_t), intent(in) :: state
-      type(step_trial_t), intent(in) :: trial
-      degenerate_step = .false.
-      if (.not. (abs(trial%dlambda) > 0.0_dp)) return
-      degenerate_step = degenerate_tangent(state, trial%increment/abs(trial%dlambda))
-   end function degenerate_step
-
-   !> Whether a converged attempt landed farther from its predictor than the predictor's own length
-   !> (displacement norm): Newton's corrections are O(Δl²) on the branch the predictor follows, while
-   !> a step that converges on another branch lands at a distance of its own. Measured on every deck
-   !> of the repository: at most 0.98 of the predictor on the traced branches (arch_above_long_path);
-   !> 36 for Walker's arch under load control jumping past its limit point onto the inverted branch.
-   pure logical function far_from_predictor(map, trial)
-      type(dof_map_t), intent(in) :: map
-      type(step_trial_t), intent(in) :: trial
-      far_from_predictor = masked_norm(map, trial%increment - trial%predictor) > masked_norm(map, trial%predictor)
-   end function far_from_predictor
-
-   !> Whether a converged step of increment Δx (n) from a state reached by `last` (n; zero at the
-   !> start) lands off the branch it followed: the path's tangent at the landing state, `tangent` (n,
-   !> K⁻¹R there), makes an angle above 60° with the chord Δx, or Δx makes an obtuse angle with the
-   !> last increment (the path walked back). On a traced branch the chord of a step is close to the
-   !> tangents at both its ends (half the turning angle of the step); a step that converged on a
-   !> crossing branch lands where that branch's tangent is across it. Measured on every deck of the
-   !> repository: angles at most 22° (|cos| ≥ 0.925) to the landing tangent away from sharp folds, 58°
-   !> (|cos| 0.52) at the folds of arch_above_long_path, and 40° (cos ≥ 0.77) to the
-   !> last increment; Walker's arch (ex. 3, k = 1e5, max_increment 50) jumping onto another loop: 87°.
-   pure logical function off_branch(map, increment, last, tangent)
-      type(dof_map_t), intent(in) :: map
-      real(dp), intent(in) :: increment(:), last(:), tangent(:)
-      real(dp) :: size_step, size_tangent, size_last
-      size_step = masked_norm(map, increment)
-      size_tangent = masked_norm(map, tangent)
-      size_last = masked_norm(map, last)
-      off_branch = .false.
-      if (size_step > 0.0_dp .and. size_tangent > 0.0_dp) then
-         off_branch = abs(masked_dot(map, increment, tangent)) < 0.5_dp*size_step*size_tangent
-      end if
-      if (size_step > 0.0_dp .and. size_last > 0.0_dp) then
-         off_branch = off_branch .or. masked_dot(map, increment, last) < 0.0_dp
-      end if
-   end function off_branch
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)
