@@ -31,6 +31,9 @@ module uniarc_model_builder
                            foundation_t, dofs_per_node, dof_ux, load_fixed_direction, load_pressure, &
                            element_beam_column, thermal_load_t, end_joint_t, &
                            load_pattern_t, move_obstacles, analysis_linear
+   use uniarc_builder_type, only: model_builder_t
+   use uniarc_builder_loads, only: add_nodal_load, add_line_load, add_pressure, add_thermal_load, &
+                                   add_prescribed_displacement, has_prescribed_displacements, take_loads
    implicit none
    private
    public :: model_builder_t, finish_model
@@ -46,63 +49,6 @@ module uniarc_model_builder
    public :: set_section_weight, set_section_alpha
    public :: remove_support, copy_supports
 
-   !> Slots of an element's distributed-load records: one fixed-direction, one pressure, one follower.
-   integer, parameter :: slot_fixed = 1, slot_pressure = 2, slot_follower = 3
-
-   !> A model under construction (see the module header). Read its components; write them through the
-   !> procedures of this module.
-   type :: model_builder_t
-      character(len=:), allocatable :: title
-
-      integer :: n_nodes = 0
-      real(dp), allocatable :: coordinates(:, :)      !< (2, capacity) initial x, y
-      integer, allocatable :: node_label(:)
-      logical, allocatable :: fixed(:, :)             !< (3, capacity) DOF held at zero
-      real(dp), allocatable :: nodal_load(:, :)       !< (3, capacity) reference nodal forces/moments
-      integer :: largest_node_label = 0
-      integer, allocatable :: node_of_label(:)        !< label → index (0: none), for labels up to its size
-
-      integer :: n_elements = 0
-      integer, allocatable :: connectivity(:, :)      !< (2, capacity) internal node indices
-      integer, allocatable :: element_label(:)
-      integer, allocatable :: element_section(:)      !< index into sections (0: none)
-      integer, allocatable :: element_kind(:)         !< kinds set by set_element_kind (others: beam-column)
-      type(end_joint_t), allocatable :: end_joints(:, :) !< (2, capacity) set by set_end_joint (others rigid)
-      integer, allocatable :: load_index(:, :)        !< (3, element): fixed, pressure, follower record
-      integer :: largest_element_label = 0
-      integer, allocatable :: element_of_label(:)     !< label → index (0: none), for labels up to its size
-
-      integer :: n_sections = 0
-      type(section_t), allocatable :: sections(:)
-      integer :: n_node_sets = 0
-      type(node_set_t), allocatable :: node_sets(:)
-      integer :: n_element_sets = 0
-      type(element_set_t), allocatable :: element_sets(:)
-      integer :: n_loads = 0
-      type(distributed_load_t), allocatable :: loads(:)
-      integer :: n_tracks = 0
-      type(track_t), allocatable :: tracks(:)
-      !> The names of sections(1:n_sections), node_sets(1:n_node_sets), element_sets(1:n_element_sets)
-      !> and tracks(1:n_tracks), numbered alike: a hash index, so that a name costs O(1) to look up.
-      type(name_table_t) :: section_names, node_set_names, element_set_names, track_names
-      type(name_table_t) :: contact_group_names   !< of contact_groups(1:n_contact_groups), alike
-      integer :: n_contacts = 0
-      type(contact_candidate_t), allocatable :: contacts(:)
-      integer :: n_contact_groups = 0
-      type(contact_group_t), allocatable :: contact_groups(:)
-      integer :: n_foundations = 0
-      type(foundation_t), allocatable :: foundations(:)
-
-      type(analysis_options_t) :: analysis            !< linear static unless set otherwise
-      type(output_options_t) :: output                !< extra result files
-      integer :: n_thermal = 0
-      type(thermal_load_t), allocatable :: thermal(:)
-      integer :: n_prescribed = 0                     !< prescribed displacements (node, dof, value)
-      integer, allocatable :: prescribed_node(:), prescribed_dof(:)
-      real(dp), allocatable :: prescribed_value(:)
-      !> (2, n_contact_groups) translations of plane obstacles (*MOVE; uniarc_model_contacts add_move)
-      real(dp), allocatable :: moves(:, :)
-   end type model_builder_t
 
 contains
 
@@ -426,158 +372,6 @@ contains
       allocate (fixed(dofs_per_node, builder%n_nodes), stat=status)
       if (status == 0 .and. builder%n_nodes > 0) fixed = builder%fixed(:, 1:builder%n_nodes)
    end subroutine copy_supports
-
-   !> Add the reference force (or moment, dof_rz) `value` on DOF `dof` of `node`; loads are summed.
-   pure subroutine add_nodal_load(builder, node, dof, value)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: node, dof
-      real(dp), intent(in) :: value
-      builder%nodal_load(dof, node) = builder%nodal_load(dof, node) + value
-   end subroutine add_nodal_load
-
-   !> Add a reference force per unit initial length `value` in global direction `dof` (dof_ux: x, else y)
-   !> on `element`; such loads on one element are summed into its one fixed-direction record.
-   pure subroutine add_line_load(builder, element, dof, value)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: element, dof
-      real(dp), intent(in) :: value
-      integer :: record
-      call load_record(builder, element, slot_fixed, record)
-      if (dof == dof_ux) then
-         builder%loads(record)%qx = builder%loads(record)%qx + value
-      else
-         builder%loads(record)%qy = builder%loads(record)%qy + value
-      end if
-   end subroutine add_line_load
-
-   !> Add a reference pressure per unit length `value` along the left normal of `element` (its tangent
-   !> node1 → node2 turned by +90°), following the deformed normal if `follower`; summed per element
-   !> into one pressure and one follower-pressure record.
-   pure subroutine add_pressure(builder, element, value, follower)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: element
-      real(dp), intent(in) :: value
-      logical, intent(in) :: follower
-      integer :: record
-      call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record)
-      builder%loads(record)%pressure = builder%loads(record)%pressure + value
-   end subroutine add_pressure
-
-   !> Add a temperature change of `element` (thermal_load_t: α, ΔT at the axis, ΔT_left − ΔT_right,
-   !> depth h), a reference load scaled by λ; several on one element add up.
-   pure subroutine add_thermal_load(builder, element, alpha, delta_t, difference, depth)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: element
-      real(dp), intent(in) :: alpha, delta_t, difference, depth
-      type(thermal_load_t), allocatable :: grown(:)
-      if (.not. allocated(builder%thermal)) allocate (builder%thermal(8))
-      if (builder%n_thermal == size(builder%thermal)) then
-         allocate (grown(2*size(builder%thermal)))
-         grown(1:builder%n_thermal) = builder%thermal(1:builder%n_thermal)
-         call move_alloc(grown, builder%thermal)
-      end if
-      builder%n_thermal = builder%n_thermal + 1
-      builder%thermal(builder%n_thermal) = thermal_load_t(element=element, alpha=alpha, delta_t=delta_t, &
-                                                          difference=difference, depth=depth)
-   end subroutine add_thermal_load
-
-   !> Hold DOF `dof` of `node` and prescribe its displacement `value` (a support settlement), a reference
-   !> value scaled by λ like the loads; values on one DOF add up.
-   !> status: the stat= of the growth of the lists (nonzero: refused by the system, nothing added; for
-   !> uniarc_memory, allocation_failure).
-   pure subroutine add_prescribed_displacement(builder, node, dof, value, status)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: node, dof
-      real(dp), intent(in) :: value
-      integer, intent(out) :: status
-      real(dp), allocatable :: grown(:)
-      status = 0
-      if (.not. allocated(builder%prescribed_node)) then
-         allocate (builder%prescribed_node(8), builder%prescribed_dof(8), builder%prescribed_value(8), stat=status)
-         if (status /= 0) return
-      end if
-      if (builder%n_prescribed == size(builder%prescribed_node)) then
-         ! grown with stat= (a growth by an array constructor is not checked)
-         call grow_integers(builder%prescribed_node, 2*builder%n_prescribed, status)
-         if (status == 0) call grow_integers(builder%prescribed_dof, 2*builder%n_prescribed, status)
-         if (status == 0) allocate (grown(2*builder%n_prescribed), stat=status)
-         if (status /= 0) return
-         grown(1:builder%n_prescribed) = builder%prescribed_value(1:builder%n_prescribed)
-         grown(builder%n_prescribed + 1:) = 0.0_dp
-         call move_alloc(grown, builder%prescribed_value)
-      end if
-      builder%n_prescribed = builder%n_prescribed + 1
-      builder%prescribed_node(builder%n_prescribed) = node
-      builder%prescribed_dof(builder%n_prescribed) = dof
-      builder%prescribed_value(builder%n_prescribed) = value
-      builder%fixed(dof, node) = .true.
-   end subroutine add_prescribed_displacement
-
-   !> True if some DOF has a prescribed displacement (add_prescribed_displacement).
-   pure logical function has_prescribed_displacements(builder)
-      type(model_builder_t), intent(in) :: builder
-      has_prescribed_displacements = builder%n_prescribed > 0
-   end function has_prescribed_displacements
-
-   !> Move the loads added so far (nodal, distributed, temperature changes, prescribed displacements) into
-   !> `pattern` (an analysis step's, *STEP) and start again without loads; the element's load records
-   !> start afresh too. `status`: that of the pattern's allocations (nonzero: the system refused them,
-   !> `pattern` incomplete and the builder's loads kept).
-   subroutine take_loads(builder, pattern, status)
-      type(model_builder_t), intent(inout) :: builder
-      type(load_pattern_t), intent(out) :: pattern
-      integer, intent(out) :: status
-      integer :: i
-      if (allocated(builder%nodal_load)) then
-         allocate (pattern%nodal_load(dofs_per_node, builder%n_nodes), pattern%distributed_loads(builder%n_loads), &
-                   pattern%thermal_loads(builder%n_thermal), stat=status)
-      else
-         allocate (pattern%nodal_load(dofs_per_node, 0), pattern%distributed_loads(builder%n_loads), &
-                   pattern%thermal_loads(builder%n_thermal), stat=status)
-      end if
-      if (status == 0 .and. builder%n_prescribed > 0) &
-         allocate (pattern%prescribed(dofs_per_node, builder%n_nodes), stat=status)
-      if (status /= 0) return
-      if (allocated(builder%nodal_load)) then
-         pattern%nodal_load = builder%nodal_load(:, 1:builder%n_nodes)
-         builder%nodal_load = 0.0_dp
-      end if
-      if (builder%n_loads > 0) pattern%distributed_loads = builder%loads(1:builder%n_loads)
-      if (builder%n_thermal > 0) pattern%thermal_loads = builder%thermal(1:builder%n_thermal)
-      builder%n_loads = 0
-      builder%n_thermal = 0
-      if (allocated(builder%load_index)) builder%load_index = 0
-      if (builder%n_prescribed > 0) then
-         pattern%prescribed = 0.0_dp
-         do i = 1, builder%n_prescribed
-            pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) = &
-               pattern%prescribed(builder%prescribed_dof(i), builder%prescribed_node(i)) + builder%prescribed_value(i)
-         end do
-         builder%n_prescribed = 0
-      end if
-      if (allocated(builder%moves)) call move_alloc(builder%moves, pattern%moves)
-   end subroutine take_loads
-
-   !> The load record of `element` in `slot`, made if the element has none there yet.
-   pure subroutine load_record(builder, element, slot, record)
-      type(model_builder_t), intent(inout) :: builder
-      integer, intent(in) :: element, slot
-      integer, intent(out) :: record
-      type(distributed_load_t), allocatable :: grown(:)
-      record = builder%load_index(slot, element)
-      if (record > 0) return
-      if (.not. allocated(builder%loads)) allocate (builder%loads(16))
-      if (builder%n_loads == size(builder%loads)) then
-         allocate (grown(2*size(builder%loads)))
-         grown(1:builder%n_loads) = builder%loads(1:builder%n_loads)
-         call move_alloc(grown, builder%loads)
-      end if
-      builder%n_loads = builder%n_loads + 1
-      record = builder%n_loads
-      builder%loads(record) = distributed_load_t(element=element, kind=merge(load_fixed_direction, &
-                                                 load_pressure, slot == slot_fixed), follower=slot == slot_follower)
-      builder%load_index(slot, element) = record
-   end subroutine load_record
 
    !> Add the path-file column `name` holding scale × u(dof) of `node` (dof_ux, dof_uy or dof_rz).
    !> `status` (optional): nonzero, the stat= of the growth of the list of tracks or of their name
