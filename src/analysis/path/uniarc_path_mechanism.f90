@@ -87,7 +87,7 @@ contains
    !> leaves its last free motion a pivot of the round-off of an ill-conditioned elimination, which
    !> grows with the mesh (a beam of EI = 1, L = 8 on a bed, held in x at its middle: 1.7e-10,
    !> 1.0e-9, 2.5e-10 of the diagonal with 200, 500, 1000 elements, above stage 1's 1e-10, so its
-   !> rotation was missed), so the second and third motions are looked for by stage 2 alone.
+   !> second motion was missed), so the second and third motions are looked for by stage 2 alone.
    !> Errors: a copy or a vector refused by the system (error_analysis, out of memory).
    subroutine floating_motions(model, map, stiffness, motions, equations, error)
       type(model_t), intent(in) :: model
@@ -243,7 +243,7 @@ contains
       integer, intent(in) :: category
       logical, intent(in), optional :: screen
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:), rotation(:), product(:), magnitude(:)
-      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force, along(2)
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force
       integer :: below, node, dof, status, n
       what = ''
       ratio = huge(1.0_dp)
@@ -288,17 +288,10 @@ contains
       gram(2, 2) = dot_product(forces(:, 2), forces(:, 2))
       gram(1, 2) = dot_product(forces(:, 1), forces(:, 2))
       angle = 0.5_dp*atan2(2.0_dp*gram(1, 2), gram(1, 1) - gram(2, 2)) + 2.0_dp*atan(1.0_dp)
-      ! A component at the round-off of the unit direction is none: cos(π/2) = 6e-17 along a held
-      ! translation put that translation's support into the motion, and the row test held the free
-      ! one (a beam held in x and in rotation at its middle, free to sink onto its bed: no floating
-      ! motion found).
-      along = [cos(angle), sin(angle)]
-      where (abs(along) <= epsilon(1.0_dp)) along = 0.0_dp
-      along = along/norm2(along)
-      candidate(:) = along(1)*modes(:, 1) + along(2)*modes(:, 2)
+      candidate(:) = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
       best = held(candidate)
-      what = 'a translation in the direction ('//trim(adjustl(real_to_string(along(1), '(f6.3)')))// &
-             ', '//trim(adjustl(real_to_string(along(2), '(f6.3)')))//')'
+      what = 'a translation in the direction ('//trim(adjustl(real_to_string(cos(angle), '(f6.3)')))// &
+             ', '//trim(adjustl(real_to_string(sin(angle), '(f6.3)')))//')'
       ! The rotation least held: about the centroid plus the translation that minimises its forces
       ! (least squares), i.e. a rotation about the point centre + (−shift(2), shift(1)).
       gram(2, 1) = gram(1, 2)
