@@ -82,6 +82,12 @@ contains
    !> moves most, at which the tangent holds it while no contact does. Found one at a time by the
    !> module's test (free_rigid_motion), each held at its equation (a spring of the size of the
    !> diagonal there) before the next is looked for. `motions` unallocated: none.
+   !> Once one motion is found the stiffness is known to be singular, and the relative pivot test
+   !> (stage 1) says nothing about the next: the elimination of a flexible structure held at one DOF
+   !> leaves its last free motion a pivot of the round-off of an ill-conditioned elimination, which
+   !> grows with the mesh (a beam of EI = 1, L = 8 on a bed, held in x at its middle: 1.7e-10,
+   !> 1.0e-9, 2.5e-10 of the diagonal with 200, 500, 1000 elements, above stage 1's 1e-10, so its
+   !> second motion was missed), so the second and third motions are looked for by stage 2 alone.
    !> Errors: a copy or a vector refused by the system (error_analysis, out of memory).
    subroutine floating_motions(model, map, stiffness, motions, equations, error)
       type(model_t), intent(in) :: model
@@ -101,7 +107,7 @@ contains
       call allocation_failure(status, 'the floating motions', 24.0_dp*map%n_equations, error_analysis, error)
       if (allocated(error)) return
       do k = 1, 3
-         call free_rigid_motion(model, map, work, motion, ratio, row, what, error, error_analysis)
+         call free_rigid_motion(model, map, work, motion, ratio, row, what, error, error_analysis, screen=k == 1)
          if (allocated(error)) return
          if (.not. allocated(motion)) exit
          j = maxloc(abs(map%metric*motion), 1)
@@ -221,12 +227,14 @@ contains
 
    !> The rigid motion (n, unit rotation or translation) that `stiffness` does not hold, if any
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
-   !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
+   !> weakest pivot over its diagonal and its equation; `what`: the motion in words. `screen` (default
+   !> .true.): stage 1 first, stage 2 only where it finds a weak pivot; .false.: stage 2 alone (ratio
+   !> huge, row 0), for a stiffness known to be singular (floating_motions).
    !> Errors: its vectors refused by the system (out of memory, of `category`, uniarc_memory).
    !> With `axes` true, a translation whose direction is within 1e-12 of an axis is tried along the
    !> axis itself too (the refusal of a mechanism; not the floating motions of a model held by its
    !> contacts, whose detection it would change).
-   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category, axes)
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category, axes, screen)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
@@ -237,6 +245,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in) :: category
       logical, intent(in), optional :: axes
+      logical, intent(in), optional :: screen
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:), rotation(:), product(:), magnitude(:)
       real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force, direction(2)
       integer :: below, node, dof, status, n
@@ -246,8 +255,13 @@ contains
       row = 0
       if (map%n_equations == 0) return
       ! A copy the system refuses leaves row 0: no mechanism named (the caller's message stands).
-      call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below, status)
-      if (row == 0 .or. ratio > pivot_tolerance) return
+      if (.not. present(screen)) then
+         call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below, status)
+         if (row == 0 .or. ratio > pivot_tolerance) return
+      else if (screen) then
+         call band_weakest_pivot(stiffness, pivot_tolerance, row, ratio, below, status)
+         if (row == 0 .or. ratio > pivot_tolerance) return
+      end if
       ! The rigid motions about the centroid: translation x, translation y, rotation (Przemieniecki
       ! 1968, §2: u = a − θ(y − y_c), v = b + θ(x − x_c), rz = θ), on the free equations.
       centre = sum(model%coordinates, 2)/real(max(1, model%n_nodes), dp)
