@@ -124,6 +124,19 @@ contains
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select
+      ! An analysis that failed with an interrupt received: its solve was abandoned for the signal
+      ! (the solvers poll it) before there was a converged state to write (the start of the path, the
+      ! linear solve, the perfect structure's run of *IMPERFECTION); said as an interrupt, not as a
+      ! failure, and nothing is committed (abandon_results below). Not once files were committed or
+      ! removed (results%claimed false: a failure reported with its rows, or an I/O error).
+      if (allocated(error) .and. signal == 0 .and. interrupt_signal() /= 0 .and. results%claimed) then
+         if (error%category == error_analysis .and. .not. error%out_of_memory) then
+            signal = interrupt_signal()
+            deallocate (error)
+            write (error_unit, '(a)') 'interrupted by '//signal_name(signal)// &
+               ' before the analysis had a converged state to write; no result file written'
+         end if
+      end if
       ! Not said yet (the first run of *IMPERFECTION failed): said unless the deck is refused.
       call release_warning(warning, error)
       ! The lock and the work directory go on every way out (nothing left once the files are committed).

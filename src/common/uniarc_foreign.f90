@@ -436,7 +436,8 @@ contains
    end function process_state
 
    !> The names in directory `path` (opendir/readdir, POSIX; "." and ".." left out, names longer than
-   !> 4095 bytes skipped), in the system's order. `ok` is false, with no names, when it cannot be read.
+   !> 4095 bytes skipped), in the system's order. `ok` is false, with no names, when it cannot be read
+   !> or its names do not fit in memory.
    subroutine directory_entries(path, names, ok)
       character(len=*), intent(in) :: path
       type(entry_name_t), allocatable, intent(out) :: names(:)
@@ -444,33 +445,43 @@ contains
       type(entry_name_t), allocatable :: grown(:)
       type(c_ptr) :: directory
       character(kind=c_char) :: buffer(4096)
-      integer :: length, count, i
+      integer :: length, count, i, status
       allocate (names(0))
       directory = c_open_directory(path//c_null_char)
       ok = c_associated(directory)
       if (.not. ok) return
       count = 0
       deallocate (names)
-      allocate (names(16))
-      do
+      allocate (names(16), stat=status)
+      ok = status == 0
+      do while (ok)
          length = int(c_next_entry(directory, buffer, int(size(buffer), c_int)))
          if (length == -1) exit
          if (length < 0) cycle
          if (count == size(names)) then
-            allocate (grown(2*count))
+            allocate (grown(2*count), stat=status)
+            ok = status == 0
+            if (.not. ok) exit
             do i = 1, count
                call move_alloc(names(i)%name, grown(i)%name)
             end do
             call move_alloc(grown, names)
          end if
          count = count + 1
-         allocate (character(len=length) :: names(count)%name)
+         allocate (character(len=length) :: names(count)%name, stat=status)
+         ok = status == 0
+         if (.not. ok) exit
          do i = 1, length
             names(count)%name(i:i) = buffer(i)
          end do
       end do
       call c_close_directory(directory)
-      names = names(1:count)
+      if (ok) then
+         names = names(1:count)
+      else
+         if (allocated(names)) deallocate (names)
+         allocate (names(0))
+      end if
    end subroutine directory_entries
 
    !> This host's name (gethostname, POSIX), or '' when it cannot be had.
