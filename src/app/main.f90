@@ -34,6 +34,8 @@ program main
    end if
 
    call read_deck(cli%deck, cli%overrides, model, error)
+   ! the reading stops at an interrupt (uniarc_deck): said as one, exit 128 + its number
+   if (allocated(error)) call check_interrupt('the reading of the deck')
    if (allocated(error)) call fail(error)
 
    if (cli%check) then
