@@ -16,7 +16,8 @@
 #                step: the files of STEM the new run did not write are removed. Before: they stayed.
 #   stale_lock   STEM.lock of a process of this host that no longer exists: taken over with a note
 #                on stderr, exit 0; a lock of a live process is still refused (exit 2).
-# `timeout` is only a safety net (a hang ends the test as a failure instead of blocking the suite).
+# `timeout` is only a safety net (a hang ends the test as a failure instead of blocking the suite); the
+# signal goes to `timeout`, which passes it on and sends SIGKILL only -k 120 s later.
 #   test_result_set.sh UNIARC WORKDIR CASE
 set -u
 uniarc=$1
@@ -37,7 +38,7 @@ rows() {   # the number of data rows (lines starting with a digit) of a table
 case $case_name in
 in_step)
    out=$work/out
-   timeout -k 5 120 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q 2> "$work/err" &
+   timeout -k 120 300 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q 2> "$work/err" &
    pid=$!
    sleep 1
    sent=$(date +%s.%N)
@@ -63,7 +64,7 @@ check)
       printf '*SECTION, NAME=s, STIFFNESS\n1e3, 1\n*LINE, ELSET=b, SECTION=s\n0, 0, 1, 0, 4\n'
       printf '*BOUNDARY\nb_start, FIXED\n*CLOAD\nb_end, FY, -1\n'
    } > "$deck"
-   timeout -k 5 120 "$uniarc" --check "$deck" > "$work/out" 2> "$work/err" &
+   timeout -k 120 300 "$uniarc" --check "$deck" > "$work/out" 2> "$work/err" &
    pid=$!
    sleep 0.5
    kill -TERM $pid
@@ -77,7 +78,7 @@ check)
 after_end)
    out=$work/out
    part=
-   timeout -k 5 300 "$uniarc" "$decks/long_finish.inp" -o "$out" -q 2> "$work/err" &
+   timeout -k 120 300 "$uniarc" "$decks/long_finish.inp" -o "$out" -q 2> "$work/err" &
    pid=$!
    # the last row (step 2, the step limit) in the work directory: the path has ended by its stop rule
    for _ in $(seq 1 3000); do
