@@ -25,7 +25,7 @@ program bench_path
    use uniarc_foreign, only: exit_program
    use uniarc_model, only: model_t, dofs_per_node
    use uniarc_deck, only: parameter_override_t, read_deck
-   use uniarc_path_following, only: path_state_t, path_initialize
+   use uniarc_path_following, only: path_state_t, path_trace_t, path_initialize
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_inertia
@@ -253,6 +253,7 @@ contains
       real(dp), parameter :: radius = 100.0_dp   !< R of bench/bench_pinched_ring.inp
       type(model_t) :: model
       type(path_state_t) :: state
+      type(path_trace_t) :: trace
       type(error_t), allocatable :: error
       real(dp), allocatable :: u(:), nodal(:, :), internal(:), reference(:), rhs(:, :)
       real(dp) :: read_seconds, ratios(0:iterations), plateau(iterations - 10), floor, slenderness, element_scale
@@ -266,7 +267,7 @@ contains
       do
          write (text, '(i0)') n
          call load_model(deck, [override('n', trim(text))], model, read_seconds)
-         call path_initialize(model, state, error)
+         call path_initialize(model, state, trace, error)
          if (allocated(error)) call fail('pinched ring: '//error%message)
          allocate (u(state%map%n_equations), source=0.0_dp)
          allocate (nodal(dofs_per_node, model%n_nodes), internal(size(u)), reference(size(u)), rhs(size(u), 1))

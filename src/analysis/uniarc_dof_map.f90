@@ -6,14 +6,14 @@
 !> (George & Liu 1981, ch. 4) from a pseudo-peripheral node, whichever gives the smaller bandwidth.
 module uniarc_dof_map
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_model, only: model_t, dofs_per_node, gap_fixed_direction
    use uniarc_error, only: error_t, error_input
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string
    implicit none
    private
    public :: dof_map_t, build_dof_map, element_equations, node_adjacency, reverse_cuthill_mckee
-   public :: ordering_bandwidth, candidate_live, bed_point, bed_deflection
+   public :: ordering_bandwidth, candidate_live, bed_point, bed_deflection, candidate_held_normal
 
    !> The equation numbering of a model.
    type :: dof_map_t
@@ -48,7 +48,9 @@ contains
    !> 3e5 equations and a half-bandwidth of 8 instead of 4e5 and 10, which more than halves a band LU —
    !> while a stiff spring (k up to 1e20) keeps the augmented row, where its flexibility t sits on the
    !> diagonal instead of a penalty k in K. A candidate whose node has both translations held can never
-   !> move and gets no equation (inert).
+   !> move and gets no equation (inert); so does a rigid one whose gap moves only along held DOFs
+   !> (`candidate_held_normal`: a rigid plane under a roller's held UY), whose reaction row would be
+   !> zero — the support carries what the contact would.
    !> A point of a Pasternak bed (`bed_point`) has a rigid contact with the bed's surface: its reaction
    !> and, right after it, the surface's deflection (`bed_equation`), even under a held node.
    !> Errors: an allocation the system refuses (uniarc_memory: allocation_failure), of category
@@ -112,6 +114,7 @@ contains
          do c = 1, n_candidates
             associate (candidate => model%contacts(c))
                if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
+               if (candidate_held_normal(model, c)) cycle
                ! a moving obstacle keeps its row: its ∂g/∂λ is that row's reference load (theory §3.11)
                map%condensed(c) = candidate%flexibility > 0.0_dp .and. candidate%gap_rate == 0.0_dp .and. &
                                   all(candidate%motion == 0.0_dp) .and. &
@@ -135,7 +138,8 @@ contains
                map%candidate_equation(c) = next + 1
                map%bed_equation(c) = next + 2
                next = next + 2
-            else if (.not. (model%fixed(1, node) .and. model%fixed(2, node) .or. map%condensed(c))) then
+            else if (.not. (model%fixed(1, node) .and. model%fixed(2, node) .or. map%condensed(c) .or. &
+                            candidate_held_normal(model, c))) then
                next = next + 1
                map%candidate_equation(c) = next
             end if
@@ -178,6 +182,27 @@ contains
          end associate
       end do
    end subroutine build_dof_map
+
+   !> True if candidate c is rigid (no flexibility, not a Pasternak bed point) with a fixed-direction
+   !> gap g = g0 + n·u whose normal n has no component on a free translation of its node (at most 1e-12:
+   !> the round-off of an angle's cosine, 6e-17 at 90°): the gap never changes, the reaction's row of the
+   !> augmented system (docs/theory.md §3.2) would be zero and the matrix singular. Such a candidate
+   !> can never move: it gets no equation and takes no part in the contact (the support along n holds
+   !> the node; uniarc_run warns of it). A rigid plane under a roller's held UY, for example.
+   pure logical function candidate_held_normal(model, c)
+      type(model_t), intent(in) :: model
+      integer, intent(in) :: c
+      integer :: k
+      candidate_held_normal = .false.
+      associate (candidate => model%contacts(c))
+         if (candidate%gap_kind /= gap_fixed_direction .or. candidate%flexibility /= 0.0_dp .or. &
+             candidate%bed_stiffness(2) > 0.0_dp .or. candidate%tangential) return
+         do k = 1, 2
+            if (.not. model%fixed(k, candidate%node) .and. abs(candidate%direction(k)) > 1.0e-12_dp) return
+         end do
+      end associate
+      candidate_held_normal = .true.
+   end function candidate_held_normal
 
    !> True if candidate c is a point of a Pasternak bed (its deflection is an unknown).
    pure logical function bed_point(model, c)

@@ -22,7 +22,7 @@ module uniarc_path_driver
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_foreign, only: interrupt_signal
    use uniarc_model, only: model_t, tracked_values
-   use uniarc_path_following, only: path_state_t, path_point_t, path_initialize, path_advance, &
+   use uniarc_path_following, only: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
    use uniarc_path_collapse, only: bearing_collapse, plastic_plateau
@@ -63,6 +63,9 @@ module uniarc_path_driver
    !> (a caller may change `rules` between steps).
    type :: path_driver_t
       type(path_state_t) :: state                  !< committed state (uniarc_path_following), point included
+      !> the memory of the path traced (the last committed states and corners, uniarc_path_trace): path_advance's,
+      !> kept here so that no copy of the state copies it
+      type(path_trace_t) :: trace
       type(stop_rules_t) :: rules
       real(dp), allocatable :: displacement(:, :)  !< (dofs_per_node, n_nodes) nodal displacements at the committed state
       real(dp), allocatable :: tracked(:)          !< (size(model%tracks)) tracked values at the committed state
@@ -123,7 +126,7 @@ contains
                          integer_to_string(n_tracks)//' tracks of the model', error_input)
          return
       end if
-      call path_initialize(model, driver%state, error)
+      call path_initialize(model, driver%state, driver%trace, error)
       if (allocated(error)) return
       call nodal_displacements(model, driver%state, driver%displacement, error)
       if (allocated(error)) return
@@ -165,7 +168,7 @@ contains
             return
          end if
       end if
-      call path_restart(model, driver%state, error)
+      call path_restart(model, driver%state, driver%trace, error)
       if (allocated(error)) then
          driver%stop = stop_failure
          return
@@ -196,9 +199,11 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
       real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
-      character(len=:), allocatable :: finding
-      integer :: k, status
-      logical :: collapsed
+      character(len=:), allocatable :: finding, nodes
+      type(path_state_t), allocatable :: before
+      real(dp) :: upper
+      integer :: k, points, status
+      logical :: collapsed, near_collapse
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
          return
@@ -218,7 +223,21 @@ contains
       tracked_before = driver%tracked
       outcome%step = previous%step
       outcome%lambda = driver%state%lambda
-      call path_advance(model, driver%state, error, outcome%cuts)
+      ! A committed state that the certificate (every point of the set counted as yielding, its slack
+      ! in the bound: the upper-bound theorem) finds within the bracket of a bearing collapse: the
+      ! collapse load is at most `upper` (docs/theory.md §3.9, "The step past the collapse"), so a step
+      ! that converges above it has left the collapse (a large rotation of the mechanism) and is not
+      ! taken; the state is kept to restore it (a copy made only near a collapse; unlike the point's,
+      ! copied with stat= above, this assignment is not checked for memory).
+      near_collapse = .false.
+      if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion) .and. &
+          allocated(driver%state%active)) then
+         if (any(driver%state%yielding .and. driver%state%active)) &
+            call bearing_collapse(model, driver%state, .false., near_collapse, upper, points, nodes, &
+                                  bound_only=.true.)
+      end if
+      if (near_collapse) before = driver%state
+      call path_advance(model, driver%state, driver%trace, error, outcome%cuts)
       ! A SIGINT or SIGTERM during the step (its critical-point search included): the step is
       ! abandoned, not returned as converged, and no collapse or plateau is sought after it; the caller
       ! ends the path at the step before (docs/contracts.md, "Interrupts").
@@ -228,6 +247,27 @@ contains
          driver%stop = stop_failure
          outcome%stop = stop_failure
          return
+      end if
+      if (near_collapse .and. .not. allocated(error)) then
+         ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
+         ! which the equilibrium on either side of the step meets)
+         if (driver%state%lambda > upper + 100.0_dp*model%analysis%force_tolerance*abs(upper)) then
+            ! (the step converged beyond the upper bound: the committed state is the collapse)
+            ! (the trace keeps the step taken back: the path, or the analysis step, ends here, and
+            ! path_restart forgets the kept states)
+            driver%state = before
+            driver%collapse_upper = upper
+            driver%collapse_points = points
+            driver%collapse_nodes = nodes
+            driver%stop = stop_collapse
+            outcome%stop = stop_collapse
+            outcome%advanced = .false.
+            outcome%iterations = 0
+            outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
+                                               driver%state%lambda, 0.0_dp)]
+            outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+            return
+         end if
       end if
       if (allocated(error)) then
          ! A step that fails from a state at a bearing collapse (docs/theory.md §3.9, "Collapse"): the
@@ -337,8 +377,14 @@ contains
    !> step failed with its supports at their limits, the rigid mechanism of the yielded supports that
    !> the load drives and that closes an open contact (uniarc_path_collapse, plastic_plateau) moves the
    !> structure at constant load to that contact, the yielded supports flowing; a load step of the
-   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken.
-   !> On success `error` is deallocated and the committed state is the plateau's end (a converged step,
+   !> limits' slack (Δλ ≥ 0, at most 1e-3 of λ) from there restores equilibrium, and is the step taken;
+   !> the contacts that touch already without being in the working set, and that the motion keeps
+   !> touching, start that step in the set with the contact that closes (alone, a touching one would
+   !> leave the turn about it free). Without a plateau, contacts that touch out of the set start the
+   !> normal step again in the set (a step of the load then presses them: docs/theory.md §3.9,
+   !> "Plateau of no length"). A plateau of no length (the motion within round-off, 1e-12, of the
+   !> displacements: no progress) is not taken: no row would differ from the last.
+   !> On success `error` is deallocated and the committed state is the step's end (a converged step,
    !> `cuts` its cut-backs); otherwise (no plateau, or its step does not converge) the committed state
    !> is restored and `error` (the failed step's) is kept, with a note when a plateau was tried.
    subroutine follow_plateau(model, driver, error, cuts)
@@ -348,27 +394,61 @@ contains
       integer, intent(inout) :: cuts
       type(error_t), allocatable :: plateau_error
       real(dp), allocatable :: motion(:), saved(:)
+      logical, allocatable :: touching(:), saved_active(:)
       real(dp) :: dlambda
       integer :: contact, status, n, plateau_cuts
       logical :: found
       n = size(driver%state%u)
-      allocate (motion(n), saved(n), stat=status)
+      allocate (motion(n), saved(n), touching(size(driver%state%active)), &
+                saved_active(size(driver%state%active)), stat=status)
       if (status /= 0) return   ! no plateau tried: the failed step's error stands
-      call plastic_plateau(model, driver%state, found, motion, dlambda, contact)
-      if (.not. found) return
+      call plastic_plateau(model, driver%state, found, motion, dlambda, contact, touching)
+      if (found) then
+         if (.not. sqrt(sum(driver%state%map%metric*motion**2)) > &
+             1.0e-12_dp*sqrt(sum(driver%state%map%metric*driver%state%u**2))) then
+            error%message = error%message//'; the plateau at constant load to the contact of node '// &
+                            integer_to_string(model%node_label(model%contacts(contact)%node))// &
+                            ' has no length (it touches already): no progress'
+            return
+         end if
+      end if
       saved(:) = driver%state%u
+      saved_active(:) = driver%state%active
+      if (.not. found) then
+         if (.not. any(touching)) return
+         driver%state%active(:) = driver%state%active .or. touching
+         if (allocated(driver%state%system)) then
+            driver%state%system%holds_committed = .false.
+            driver%state%system%holds_converged = .false.
+         end if
+         call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
+         if (allocated(plateau_error)) then
+            error%message = error%message//'; nor with the contacts that touch out of the working set in it'
+            driver%state%active(:) = saved_active
+            if (allocated(driver%state%system)) then
+               driver%state%system%holds_committed = .false.
+               driver%state%system%holds_converged = .false.
+            end if
+            return
+         end if
+         cuts = cuts + plateau_cuts
+         deallocate (error)
+         return
+      end if
       driver%state%u(:) = driver%state%u + motion
+      driver%state%active(:) = driver%state%active .or. touching
       driver%state%plateau_due = .true.
       driver%state%plateau_dlambda = dlambda
       if (allocated(driver%state%system)) then
          driver%state%system%holds_committed = .false.
          driver%state%system%holds_converged = .false.
       end if
-      call path_advance(model, driver%state, plateau_error, plateau_cuts)
+      call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
       driver%state%plateau_due = .false.
       driver%state%plateau_dlambda = 0.0_dp
       if (allocated(plateau_error)) then
          driver%state%u(:) = saved
+         driver%state%active(:) = saved_active
          if (allocated(driver%state%system)) then
             driver%state%system%holds_committed = .false.
             driver%state%system%holds_converged = .false.

@@ -12,8 +12,10 @@
 !> uniarc_path_integrator (step constraint and δλ strategies), uniarc_path_newton (one attempt:
 !> predictor, Newton and its convergence test), uniarc_path_contact_set (contact working set),
 !> uniarc_path_stability (inertia, least eigenvalue), uniarc_path_point (the point record),
-!> uniarc_path_locate (critical points passed by a step, located by re-solving it). Here:
-!> path_initialize, and path_advance with the cut-back, the commit and the next step length.
+!> uniarc_path_locate (critical points passed by a step, located by re-solving it), uniarc_path_landing
+!> (a step landed on lambda_max or stop_value), uniarc_path_trace (the memory of the path traced that
+!> the caller keeps: the tests of a step going back and of a loop of corners). Here: path_initialize,
+!> and path_advance with the cut-back, the commit and the next step length.
 !>
 !> Predictor sign: the predictor goes along +K⁻¹R or −K⁻¹R, whichever makes a positive angle with the
 !> previous converged increment (Feng, Perić & Owen 1996). Unlike the sign of det K, which changes at
@@ -26,7 +28,7 @@ module uniarc_path_following
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
-                           dofs_per_node, analysis_options_t
+                           dofs_per_node
    use uniarc_dof_map, only: build_dof_map, dof_map_t, candidate_live
    use uniarc_band, only: band_allocate, band_factorize, band_solve, band_copy
    use uniarc_assembly, only: assemble_reference_load, gather_nodal
@@ -38,7 +40,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
-   use uniarc_path_hidden, only: find_hidden_pair
+   use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_branch, only: switch_branch
@@ -46,12 +48,15 @@ module uniarc_path_following
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_approach, only: rigid_approach
-   use uniarc_path_state_copy, only: copy_state, move_state, move_trial
+   use uniarc_path_state_copy, only: copy_state, move_state
+   use uniarc_path_landing, only: land_on_load_limit, land_on_track_limit
+   use uniarc_path_trace, only: path_trace_t, trace_allocate, trace_forget, trace_remember, trace_retraced_step, &
+                                trace_remember_corner, trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
                                   add_concave_corner_hint
    implicit none
    private
-   public :: path_state_t, path_point_t, path_initialize, path_advance, nodal_displacements
+   public :: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, nodal_displacements
    public :: path_restart
    public :: candidate_reactions
 
@@ -62,24 +67,18 @@ module uniarc_path_following
    !> branch (measured on every deck of the repository: at most 1.25), while a step that
    !> crossed onto another branch lands at the distance between the branches.
    real(dp), parameter :: overlong_ratio = 2.0_dp
-   !> Committed states kept for the test of a step going back along the path (retraced_step).
-   integer, parameter :: traced_kept = 16
-   !> A state lies along a traced segment when within this share of the segment's chord of it: the
-   !> arc of a step deviates from its chord by its sagitta, |chord| tan(θ/4)/2 ≈ |chord| θ/8 for a turn θ
-   !> between its end tangents, 0.05 |chord| for the turns of at most 2 × 22° measured away from folds
-   !> (docs/theory.md §2.3); the pieces a corner step folds back onto run within 0.013 to 0.05 of the
-   !> chords of the steps they go back over (pipeline over the hump, weight then axial force), while
-   !> a new piece leaving a corner at an angle is off at first order.
-   real(dp), parameter :: sagitta_share = 0.15_dp
 
 contains
 
-   !> Number the equations, assemble at the unloaded state and size the first step.
+   !> Number the equations, assemble at the unloaded state and size the first step; `trace`, the
+   !> memory of the path traced that the caller keeps for path_advance (uniarc_path_trace), allocated
+   !> for the path's unknowns and empty.
    !> Errors (error_analysis): displacement control of a held DOF; a singular tangent at the unloaded
    !> state; a zero first increment or reference load.
-   subroutine path_initialize(model, state, error)
+   subroutine path_initialize(model, state, trace, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(out) :: state
+      type(path_trace_t), intent(inout) :: trace
       type(error_t), allocatable, intent(out) :: error
       type(path_system_t), allocatable :: system
       real(dp), allocatable :: nodal(:, :)
@@ -99,6 +98,7 @@ contains
          if (allocated(error)) return
          state%u = 0.0_dp
          state%last_increment = 0.0_dp
+         call trace_allocate(trace, state%map%n_equations)
          if (has_moment_limits(model)) then
             allocate (state%joint_plastic(2, model%n_elements), stat=status)
             call allocation_failure(status, 'the committed plastic rotations of the joints', &
@@ -152,16 +152,18 @@ contains
    !> the start of a path.
    !> Errors (error_analysis): displacement control of a held DOF; a singular tangent; a zero first
    !> increment or reference load.
-   subroutine path_restart(model, state, error)
+   subroutine path_restart(model, state, trace, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
+      type(path_trace_t), intent(inout) :: trace   !< path_advance's memory: its kept states forgotten
       type(error_t), allocatable, intent(out) :: error
       type(path_system_t), allocatable :: system
       associate (options => model%analysis)
          state%lambda = 0.0_dp
          state%last_increment = 0.0_dp
          ! The states traced so far belong to another load pattern: not this step's path.
-         call forget_traced(state)
+         call trace_forget(trace)
+         state%eigenvalue_slope_known = .false.
          call assemble_reference_load(model, state%map, .false., state%fixed_load)
          call set_control_equation(model, state, error)
          if (allocated(error)) return
@@ -247,146 +249,6 @@ contains
          end if
       end associate
    end subroutine size_first_step
-
-   !> The step at which the path passed a corner at the committed state of `state` before (the same
-   !> displacements to 1e-9 of their size: a loop comes back to the same converged state up to the
-   !> round-off of its corrections, 1e-11 measured on pipeline_hump_corner_200; distinct corners of
-   !> a path differ in their displacements by far more), or 0.
-   integer function corner_revisited(state) result(step)
-      type(path_state_t), intent(in) :: state
-      integer :: k
-      real(dp) :: size_u
-      step = 0
-      if (.not. allocated(state%corner_step)) return
-      size_u = norm2(state%u)
-      do k = 1, size(state%corner_step)
-         if (size(state%corner_u, 1) /= size(state%u)) cycle
-         if (norm2(state%u - state%corner_u(:, k)) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
-            step = state%corner_step(k)
-            return
-         end if
-      end do
-   end function corner_revisited
-
-   !> The committed state of `state` kept as a corner passed (the last 8: a loop of more corners
-   !> than that is not recognised). A failed allocation forgets the list (it only guards loops).
-   subroutine remember_corner(state)
-      type(path_state_t), intent(inout) :: state
-      real(dp), allocatable :: kept_u(:, :)
-      integer, allocatable :: kept_step(:)
-      integer :: n, status
-      n = 0
-      if (allocated(state%corner_step)) then
-         if (size(state%corner_u, 1) == size(state%u)) n = min(size(state%corner_step), 7)
-      end if
-      allocate (kept_u(size(state%u), n + 1), kept_step(n + 1), stat=status)
-      if (status /= 0) then
-         if (allocated(state%corner_u)) deallocate (state%corner_u)
-         if (allocated(state%corner_step)) deallocate (state%corner_step)
-         return
-      end if
-      if (n > 0) then
-         kept_u(:, 1:n) = state%corner_u(:, size(state%corner_step) - n + 1:)
-         kept_step(1:n) = state%corner_step(size(state%corner_step) - n + 1:)
-      end if
-      kept_u(:, n + 1) = state%u
-      kept_step(n + 1) = state%point%step
-      call move_alloc(kept_u, state%corner_u)
-      call move_alloc(kept_step, state%corner_step)
-   end subroutine remember_corner
-
-   !> The committed states kept for the test of a step going back along the path (retraced_step) are
-   !> forgotten (the start of an analysis step: its λ measures another load pattern).
-   subroutine forget_traced(state)
-      type(path_state_t), intent(inout) :: state
-      if (allocated(state%trace_u)) deallocate (state%trace_u)
-      if (allocated(state%trace_lambda)) deallocate (state%trace_lambda)
-      if (allocated(state%trace_step)) deallocate (state%trace_step)
-   end subroutine forget_traced
-
-   !> The committed state of `state` appended to the states kept for retraced_step (the last
-   !> traced_kept; `before`, the start of the step, first if none is kept). A failed allocation forgets
-   !> them (they only guard against going back).
-   subroutine remember_traced(state, before)
-      type(path_state_t), intent(inout) :: state
-      type(path_state_t), intent(in) :: before
-      real(dp), allocatable :: kept_u(:, :), kept_lambda(:)
-      integer, allocatable :: kept_step(:)
-      integer :: n, status
-      n = 0
-      if (allocated(state%trace_step)) then
-         if (size(state%trace_u, 1) == size(state%u)) n = min(size(state%trace_step), traced_kept - 1)
-      end if
-      if (n == 0) then
-         ! the start of the step as the first state kept
-         allocate (kept_u(size(state%u), 2), kept_lambda(2), kept_step(2), stat=status)
-         if (status /= 0) then
-            call forget_traced(state)
-            return
-         end if
-         kept_u(:, 1) = before%u
-         kept_lambda(1) = before%lambda
-         kept_step(1) = before%point%step
-         n = 1
-      else
-         allocate (kept_u(size(state%u), n + 1), kept_lambda(n + 1), kept_step(n + 1), stat=status)
-         if (status /= 0) then
-            call forget_traced(state)
-            return
-         end if
-         kept_u(:, 1:n) = state%trace_u(:, size(state%trace_step) - n + 1:)
-         kept_lambda(1:n) = state%trace_lambda(size(state%trace_step) - n + 1:)
-         kept_step(1:n) = state%trace_step(size(state%trace_step) - n + 1:)
-      end if
-      kept_u(:, n + 1) = state%u
-      kept_lambda(n + 1) = state%lambda
-      kept_step(n + 1) = state%point%step
-      call move_alloc(kept_u, state%trace_u)
-      call move_alloc(kept_lambda, state%trace_lambda)
-      call move_alloc(kept_step, state%trace_step)
-   end subroutine remember_traced
-
-   !> The step number at the start of a traced segment (two consecutive kept states a, b, before the
-   !> step that started at `before`) along which the committed `state` lies, going back; 0 if none
-   !> (docs/theory.md §2.3, "back along the path"). Along the segment: the displacements' projection on
-   !> its chord b − a between −sagitta_share and 1 + sagitta_share of the way from a to b and within
-   !> sagitta_share of the chord's length of it, λ within sagitta_share of the segment's Δλ of its
-   !> range; going back: the step's `increment` makes an obtuse angle with b − a and its Δλ `dlambda`
-   !> has the other sign than the segment's (a piece whose displacements run back near the traced ones
-   !> while λ goes on the same way is another piece: pipeline_hump_corner_100 past its corner at step
-   !> 137, λ falling with two contacts where it fell with four). The working set is not
-   !> compared: the piece a corner step folds back onto differs from the traced one by a contact of
-   !> almost no reaction (pipeline over the hump, weight then axial force: one node). The segment that
-   !> ends at the step's start is not tested: going back over it is the reversal test's (and a corner
-   !> may turn back by more than a right angle there, §2.12).
-   integer function retraced_step(state, before, increment, dlambda) result(step)
-      type(path_state_t), intent(in) :: state, before
-      real(dp), intent(in) :: increment(:), dlambda
-      real(dp), allocatable :: chord(:), offset(:)
-      real(dp) :: length2, t, low, high
-      integer :: k
-      step = 0
-      if (.not. allocated(state%trace_step)) return
-      if (size(state%trace_u, 1) /= size(state%u)) return
-      do k = 1, size(state%trace_step) - 1
-         if (state%trace_step(k + 1) >= before%point%step) cycle
-         chord = state%trace_u(:, k + 1) - state%trace_u(:, k)
-         length2 = masked_dot(state%map, chord, chord)
-         if (length2 <= 0.0_dp) cycle
-         if (masked_dot(state%map, increment, chord) >= 0.0_dp) cycle
-         if (dlambda*(state%trace_lambda(k + 1) - state%trace_lambda(k)) >= 0.0_dp) cycle
-         offset = state%u - state%trace_u(:, k)
-         t = masked_dot(state%map, offset, chord)/length2
-         if (t < -sagitta_share .or. t > 1.0_dp + sagitta_share) cycle
-         offset = offset - t*chord
-         if (masked_norm(state%map, offset) > sagitta_share*sqrt(length2)) cycle
-         low = min(state%trace_lambda(k), state%trace_lambda(k + 1))
-         high = max(state%trace_lambda(k), state%trace_lambda(k + 1))
-         if (state%lambda < low - sagitta_share*(high - low) .or. state%lambda > high + sagitta_share*(high - low)) cycle
-         step = state%trace_step(k)
-         return
-      end do
-   end function retraced_step
 
    !> The model has an obstacle that moves with λ in its step (*MOVE, contact_candidate_t%gap_rate).
    pure logical function moving_obstacles(model)
@@ -592,9 +454,12 @@ contains
    !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why;
    !> under load control from a stable state, that this is where the load reaches a limit point); a
    !> singular tangent at the converged state.
-   subroutine path_advance(model, state, error, cuts)
+   subroutine path_advance(model, state, trace, error, cuts)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
+      !> the memory of the path traced (path_initialize's): the tests of a loop of corners and of a step
+      !> going back read it, a corner passed and the committed step are appended
+      type(path_trace_t), intent(inout) :: trace
       type(error_t), allocatable, intent(out) :: error
       integer, intent(out), optional :: cuts
       type(path_system_t), allocatable :: system
@@ -690,6 +555,11 @@ contains
                   ! A load step of a degenerate tangent has no displacement predictor to be near; nor has
                   ! a release step (Δλ = 0, docs/theory.md §3.8).
                   if (degenerate_step(state, trial) .or. trial%release) exit
+                  ! Nor has a step whose committed K⁻¹R moves nothing (the contacts that touch at the
+                  ! start carry the load) but whose corrector closes the gap, within the touching
+                  ! tolerance, of a contact of the set: a rigid plane 1e-9 under the loaded node
+                  ! (docs/theory.md §2.3). Its landing is judged by the angle tests of its commit.
+                  if (degenerate_tangent(state, state%tangent_displacement)) exit
                   if (.not. far_from_predictor(state%map, trial)) exit
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
@@ -706,7 +576,7 @@ contains
             ! next piece's working set and tangent are sought (uniarc_path_corner); once per step.
             if (.not. trial%converged .and. options%control == control_arclength .and. .not. cornered) then
                cornered = .true.
-               revisited = corner_revisited(state)
+               revisited = trace_corner_revisited(trace, state%u)
                if (revisited > 0) then
                   ! The path came back to a corner it passed already: around a closed loop of pieces
                   ! (contacts opening and closing in turn), it would trace the same states for ever.
@@ -721,7 +591,7 @@ contains
                      call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                      return
                   end if
-                  if (corner_passed) call remember_corner(state)
+                  if (corner_passed) call trace_remember_corner(trace, state%u, state%point%step)
                end if
             end if
             if (.not. trial%converged) then
@@ -833,7 +703,17 @@ contains
             ! has the slide of a floating structure onto its first contact (§2.8), a rigid motion.
             jump = ''
             multiple = .false.
-            if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
+            ! With no increment yet (the start of a path or of an analysis step) forward is the sense of
+            ! λ the first increment sets: a first step whose λ goes the other way reversed the load (a
+            ! rigid plane 1e-9 under the loaded node, docs/theory.md §2.3).
+            if (options%control == control_arclength .and. .not. (trial%floating_slide .or. trial%release) .and. &
+                trial%dlambda*real(before%direction, dp) < 0.0_dp) then
+               if (.not. masked_norm(state%map, before%last_increment) > 0.0_dp) &
+                  jump = 'the first step goes against the sense of lambda its first increment sets'
+            end if
+            if (len(jump) > 0) then
+               continue
+            else if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then
@@ -862,6 +742,12 @@ contains
                   else
                      multiple = .true.
                   end if
+               else if (0.5_dp*length >= options%min_increment*state%first_length .and. &
+                        eigenvalue_overshoot(before, state)) then
+                  ! The count may have changed and changed back inside the step: μ, extrapolated
+                  ! from the last step, vanishes within it (docs/theory.md §2.3).
+                  jump = 'the least eigenvalue, extrapolated from the last step, vanishes inside it '// &
+                         'while the count of negative pivots at its end is that of its start'
                else
                   call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
@@ -881,7 +767,8 @@ contains
             ! long path with max_increment 20: step 138 past the limit 422.63 lies along steps 134–135).
             if (len(jump) == 0 .and. (corner_passed .or. any(trial%active .neqv. before%active)) .and. &
                 .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
-               revisited = retraced_step(state, before, trial%increment, trial%dlambda)
+               revisited = trace_retraced_step(trace, state%map, state%u, state%lambda, before%point%step, &
+                                               trial%increment, trial%dlambda)
                if (revisited > 0) then
                   jump = 'it goes back along the path traced between steps '// &
                          integer_to_string(revisited)//' and '//integer_to_string(revisited + 1)
@@ -925,7 +812,17 @@ contains
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
-               call remember_traced(state, before)
+               call trace_remember(trace, state%u, state%lambda, state%point%step, before%u, before%lambda, &
+                                   before%point%step)
+               ! μ's slope along this step, for the next step's test of a hidden zero of μ
+               ! (uniarc_path_hidden): only across a smooth piece with one working set, where μ is
+               ! the least eigenvalue of one continuous tangent.
+               state%eigenvalue_slope_known = .not. (corner_passed .or. trial%floating_slide .or. &
+                  trial%release .or. degenerate_step(before, trial) .or. state%point%liftoff .or. &
+                  before%point%liftoff .or. state%point%switched)
+               if (state%eigenvalue_slope_known) state%eigenvalue_slope_known = size(state%active) == size(before%active)
+               state%previous_eigenvalue = before%point%min_eigenvalue
+               state%previous_s = before%point%s
                exit steps
             end if
             call move_state(before, state)   ! the step rejected: back to its start
@@ -969,109 +866,6 @@ contains
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
-
-   !> The landing on lambda_max of a step under arc-length or displacement control (docs/theory.md
-   !> §2.11): a converged `trial` from the committed `state` whose λ takes |λ| from below lambda_max to
-   !> lambda_max or beyond (the path reaching the deck's load while |λ| rises; a step cannot end past
-   !> it otherwise, since the path stops at the first point with |λ| >= lambda_max) is solved again from
-   !> the same committed state under load control with Δλ = ±lambda_max − λ_n, the sign of the
-   !> trial's λ. If that attempt converges it replaces `trial`, `target` is ±lambda_max (the λ the
-   !> commit sets, free of the round-off of λ_n + Δλ), `landed` is true, and `length` becomes the
-   !> deck's step length scaled by the fraction of the trial's Δλ the landing takes (the length the
-   !> critical-point locator and a cut of the landed step start from). If it does not converge (a
-   !> limit point between λ_n and lambda_max passed inside the step), the trial is kept: the path then
-   !> ends past lambda_max as it reached it (docs/contracts.md). `system` is work space.
-   subroutine land_on_load_limit(model, state, system, trial, length, target, landed)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
-      type(path_system_t), intent(inout) :: system
-      type(step_trial_t), intent(inout) :: trial
-      real(dp), intent(inout) :: length
-      real(dp), intent(out) :: target
-      logical, intent(out) :: landed
-      type(analysis_options_t) :: load_controlled
-      type(path_state_t) :: start
-      type(step_trial_t) :: landing
-      type(error_t), allocatable :: error
-      real(dp) :: lambda_max, reached
-      landed = .false.
-      target = 0.0_dp
-      lambda_max = model%analysis%lambda_max
-      if (.not. (lambda_max < huge(1.0_dp))) return
-      reached = state%lambda + trial%dlambda
-      if (.not. (abs(state%lambda) < lambda_max .and. abs(reached) >= lambda_max)) return
-      target = sign(lambda_max, reached)
-      ! The same model under load control (its options only: no copy of the model), from a copy of
-      ! the committed state going towards the target. A copy or a landing refused memory ends the
-      ! run (trial%fatal, as fail_attempt).
-      load_controlled = model%analysis
-      load_controlled%control = control_load
-      call copy_state(state, start, 'the state a step lands on lambda_max from', error)
-      if (allocated(error)) then
-         call fail_attempt(trial, 'no memory for the landing on lambda_max', error)
-         return
-      end if
-      start%direction = 1
-      if (target < state%lambda) start%direction = -1
-      landing%length = abs(target - state%lambda)
-      ! (attempt_step leaves the system holding the landing's converged assembly, or none.)
-      call attempt_step(model, start, system, landing, analysis=load_controlled)
-      if (allocated(landing%fatal)) then
-         call fail_attempt(trial, 'no memory for the landing on lambda_max', landing%fatal)
-         return
-      end if
-      if (.not. landing%converged) return
-      length = length*abs(target - state%lambda)/abs(trial%dlambda)
-      call move_trial(landing, trial)
-      landed = .true.
-   end subroutine land_on_load_limit
-
-   !> The landing on stop_value of a step that takes the stop track's |value| from below stop_value to
-   !> stop_value or beyond (docs/theory.md §2.11): the step is solved again from the same committed
-   !> state under displacement control of the tracked DOF (value = scale × u there), its increment the
-   !> one that puts the value on sign(value) × stop_value; if that converges it replaces the trial
-   !> (`landed`) and `length` is scaled by the share of the tracked increment it covers. A tracked DOF
-   !> that is held, or a landing that does not converge (the contacts carry the load at the DOF, a
-   !> limit of the tracked value inside the step), keeps the trial.
-   subroutine land_on_track_limit(model, state, system, trial, length, landed)
-      type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
-      type(path_system_t), intent(inout) :: system
-      type(step_trial_t), intent(inout) :: trial
-      real(dp), intent(inout) :: length
-      logical, intent(out) :: landed
-      type(model_t), allocatable :: controlled
-      type(path_state_t), allocatable :: start
-      type(step_trial_t) :: landing
-      real(dp) :: before, after, goal, stop_value
-      integer :: k, equation
-      landed = .false.
-      k = model%analysis%stop_track
-      if (k <= 0) return
-      stop_value = model%analysis%stop_value
-      equation = state%map%equation(model%tracks(k)%dof, model%tracks(k)%node)
-      if (equation <= 0 .or. model%tracks(k)%scale == 0.0_dp) return
-      before = model%tracks(k)%scale*state%u(equation)
-      after = model%tracks(k)%scale*(state%u(equation) + trial%increment(equation))
-      if (.not. (abs(before) < stop_value .and. abs(after) >= stop_value)) return
-      ! the tracked DOF's increment to the goal, u_goal − u_n
-      goal = (sign(stop_value, after) - before)/model%tracks(k)%scale
-      if (.not. (abs(goal) > 0.0_dp)) return
-      allocate (controlled, source=model)
-      controlled%analysis%control = control_displacement
-      controlled%analysis%control_node = model%tracks(k)%node
-      controlled%analysis%control_dof = model%tracks(k)%dof
-      allocate (start, source=state)
-      start%control_equation = equation
-      start%direction = 1
-      if (goal < 0.0_dp) start%direction = -1
-      landing%length = abs(goal)
-      call attempt_step(controlled, start, system, landing)
-      if (.not. landing%converged) return
-      length = length*abs(goal)/max(abs(trial%increment(equation)), tiny(1.0_dp))
-      trial = landing
-      landed = .true.
-   end subroutine land_on_track_limit
 
    !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
    !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has

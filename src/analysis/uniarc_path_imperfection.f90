@@ -61,7 +61,8 @@ contains
             return
          end if
          if (allocated(driver%state%bifurcation) .and. driver%state%bifurcations == wanted) then
-            call nodal_mode(perfect, driver%state%map, driver%state%bifurcation%mode, mode, error)
+            call nodal_mode(perfect, driver%state%map, driver%state%bifurcation%mode, mode, error, &
+                            keep_sign=driver%state%bifurcation%liftoff)
             if (allocated(error)) then
                call add_context(error, 'the first run on the perfect structure (*IMPERFECTION)', deck)
                return

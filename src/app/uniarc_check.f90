@@ -10,7 +10,7 @@ module uniarc_check
    use uniarc_model, only: model_t, analysis_linear, control_load, control_displacement, dofs_per_node, &
                            element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak
    use uniarc_contact_law, only: chain_nodes
-   use uniarc_dof_map, only: dof_map_t, build_dof_map
+   use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_held_normal
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
    use uniarc_model, only: control_arclength, thermal_load_t
@@ -20,7 +20,7 @@ module uniarc_check
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
-   public :: nearly_mechanism_warning, check_bed_ends
+   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning
 
    !> A linear response to the loads that moves a node by more than this many times the model's size
    !> is reported as a nearly singular model (nearly_mechanism_warning).
@@ -238,6 +238,50 @@ contains
                          counts_text(model, map)//') would '//shortfall, error_input)
       end if
    end subroutine check_model
+
+   !> Rigid contact candidates left out of the contact because their gap moves only along held DOFs
+   !> (uniarc_dof_map: candidate_held_normal; docs/theory.md §3.1) on a node with a free translation —
+   !> a rigid plane under a roller's held UY: `message` allocated, naming the nodes (labels, the first
+   !> ten) and the obstacle of the first; the caller prints it and the analysis goes on. Such a
+   !> candidate's reaction would act only on the support, which carries it. Candidates on nodes with
+   !> both translations held are inert without a word, as they have always been.
+   subroutine held_contact_warning(model, message)
+      type(model_t), intent(in) :: model
+      character(len=:), allocatable, intent(out) :: message
+      character(len=:), allocatable :: nodes, obstacle
+      integer :: c, shown, total, label
+      if (.not. allocated(model%contacts)) return
+      nodes = ''
+      obstacle = ''
+      shown = 0
+      total = 0
+      do c = 1, size(model%contacts)
+         associate (candidate => model%contacts(c))
+            if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
+            if (.not. candidate_held_normal(model, c)) cycle
+            total = total + 1
+            if (total == 1 .and. allocated(model%contact_groups) .and. candidate%group > 0) then
+               if (candidate%group <= size(model%contact_groups)) then
+                  if (allocated(model%contact_groups(candidate%group)%name)) &
+                     obstacle = ' (of '//model%contact_groups(candidate%group)%name//')'
+               end if
+            end if
+            if (shown == 10) cycle
+            label = candidate%node
+            if (allocated(model%node_label)) label = model%node_label(candidate%node)
+            if (shown > 0) nodes = nodes//', '
+            nodes = nodes//integer_to_string(label)
+            shown = shown + 1
+         end associate
+      end do
+      if (total == 0) return
+      if (total > shown) nodes = nodes//' and '//integer_to_string(total - shown)//' more'
+      message = 'the rigid contact at node '//nodes//obstacle//' is left out: the node can move only '// &
+                'along the obstacle''s surface (its DOF along the normal is held by a support), so its gap '// &
+                'never changes and the support carries what the contact would'
+      if (total > 1) message = 'the rigid contacts at nodes '//message(len('the rigid contact at node ') + 1:)
+      if (allocated(model%deck_path)) message = model%deck_path//': '//message
+   end subroutine held_contact_warning
 
    !> A model held only by springs or contacts far softer than the structure (docs/contracts.md,
    !> "Nearly singular models"): not a mechanism — its stiffness is regular — but one whose rigid motion

@@ -27,7 +27,7 @@ module uniarc_run
    use uniarc_dof_map, only: dof_map_t, build_dof_map, bed_deflection
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
-                           nearly_mechanism_warning
+                           nearly_mechanism_warning, held_contact_warning
    use uniarc_memory, only: available_memory, memory_text, allocation_failure
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_provenance, only: provenance_t
@@ -74,7 +74,7 @@ contains
       type(result_directory_t) :: results
       type(model_t) :: imperfect
       type(dof_map_t) :: map
-      character(len=:), allocatable :: warning
+      character(len=:), allocatable :: warning, held
       ! An interrupt while the deck was read: nothing computed, nothing written (main's exit code).
       signal = interrupt_signal()
       if (signal /= 0) then
@@ -100,6 +100,15 @@ contains
       ! the analysis, the perfect structure's first run of *IMPERFECTION) are passed: a refused deck's
       ! stderr starts with its error (docs/contracts.md, "Nearly singular models").
       call nearly_mechanism_warning(model, map, warning)
+      call held_contact_warning(model, held)
+      if (allocated(held)) then
+         ! said with the nearly singular model's warning, as one more line of it
+         if (allocated(warning)) then
+            warning = held//new_line('a')//'warning: '//warning
+         else
+            call move_alloc(held, warning)
+         end if
+      end if
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
@@ -223,6 +232,15 @@ contains
       if (allocated(message)) write (error_unit, '(a)') 'warning: '//message
    end subroutine warn_nearly_mechanism
 
+   !> The warning of rigid contacts left out because their node's DOF along the normal is held
+   !> (uniarc_check: held_contact_warning) on stderr, also with -q; the analysis goes on.
+   subroutine warn_held_contacts(model)
+      type(model_t), intent(in) :: model
+      character(len=:), allocatable :: message
+      call held_contact_warning(model, message)
+      if (allocated(message)) write (error_unit, '(a)') 'warning: '//message
+   end subroutine warn_held_contacts
+
    !> The memory line of `-v` on stderr before the analysis (docs/contracts.md, "Progress and
    !> messages"): the estimate of uniarc_check (model_memory_estimate) and what is available
    !> (uniarc_memory: available_memory), e.g. `memory: about 1.23 MB estimated; 3.40 GB available
@@ -268,6 +286,7 @@ contains
       call check_model(model, map, error)
       if (.not. allocated(error)) call check_model_mechanism(model, map, error)
       if (.not. allocated(error)) call check_step_supports(model, error)
+      if (.not. allocated(error)) call warn_held_contacts(model)
       if (.not. allocated(error)) call warn_nearly_mechanism(model, map)
       if (.not. allocated(error)) write (output_unit, '(a)') 'check passed: the model can be analysed'
    end subroutine check_deck
@@ -577,6 +596,10 @@ contains
          write (error_unit, '(a)') 'interrupted by '//signal_name(signal)//' after the path had ended ('// &
             stop_message(model, driver)//'): its result files are complete'
       end if
+      ! *PATH, SWITCH=n on a path that met fewer bifurcations: said, not left to be guessed from .crit.
+      if (stepped%analysis%switch_bifurcation > driver%state%bifurcations .and. .not. allocated(error)) &
+         write (error_unit, '(a)') 'warning: *PATH, SWITCH='//integer_to_string(stepped%analysis%switch_bifurcation)// &
+         ': the path located '//counted(driver%state%bifurcations, 'bifurcation')//', so it did not switch branches'
       if (.not. options%quiet) then
          if (allocated(model%steps)) write (output_unit, '(a)') 'analysis step '//integer_to_string(k_step)// &
             ' ('//model%steps(k_step)%name//') ended at lambda = '//trim(format_number(record%lambda))//'; '// &
@@ -632,7 +655,8 @@ contains
       if (.not. allocated(driver%state%bifurcation) .or. driver%state%point%switched) return
       do k = size(events), 1, -1
          if (index(events(k)%kind, 'bifurcation') == 0) cycle
-         call nodal_mode(model, driver%state%map, driver%state%bifurcation%mode, mode, error)
+         call nodal_mode(model, driver%state%map, driver%state%bifurcation%mode, mode, error, &
+                         keep_sign=driver%state%bifurcation%liftoff)
          if (allocated(error)) return
          call add_mode(modes, events(k)%kind, events(k)%position, events(k)%lambda, mode, error)
          return

@@ -293,6 +293,12 @@ contains
       end do
       inquire (file=path//'/.', exist=exists)
       if (exists) return
+      inquire (file=path, exist=exists)
+      if (exists) then
+         call make_error(error, 'cannot create output directory '//path//': expected a directory, found a file '// &
+                         'of that name', error_analysis)
+         return
+      end if
       status = c_mkdir(path//c_null_char, int(o'755', c_int))
       if (status /= 0) call make_error(error, 'cannot create output directory '//path//': '// &
                                        system_error_text(), error_analysis)

@@ -91,6 +91,10 @@ contains
       allocate (source%lines(0))
       limit = max_line_length
       if (present(line_limit)) limit = line_limit
+      if (len(path) == 0) then
+         call make_error(error, 'the deck: expected the path of a deck file, found an empty argument', error_input)
+         return
+      end if
       call file_status(path, kind, bytes, failure)
       if (allocated(failure)) then
          call make_error(error, path//': cannot open ('//failure//')', error_input)
@@ -114,7 +118,7 @@ contains
       open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
             iostat=status, iomsg=message)
       if (status /= 0) then
-         call make_error(error, path//': cannot open ('//trim(message)//')', error_input)
+         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
          return
       end if
       do offset = 0, int(bytes) - 1, chunk_bytes
@@ -128,6 +132,18 @@ contains
       close (unit)
       call split_lines(buffer, limit, source, error)
    end subroutine read_source
+
+   !> The reason in gfortran's message of a failed OPEN, "Cannot open file 'PATH': REASON", without its
+   !> prefix (the caller names the file and says it cannot be opened); the whole message otherwise.
+   pure function runtime_reason(message) result(reason)
+      character(len=*), intent(in) :: message
+      character(len=:), allocatable :: reason
+      integer :: at
+      reason = trim(message)
+      if (index(reason, 'Cannot open file ') /= 1) return
+      at = index(reason, "': ", back=.true.)
+      if (at > 0) reason = reason(at + 3:)
+   end function runtime_reason
 
    !> Split the deck's text into `source%lines` at line feeds (a last line without one counts).
    subroutine split_lines(text, limit, source, error)

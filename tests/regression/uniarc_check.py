@@ -415,6 +415,7 @@ def main():
     parser.add_argument('--expect-proportional', action='append', default=[])
     parser.add_argument('--expect-affine', action='append', default=[])
     parser.add_argument('--expect-stderr', action='append', default=[])
+    parser.add_argument('--expect-modes-min', action='append', default=[])
     parser.add_argument('--expect-no-return', action='append', default=[])
     parser.add_argument('--expect-free-span', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
@@ -477,6 +478,8 @@ def main():
     if args.expect_no_return:
         names, rows = read_table(path_file)
         failures += check_no_return(args.expect_no_return, names, rows)
+    for expectation in args.expect_modes_min:
+        failures += check_modes_min(expectation, os.path.join(args.out, stem + '.modes'))
     for expectation in args.expect_free_span:
         failures += check_free_span(expectation, os.path.join(args.out, stem + '.contact'))
     if (args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before
@@ -508,6 +511,27 @@ def main():
     for failure in failures:
         print('FAIL:', failure)
     return 1 if failures else 0
+
+
+def check_modes_min(expectation, modes_file):
+    """--expect-modes-min COLUMN=VALUE: STEM.modes has rows, and COLUMN is at least VALUE on every one
+    (a mode on the admissible cone of a bed pushing along +y: uy >= -round-off at every node, none of
+    it pressing into the bed)."""
+    column, value = expectation.split('=', 1)
+    value = float(value)
+    if not os.path.exists(modes_file):
+        return [f'no {modes_file}']
+    with open(modes_file) as handle:
+        lines = [line for line in handle.read().splitlines() if line.strip()]
+    names = lines[0].split()
+    if column not in names:
+        return [f'no column {column} in {modes_file}']
+    rows = [line.split() for line in lines[1:] if not line.startswith('#')]
+    if not rows:
+        return [f'{modes_file} has no rows']
+    least = min(float(row[names.index(column)]) for row in rows)
+    print(f'{"ok" if least >= value else "FAIL"}: least {column} of the modes = {least!r}, expected >= {value!r}')
+    return [] if least >= value else [f'{column} of a mode is {least!r} < {value!r}']
 
 
 def check_no_return(columns, names, rows):

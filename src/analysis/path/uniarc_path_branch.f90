@@ -37,12 +37,15 @@ contains
    !> scaled so that the largest nodal translation sqrt(ux² + uy²) is 1 (a rotation-only mode: the
    !> largest rotation is 1) and signed so that the largest component is positive. Dimensionless shape.
    !> Errors: `nodal` refused by the system (error_analysis, out of memory, uniarc_memory).
-   subroutine nodal_mode(model, map, mode, nodal, error)
+   !> With `keep_sign` true (a lift-off mode, on the admissible cone: its sign opens the contacts that
+   !> touch without force, docs/theory.md §2.6) the sign is kept.
+   subroutine nodal_mode(model, map, mode, nodal, error, keep_sign)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: mode(:)
       real(dp), allocatable, intent(out) :: nodal(:, :)
       type(error_t), allocatable, intent(out) :: error
+      logical, intent(in), optional :: keep_sign
       real(dp) :: largest
       integer :: where(2), status
       allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
@@ -55,6 +58,9 @@ contains
       if (.not. largest > 0.0_dp) return
       where = maxloc(abs(nodal))
       if (nodal(where(1), where(2)) < 0.0_dp) largest = -largest
+      if (present(keep_sign)) then
+         if (keep_sign) largest = abs(largest)
+      end if
       nodal(:, :) = nodal/largest
    end subroutine nodal_mode
 
@@ -66,8 +72,11 @@ contains
    !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
    !> factorised into state%system) and the arc length goes on from it along the new branch;
    !> state%bifurcation stays until the next step (the switch's row in STEM.crit).
+   !> A converged step more than 60° from ξφ̂ (φ̂ᵀΔu < ‖Δu‖/2: on another branch, such as the primary
+   !> one) is refused and halved like a failed one (docs/theory.md §2.6).
    !> `cuts` returns the halvings made. Errors (error_analysis): no bifurcation kept, a singular tangent
-   !> at x_c, or no convergence down to the smallest step.
+   !> at x_c, no convergence down to the smallest step, or every converged step off the mode's
+   !> direction down to it ("no secondary branch found along the mode").
    subroutine switch_branch(model, state, error, cuts)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: state
@@ -78,9 +87,10 @@ contains
       type(step_trial_t) :: trial
       type(analysis_options_t) :: riks
       real(dp), allocatable :: phi(:), primary(:), start(:)
-      real(dp) :: xi, t_norm, bytes, sign_of
-      integer :: step, status
+      real(dp) :: xi, t_norm, bytes, sign_of, along, size_increment
+      integer :: step, status, off_mode
       cuts = 0
+      off_mode = 0
       state%switch_due = .false.
       if (.not. allocated(state%bifurcation)) then
          call make_error(error, 'no bifurcation to switch branches at', error_analysis)
@@ -144,13 +154,33 @@ contains
             call move_alloc(trial%fatal, error)
             return
          end if
-         if (trial%converged) exit
+         if (trial%converged) then
+            ! On the new branch: it leaves the bifurcation tangent to φ, so the converged increment
+            ! keeps within 60° of ξφ̂ (cos ≥ 1/2; it tends to 0° as ξ → 0). A state further round
+            ! is another branch — the primary one, or one reached through it — and is refused as a
+            ! failed attempt: no silent return to the path the switch left (docs/theory.md §2.6).
+            along = masked_dot(critical%map, trial%increment, phi)
+            size_increment = masked_norm(critical%map, trial%increment)
+            if (along >= 0.5_dp*size_increment) exit
+            off_mode = off_mode + 1
+            trial%reason = 'the converged state, at lambda = '//trim(real_to_string(critical%lambda + trial%dlambda, &
+                           '(es12.5)'))//', lies '//trim(real_to_string(acos(max(-1.0_dp, min(1.0_dp, &
+                           along/max(size_increment, tiny(1.0_dp)))))*45.0_dp/atan(1.0_dp), '(f6.1)'))// &
+                           ' degrees off the mode: on another branch'
+         end if
          xi = 0.5_dp*xi
          cuts = cuts + 1
          if (xi < model%analysis%min_increment*state%first_length .or. cuts > model%analysis%max_cuts) then
             call move_alloc(system, state%system)
-            call make_error(error, 'branch switching at lambda = '//real_to_string(critical%lambda, '(es12.5)')// &
-                            ': no convergence ('//trial%reason//') down to the smallest step', error_analysis)
+            if (off_mode > 0) then
+               call make_error(error, 'branch switching at lambda = '//real_to_string(critical%lambda, '(es12.5)')// &
+                               ': no secondary branch found along the mode: every step that converged (the last: '// &
+                               trial%reason//') left it for another branch, down to the smallest step; the '// &
+                               'path does not go back to the branch it left', error_analysis)
+            else
+               call make_error(error, 'branch switching at lambda = '//real_to_string(critical%lambda, '(es12.5)')// &
+                               ': no convergence ('//trial%reason//') down to the smallest step', error_analysis)
+            end if
             return
          end if
       end do

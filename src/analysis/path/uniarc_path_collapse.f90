@@ -50,6 +50,10 @@ module uniarc_path_collapse
    !> max_pairs constraint rows only: a mechanism missed so is a collapse not certified (the run then
    !> ends as a failed step), never a false one.
    integer, parameter :: max_pairs = 300
+   !> A contact out of the working set whose gap is at most this fraction of the largest displacement
+   !> touches (round-off of a plateau that closed it; the model's size, which the working set's
+   !> touching test takes, can exceed the gaps of a lift-off on a fine mesh).
+   real(dp), parameter :: touch_tolerance = 1.0e-9_dp
 
 contains
 
@@ -60,7 +64,7 @@ contains
    !> floating motion, no candidate at a limit, no admissible mechanism that the load drives, or a
    !> bracket wider than collapse_bracket; then `finding` (if present) says which, in words for a
    !> message (e.g. "no mechanism that the load drives is admissible", or the bracket it found).
-   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, finding)
+   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, finding, bound_only)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       !> .true.: only the candidates of the yielding set count as yielding (a converged state that is
@@ -73,12 +77,18 @@ contains
       character(len=:), allocatable, intent(out) :: nodes
       !> why the certificate refused (collapsed = .false.), or '' when it certified the collapse
       character(len=:), allocatable, intent(out), optional :: finding
+      !> .true.: every candidate of the set with a limit counts as yielding, its slack to the limit in
+      !> Δλ(φ) (strict ignored): the upper bound λ_n + Δλ_min holds for every admissible mechanism
+      !> (the upper-bound theorem needs no candidate at its limit), so `upper` bounds the collapse load
+      !> of the small-displacement problem from any statically admissible state; collapsed then says
+      !> that the bracket [λ_n, upper] is within collapse_bracket
+      logical, intent(in), optional :: bound_only
       real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
       real(dp), allocatable :: constraint(:, :), slack(:), load(:)
       integer, allocatable :: kind(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), margin, force_scale
       integer :: n_c, m, c, j, node, d, n_con, a, b, k
-      logical :: any_yield
+      logical :: any_yield, every
       collapsed = .false.
       upper = state%lambda
       count = 0
@@ -108,12 +118,15 @@ contains
       end do
       margin = near_yield
       if (strict) margin = 0.0_dp
+      every = .false.
+      if (present(bound_only)) every = bound_only
+      if (every) margin = 1.0_dp
       force_scale = 0.0_dp
       do c = 1, n_c
          if (in_set(model, state%active, c)) force_scale = max(force_scale, abs(state%reactions(c)))
       end do
       if (present(finding)) finding = 'no contact point at or within 0.1 % of its limit'
-      if (strict .and. .not. any(state%yielding .and. state%active)) return
+      if (strict .and. .not. every .and. .not. any(state%yielding .and. state%active)) return
       any_yield = .false.
       do c = 1, n_c
          if (.not. candidate_live(state%map, c)) cycle
@@ -125,11 +138,13 @@ contains
             reaction = state%reactions(c)
             kind(c) = 1
             if (candidate%yield_force > 0.0_dp .and. (state%yielding(c) .or. &
-                (.not. strict .and. reaction >= (1.0_dp - margin)*candidate%yield_force)) .and. reaction >= 0.0_dp) then
+                ((every .or. .not. strict) .and. reaction >= (1.0_dp - margin)*candidate%yield_force)) .and. &
+                reaction >= 0.0_dp) then
                kind(c) = 2
                limit = candidate%yield_force
             else if (candidate%uplift_force > 0.0_dp .and. (state%yielding(c) .or. &
-                     (.not. strict .and. reaction <= -(1.0_dp - margin)*candidate%uplift_force)) .and. reaction < 0.0_dp) then
+                     ((every .or. .not. strict) .and. reaction <= -(1.0_dp - margin)*candidate%uplift_force)) .and. &
+                     reaction < 0.0_dp) then
                kind(c) = 3
                limit = -candidate%uplift_force
             end if
@@ -270,23 +285,31 @@ contains
    !> (first order in the rotation: the plateau step's Newton corrects the rest), `dlambda` = Δλ(φ)
    !> ≥ 0, `contact` the candidate that closes first. found = .false. when there is no such φ, or no
    !> open contact that it closes (then it is no plateau but a collapse, bearing_collapse's case).
-   subroutine plastic_plateau(model, state, found, motion, dlambda, contact)
+   !> A contact out of the set that touches (gap within touch_tolerance of the largest displacement)
+   !> may be lifted by φ, not pressed, and closes no plateau (docs/theory.md §3.9, "Plateau of no
+   !> length"). `touching` (candidates): on found, those out of the set that φ keeps touching and,
+   !> when φ keeps any candidate touching with no force (in the set or out), `contact` — the plateau
+   !> step's working set adds them; otherwise every touching one.
+   subroutine plastic_plateau(model, state, found, motion, dlambda, contact, touching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(out) :: found
       real(dp), intent(out) :: motion(:)
       real(dp), intent(out) :: dlambda
       integer, intent(out) :: contact
+      logical, intent(out) :: touching(:)
       real(dp), allocatable :: nodal(:, :), rate(:, :), motion_nodal(:, :), basis(:, :), hold(:, :)
       real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), modes(:, :)
       integer, allocatable :: kind(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, best, y(3), chosen(3), force_scale
-      real(dp) :: gram(3, 3), work_load, distance, along, dissipation
+      real(dp) :: gram(3, 3), work_load, distance, along, dissipation, touch_gap
+      logical :: pivot
       integer :: n_c, m, c, j, node, d, n_con, a, b, k
       found = .false.
       motion = 0.0_dp
       dlambda = 0.0_dp
       contact = 0
+      touching = .false.
       if (.not. (allocated(state%floating_motion) .and. allocated(state%yielding) .and. &
                  allocated(state%reactions) .and. allocated(state%reference))) return
       m = size(state%floating_motion, 2)
@@ -294,6 +317,7 @@ contains
       if (m == 0 .or. n_c == 0) return
       allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes))
       call gather_nodal(state%map, state%u, nodal)
+      touch_gap = touch_tolerance*maxval(abs(nodal(1:2, :)))
       allocate (rate(n_c, m), source=0.0_dp)
       allocate (kind(n_c), source=0)   ! as bearing_collapse: 1 holder, 2 bearing, 3 uplift, 4 open, 5 lifting
       allocate (slack(n_c), source=0.0_dp)
@@ -321,6 +345,13 @@ contains
          associate (candidate => model%contacts(c))
             if (.not. in_set(model, state%active, c)) then
                if (.not. candidate%bilateral) kind(c) = 4
+               ! one that touches already (within the working set's touching tolerance) but is not in
+               ! the set: φ may lift it off but not press it (it would hold elastically), as one of
+               ! the set with no force — it ends no plateau (that would be one of no length)
+               if (kind(c) == 4 .and. gap_now(c) <= touch_gap) then
+                  kind(c) = 5
+                  touching(c) = .true.
+               end if
                cycle
             end if
             reaction = state%reactions(c)
@@ -418,10 +449,23 @@ contains
             contact = c
          end if
       end do
-      ! (a contact that touches already, not yet in the set, closes at α* = 0: the flexible beam's end
-      ! nodes at λ = 2.37; the plateau step then takes it into the set at the limits' load)
       if (contact == 0) return
       motion = distance*matmul(modes(:, 1:d), chosen(1:d))
+      ! the touching ones (out of the set, or in it with no force) that φ lifts off are out of the
+      ! step's set; those it keeps touching are in, and then the contact it closes too (φ turns about
+      ! them: alone in the set they would leave that turn free, the step's tangent singular along it)
+      pivot = .false.
+      do c = 1, n_c
+         if (kind(c) /= 5) cycle
+         along = distance*dot_product(matmul(rate(c, :), basis), chosen(1:d))
+         if (touching(c)) along = along + gap_now(c)
+         if (along <= touch_gap) then
+            pivot = .true.
+         else
+            touching(c) = .false.
+         end if
+      end do
+      if (pivot) touching(contact) = .true.
       found = .true.
 
    contains

@@ -108,10 +108,17 @@ contains
          call consistent_sign(model, state, nodal, toggled(:, a), ut, sign_of)
          if (sign_of == 0.0_dp) cycle
          size_ut = masked_norm(state%map, ut)
-         cosine = 1.0_dp
-         if (masked_norm(state%map, state%last_increment) > 0.0_dp) &
+         if (masked_norm(state%map, state%last_increment) > 0.0_dp) then
             cosine = sign_of*masked_dot(state%map, ut, state%last_increment)/ &
                      (size_ut*masked_norm(state%map, state%last_increment))
+         else
+            ! No increment yet (the start of a path or of an analysis step): forward is the sense of λ
+            ! that the first increment sets (state%direction); a piece that leaves the start with λ
+            ! going the other way reverses the load (a rigid plane 1e-9 under the loaded node: the
+            ! opened set's direction lifted the node off it under λ < 0, docs/theory.md §2.12).
+            if (sign_of*real(state%direction, dp) < 0.0_dp) cycle
+            cosine = 1.0_dp
+         end if
          if (cosine > best_cosine) then
             best = a
             best_cosine = cosine

@@ -16,7 +16,7 @@ module uniarc_path_hidden
    use uniarc_critical_points, only: opposite_signs, same_signs
    implicit none
    private
-   public :: find_hidden_pair
+   public :: find_hidden_pair, eigenvalue_overshoot
 
    !> A step is checked when the path's tangent at its end makes more than 25° with its chord (|cos|
    !> below this): the chord of a step on a branch is close to the tangents at its ends (at most 22°
@@ -136,5 +136,63 @@ contains
       end if
       call restore_tangent(model, after, system, error)
    end subroutine find_hidden_pair
+
+   !> Whether the step from `before` to `after`, whose working set changed, went farther along the
+   !> path than d/2, d the distance at which the least eigenvalue μ of the tangent, extrapolated
+   !> linearly from the last step (before%previous_eigenvalue at before%previous_s,
+   !> before%point%min_eigenvalue at before%point%s), reaches zero, from a stable state (count 0,
+   !> μ > 0) with μ falling, and with the count at its end the same or changed by one (docs/theory.md
+   !> §2.3, "a zero of the least eigenvalue inside the step"). Such a step may have passed a zero of μ
+   !> and come back across a contact event whose springs made μ jump up (ex. 2 as a whole arch on its
+   !> bed, 120 elements: the count went 0-1-0 between λ = 116.47 and 118.18, μ 4.4e-7 and 3.2e-7 at
+   !> the ends, falling by 3.6e-6 per unit λ over the step before). Cut, the step lands short of the
+   !> zero or where the count has changed, and the locator places it. d/2, not d: across a change of
+   !> the set μ curves down between its jumps (under load control the step from 112.79 to 117.34 went
+   !> 0.64 d through the zero at 116.16 and the closing contacts at 116.95). Not tested (false): μ's
+   !> slope not known (no step before it in the analysis step, a corner, release or load step, a
+   !> branch switch), a lift-off state at either end (μ of a piece of the cone test, §2.2), a
+   !> structure held only by its contacts, a step whose dλ/ds changes sign (judged by
+   !> find_hidden_pair), one on a single working set (μ smooth), a count changed by more than one,
+   !> μ of the other sign at the end with the count unchanged, a path length that did not grow.
+   logical function eigenvalue_overshoot(before, after) result(over)
+      type(path_state_t), intent(in) :: before, after
+      real(dp) :: slope, distance, travelled, run
+      integer :: change
+      logical :: set_changed
+      over = .false.
+      if (.not. before%eigenvalue_slope_known .or. before%point%switched) return
+      if (before%point%liftoff .or. after%point%liftoff) return
+      ! λ turns inside the step: the limit point's tests above (find_hidden_pair) judge it. At a
+      ! symmetric structure's bifurcation passed along its bifurcated branch μ touches zero where λ
+      ! turns, with the count unchanged (mirror images share their spectrum), and cutting steps there
+      ! only crept up to it (ex. 2 whole arch on its bed, SWITCH=1, at 146.969: exit 1).
+      if (.not. same_signs(before%point%dlambda_ds, after%point%dlambda_ds)) return
+      ! A structure held only by its contacts (docs/theory.md §2.8) has rigid motions that no support
+      ! holds, neutral where its contacts let them slide: μ is of round-off there and its slope says
+      ! nothing (the ring in its circular cavity, gap_ring_in_cavity.inp: cut into 20 steps where 4
+      ! did, the count flickered 0-1-0 at six states).
+      if (allocated(before%floating_motion)) return
+      ! A stable state whose least eigenvalue falls towards zero.
+      if (before%point%neg_pivots /= 0 .or. .not. before%point%min_eigenvalue > 0.0_dp) return
+      change = abs(after%point%neg_pivots - before%point%neg_pivots)
+      if (change > 1) return
+      if (size(after%active) /= size(before%active)) return
+      ! Only a step whose working set changed: the contacts that close in it make μ jump up, which is
+      ! what hid the zero. On one working set μ is smooth and a step approaching a limit point or a
+      ! bifurcation with μ curving down was cut short of it for nothing (the whole ring under pressure,
+      ! ring_full_pressure_fixed_creep.inp; ex. 3 whole arch at its first steps, where the last step's
+      ! slope, from the unloaded state, was not this step's).
+      set_changed = any(after%active .neqv. before%active)
+      if (.not. set_changed) return
+      if (change == 0 .and. .not. same_signs(before%point%min_eigenvalue, after%point%min_eigenvalue)) return
+      run = before%point%s - before%previous_s
+      travelled = after%point%s - before%point%s
+      if (.not. (run > 0.0_dp .and. travelled > 0.0_dp)) return
+      slope = (before%point%min_eigenvalue - before%previous_eigenvalue)/run
+      ! μ moving towards zero
+      if (.not. opposite_signs(slope, before%point%min_eigenvalue)) return
+      distance = -before%point%min_eigenvalue/slope
+      over = travelled > 0.5_dp*distance
+   end function eigenvalue_overshoot
 
 end module uniarc_path_hidden

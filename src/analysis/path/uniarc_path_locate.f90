@@ -24,6 +24,7 @@ module uniarc_path_locate
    use uniarc_memory, only: allocation_failure
    use uniarc_critical_points, only: critical_event_t, find_critical_events, opposite_signs, same_signs
    use uniarc_path_integrator, only: degenerate_tangent
+   use uniarc_path_stability, only: cone_mode
    implicit none
    private
    public :: locate_critical_points
@@ -338,6 +339,13 @@ contains
       !> (`near`'s arrays are moved, not copied: it is not used after.)
       subroutine keep_bifurcation(near)
          type(path_state_t), intent(inout) :: near
+         real(dp) :: pressed
+         ! A lift-off mode is put on the cone of admissible directions (signed to open the contacts
+         ! that touch without force, none of them pressed; docs/theory.md §2.6).
+         if (near%point%liftoff .and. allocated(near%liftoff_mode)) then
+            call cone_mode(model, near, model%analysis%displacement_tolerance, near%liftoff_mode, pressed, error)
+            if (allocated(error)) return
+         end if
          allocate (after%bifurcation, stat=status)
          call allocation_failure(status, 'the state at the bifurcation', &
                                  real(storage_size(after%bifurcation)/8, dp), error_analysis, error)

@@ -140,7 +140,7 @@ contains
       integer :: row, node, dof, largest, label, memory_category
       memory_category = error_input
       if (present(category)) memory_category = category
-      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, memory_category)
+      call free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, memory_category, axes=.true.)
       if (allocated(error)) return
       if (.not. allocated(motion)) then
          ! Stage 3: a weak pivot that no rigid motion of the whole explains may be a mechanism inside
@@ -223,7 +223,10 @@ contains
    !> (`motion` unallocated otherwise): stage 1 and 2 of the module's test. `ratio` and `row`: the
    !> weakest pivot over its diagonal and its equation; `what`: the motion in words.
    !> Errors: its vectors refused by the system (out of memory, of `category`, uniarc_memory).
-   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category)
+   !> With `axes` true, a translation whose direction is within 1e-12 of an axis is tried along the
+   !> axis itself too (the refusal of a mechanism; not the floating motions of a model held by its
+   !> contacts, whose detection it would change).
+   subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category, axes)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(in) :: stiffness
@@ -233,9 +236,11 @@ contains
       character(len=:), allocatable, intent(out) :: what
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in) :: category
+      logical, intent(in), optional :: axes
       real(dp), allocatable :: modes(:, :), forces(:, :), candidate(:), rotation(:), product(:), magnitude(:)
-      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force
+      real(dp) :: centre(2), gram(2, 2), angle, shift(2), det, best, residual, extent, largest_force, direction(2)
       integer :: below, node, dof, status, n
+      logical :: snap
       what = ''
       ratio = huge(1.0_dp)
       row = 0
@@ -274,10 +279,28 @@ contains
       gram(2, 2) = dot_product(forces(:, 2), forces(:, 2))
       gram(1, 2) = dot_product(forces(:, 1), forces(:, 2))
       angle = 0.5_dp*atan2(2.0_dp*gram(1, 2), gram(1, 1) - gram(2, 2)) + 2.0_dp*atan(1.0_dp)
-      candidate(:) = cos(angle)*modes(:, 1) + sin(angle)*modes(:, 2)
+      direction = [cos(angle), sin(angle)]
+      candidate(:) = direction(1)*modes(:, 1) + direction(2)*modes(:, 2)
       best = held(candidate)
-      what = 'a translation in the direction ('//trim(adjustl(real_to_string(cos(angle), '(f6.3)')))// &
-             ', '//trim(adjustl(real_to_string(sin(angle), '(f6.3)')))//')'
+      snap = .false.
+      if (present(axes)) snap = axes
+      if (snap .and. best > 1.0_dp .and. any(abs(direction) <= 1.0e-12_dp)) then
+         ! cos and sin of an axis direction leave round-off (sin π = 1.2e-16): on a model whose other
+         ! translation is held (a beam on two rollers) that sliver meets the supports, and the free
+         ! translation looked held. The axis itself is tried too.
+         where (abs(direction) <= 1.0e-12_dp) direction = 0.0_dp
+         direction = direction/norm2(direction)
+         rotation(:) = direction(1)*modes(:, 1) + direction(2)*modes(:, 2)
+         residual = held(rotation)
+         if (residual < best) then
+            best = residual
+            candidate(:) = rotation
+         else
+            direction = [cos(angle), sin(angle)]
+         end if
+      end if
+      what = 'a translation in the direction ('//trim(adjustl(real_to_string(direction(1), '(f6.3)')))// &
+             ', '//trim(adjustl(real_to_string(direction(2), '(f6.3)')))//')'
       ! The rotation least held: about the centroid plus the translation that minimises its forces
       ! (least squares), i.e. a rotation about the point centre + (−shift(2), shift(1)).
       gram(2, 1) = gram(1, 2)

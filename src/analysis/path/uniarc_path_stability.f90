@@ -18,7 +18,7 @@ module uniarc_path_stability
    use uniarc_contact_lcp, only: contact_scales_t
    implicit none
    private
-   public :: structural_inertia, least_eigenvalue, liftoff_stability, commit_tangent
+   public :: structural_inertia, least_eigenvalue, liftoff_stability, commit_tangent, cone_mode
 
 contains
 
@@ -121,7 +121,10 @@ contains
    !>   direction: unstable, the count is K_J's (a lift-off mode).
    !> - φ pressing into some released weak contact for either sign: that direction is excluded (the
    !>   medium resists); those contacts are closed (added to J) and the next piece is tested.
-   !> - more than one negative eigenvalue: the count is K_J's (conservative: one of them may press).
+   !> - more than one negative eigenvalue: unstable (conservative: each of them may press).
+   !> The count of a state decided on a piece is 0 (stable) or 1 (unstable): copositivity decides
+   !> stable or not, and a count beyond one, of a piece or of K_S, is no bifurcation of the unilateral
+   !> problem.
    !> Floating rigid motions (docs/theory.md §2.8) that no contact of the piece sees are held in it, as
    !> in the tangent itself: a liner whose first contact touches without force can drift away from it
    !> at no cost, a neutral motion it had before the contact too, not an instability.
@@ -214,11 +217,110 @@ contains
          end if
          exit
       end do
-      state%point%neg_pivots = max(state%point%neg_pivots, negative)
+      ! On the cone the count says stable (0) or unstable (1). Further negative eigenvalues of a piece,
+      ! or of K_S, whose directions press into some contacts that touch without force and pull away
+      ! from others, are no bifurcations of the unilateral problem (the strut on its bed: the free
+      ! strut's waves m²π²EI/L², m ≥ 2, half of each pressing into the bed; the bonded bed's at 2.0155
+      ! and 2.2155, pulling on the bed; docs/theory.md §2.2): not counted.
+      state%point%neg_pivots = min(1, max(state%point%neg_pivots, negative))
       state%point%min_eigenvalue = mu
       state%point%liftoff = .true.
       if (allocated(mode)) call move_alloc(mode, state%liftoff_mode)
    end subroutine liftoff_stability
+
+   !> The mode of a lift-off (unilateral) bifurcation put on the cone of admissible directions
+   !> (docs/theory.md §2.2, §2.6): at `state`, the contacts of the working set that touch without force
+   !> (reaction at most `tolerance` × the force unit, as liftoff_stability finds them; W) may open but
+   !> not be pressed, a_cᵀd ≥ 0 for c ∈ W. `mode` (n, augmented) is first signed to open them
+   !> (Σ_W a_cᵀφ ≥ 0, the sign the branch switch takes) and then projected onto the cone: the nearest
+   !> d to φ in the displacement norm with a_cᵀd ≥ 0 on W — a least-distance problem whose dual is the
+   !> LCP y ≥ 0, A Aᵀ y + A φ ≥ 0, complementary (d = φ + Aᵀy), solved by Hildreth's row iteration
+   !> (C. Hildreth 1957, Naval Res. Logist. Q. 4, 79–85; Cottle, Pang & Stone 1992, §5.2, projected
+   !> Gauss–Seidel), which is exact in one sweep where the a_c of W sit on different nodes (a bed, a
+   !> plane) and converges otherwise. The contacts in compression need nothing: the piece's eigenvector
+   !> keeps a rigid one's gap (its augmented row) and an elastic one may move either way. A mode that
+   !> presses nothing (the strut's half sine at Euler's load) is unchanged; one that presses a part of
+   !> W loses that part (its component along those a_c). `pressed` returns the largest pressing
+   !> component removed, relative to the mode's largest displacement (0: it was on the cone).
+   !> Errors: the arrays of the projection refused by the system (error_analysis, out of memory).
+   subroutine cone_mode(model, state, tolerance, mode, pressed, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: tolerance
+      real(dp), intent(inout) :: mode(:)
+      real(dp), intent(out) :: pressed
+      type(error_t), allocatable, intent(out) :: error
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: nodal(:, :), reaction(:), gap(:), along(:), norms(:), multiplier(:), normal(:, :)
+      logical, allocatable :: weak(:)
+      real(dp) :: g, hessian(2, 2), size_mode, change, t, updated
+      integer :: c, k, node, sweep, status, n
+      pressed = 0.0_dp
+      n = size(state%active)
+      if (n == 0) return
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      allocate (reaction(n), gap(n), along(n), norms(n), multiplier(n), normal(2, n), weak(n), stat=status)
+      call allocation_failure(status, 'the vectors of the projection of a mode onto the cone', 68.0_dp*n, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
+      units = contact_units(state, state%u, reaction, state%active)
+      do c = 1, n
+         weak(c) = state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%bilateral &
+                   .and. reaction(c) <= tolerance*units%force
+         normal(:, c) = 0.0_dp
+         if (.not. weak(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, normal(:, c), &
+                            hessian, state%lambda)
+         ! only the free translations move the gap
+         do k = 1, 2
+            if (state%map%equation(k, node) == 0) normal(k, c) = 0.0_dp
+         end do
+      end do
+      if (.not. any(weak)) return
+      size_mode = maxval(abs(state%map%metric*mode))
+      if (.not. (size_mode > 0.0_dp)) return
+      along = [(a_dot(c), c=1, n)]
+      if (sum(along, mask=weak) < 0.0_dp) mode = -mode
+      multiplier = 0.0_dp
+      do sweep = 1, 100
+         change = 0.0_dp
+         do c = 1, n
+            if (.not. weak(c)) cycle
+            norms(c) = dot_product(normal(:, c), normal(:, c))
+            if (.not. (norms(c) > 0.0_dp)) cycle
+            t = a_dot(c)/norms(c)
+            updated = max(0.0_dp, multiplier(c) - t)
+            if (updated /= multiplier(c)) then
+               node = model%contacts(c)%node
+               do k = 1, 2
+                  if (state%map%equation(k, node) > 0) mode(state%map%equation(k, node)) = &
+                     mode(state%map%equation(k, node)) + (updated - multiplier(c))*normal(k, c)
+               end do
+               change = max(change, abs(updated - multiplier(c))*sqrt(norms(c)))
+               pressed = max(pressed, abs(updated - multiplier(c))*sqrt(norms(c))/size_mode)
+               multiplier(c) = updated
+            end if
+         end do
+         if (change <= 1.0e-14_dp*size_mode) exit
+      end do
+
+   contains
+
+      !> a_cᵀ mode for candidate c (its free translations).
+      real(dp) function a_dot(c)
+         integer, intent(in) :: c
+         integer :: j
+         a_dot = 0.0_dp
+         do j = 1, 2
+            if (state%map%equation(j, model%contacts(c)%node) > 0) &
+               a_dot = a_dot + normal(j, c)*mode(state%map%equation(j, model%contacts(c)%node))
+         end do
+      end function a_dot
+
+   end subroutine cone_mode
 
    !> One piece of the lift-off test: K_S (`assembled`) with the contacts `released` released, the
    !> floating motions no remaining contact sees held; its negative eigenvalues (the contact rows

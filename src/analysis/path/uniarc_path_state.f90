@@ -132,21 +132,17 @@ module uniarc_path_state
       real(dp), allocatable :: reference(:)     !< R(u) at the committed state
       real(dp), allocatable :: tangent_displacement(:)  !< K_T⁻¹ R at the committed state
       real(dp), allocatable :: last_increment(:)
-      !> (n, ≤ 8) the committed states at which the last corners of the path were passed, and
-      !> (≤ 8) their step numbers: a corner met again at one of them is a loop (docs/theory.md §2.12)
-      real(dp), allocatable :: corner_u(:, :)
-      integer, allocatable :: corner_step(:)
-      !> (n, ≤ 16) the last committed states of the analysis step (displacements), (≤ 16) their λ and
-      !> (≤ 16) their step numbers: a step that lands along the path traced before, going back, is
-      !> rejected (docs/theory.md §2.3, "back along the path")
-      real(dp), allocatable :: trace_u(:, :)
-      real(dp), allocatable :: trace_lambda(:)
-      integer, allocatable :: trace_step(:)
       real(dp) :: step_length = 0.0_dp          !< Δl, Δλ or Δu_c of the next step (by the control)
       real(dp) :: first_length = 0.0_dp
       !> Δl, Δλ or Δu_c the last converged step was taken with (the units of step_length; 0 before the
       !> first step): the path driver's record of the pace (uniarc_path_pace)
       real(dp) :: taken_length = 0.0_dp
+      !> The least eigenvalue μ and path length s of the committed state before this one, when the step
+      !> between them was smooth (the same working set, no lift-off state, no corner, release, switch or
+      !> load step): μ's slope along the path, from which the next step's length is judged against the
+      !> distance to μ's next zero (uniarc_path_hidden, docs/theory.md §2.3). .false.: not known.
+      logical :: eigenvalue_slope_known = .false.
+      real(dp) :: previous_eigenvalue = 0.0_dp, previous_s = 0.0_dp
       !> ψ: the displacement norm one unit of λ moves (length per unit λ), ||K⁻¹R|| at the unloaded state
       !> (or with its touching contacts released when they carry the whole reference load). It
       !> measures a step in λ where the reference load moves no displacement (docs/theory.md §2.7).

@@ -1,0 +1,210 @@
+!> The memory of the path traced so far that guards a step against going back or round a loop
+!> (docs/theory.md §2.3 "back along the path", §2.12 "loops of corners"): the last committed states of
+!> the analysis step (displacements, λ, step number) and the committed states at which the last corners
+!> were passed.
+!>
+!> Both are ring buffers allocated once, with stat=, for the path's number of unknowns (again only if an
+!> analysis step renumbers the equations), and held by the caller of the path following (the path
+!> driver), not in the committed state: a copy of the state (the start of a step, a probe, a landing)
+!> does not copy them. Their work vectors are allocated with them. A refused allocation leaves the
+!> memory empty: it only guards, so the path goes on without the guard (as a state forgotten).
+!> Counted in the memory estimate (uniarc_memory: traced_vectors vectors per equation).
+module uniarc_path_trace
+   use uniarc_kinds, only: dp
+   use uniarc_dof_map, only: dof_map_t
+   use uniarc_path_state, only: masked_dot, masked_norm
+   implicit none
+   private
+   public :: path_trace_t, traced_kept, corners_kept, traced_vectors
+   public :: trace_allocate, trace_forget, trace_remember, trace_retraced_step, trace_remember_corner, &
+             trace_corner_revisited
+
+   !> Committed states kept for the test of a step going back along the path (trace_retraced_step).
+   integer, parameter :: traced_kept = 16
+   !> Corners kept for the test of a loop of corners (trace_corner_revisited): a loop of more corners
+   !> than that is not recognised.
+   integer, parameter :: corners_kept = 8
+   !> Vectors of the number of unknowns a path_trace_t holds: the kept states, the kept corners and two
+   !> work vectors (uniarc_memory's estimate counts them).
+   integer, parameter :: traced_vectors = traced_kept + corners_kept + 2
+   !> A state lies along a traced segment when within this share of the segment's chord of it: the
+   !> arc of a step deviates from its chord by its sagitta, |chord| tan(θ/4)/2 ≈ |chord| θ/8 for a turn θ
+   !> between its end tangents, 0.05 |chord| for the turns of at most 2 × 22° measured away from folds
+   !> (docs/theory.md §2.3); the pieces a corner step folds back onto run within 0.013 to 0.05 of the
+   !> chords of the steps they go back over (pipeline over the hump, weight then axial force), while
+   !> a new piece leaving a corner at an angle is off at first order.
+   real(dp), parameter :: sagitta_share = 0.15_dp
+
+   !> The kept states and corners. Components private: only the procedures below read and change them.
+   type :: path_trace_t
+      private
+      integer :: n = -1                     !< length of the vectors held (-1: nothing allocated)
+      real(dp), allocatable :: u(:, :)      !< (n, traced_kept) displacements of the kept states (ring)
+      real(dp) :: lambda(traced_kept) = 0.0_dp
+      integer :: step(traced_kept) = 0
+      integer :: count = 0                  !< states kept
+      integer :: newest = 0                 !< column of the newest kept state
+      real(dp), allocatable :: corner_u(:, :)   !< (n, corners_kept) committed states of the corners (ring)
+      integer :: corner_step(corners_kept) = 0
+      integer :: corners = 0                !< corners kept
+      integer :: corner_newest = 0
+      real(dp), allocatable :: chord(:), offset(:)   !< (n) work vectors
+   end type path_trace_t
+
+contains
+
+   !> The trace for a path of `n` unknowns, empty. Allocated only if it has none of that size; a refused
+   !> allocation leaves it without arrays (no guard), which is not an error.
+   subroutine trace_allocate(trace, n)
+      type(path_trace_t), intent(inout) :: trace
+      integer, intent(in) :: n
+      integer :: status
+      trace%count = 0
+      trace%newest = 0
+      trace%corners = 0
+      trace%corner_newest = 0
+      if (trace%n == n) return
+      if (allocated(trace%u)) deallocate (trace%u)
+      if (allocated(trace%corner_u)) deallocate (trace%corner_u)
+      if (allocated(trace%chord)) deallocate (trace%chord)
+      if (allocated(trace%offset)) deallocate (trace%offset)
+      trace%n = -1
+      allocate (trace%u(n, traced_kept), trace%corner_u(n, corners_kept), trace%chord(n), trace%offset(n), &
+                stat=status)
+      if (status /= 0) then
+         if (allocated(trace%u)) deallocate (trace%u)
+         if (allocated(trace%corner_u)) deallocate (trace%corner_u)
+         if (allocated(trace%chord)) deallocate (trace%chord)
+         if (allocated(trace%offset)) deallocate (trace%offset)
+         return
+      end if
+      trace%n = n
+   end subroutine trace_allocate
+
+   !> The kept states are forgotten (the start of an analysis step: its λ measures another load
+   !> pattern). The corners are kept.
+   pure subroutine trace_forget(trace)
+      type(path_trace_t), intent(inout) :: trace
+      trace%count = 0
+      trace%newest = 0
+   end subroutine trace_forget
+
+   !> Whether the trace holds vectors of length n (reallocated for n if not: an analysis step that
+   !> renumbered the equations starts empty).
+   logical function ready(trace, n)
+      type(path_trace_t), intent(inout) :: trace
+      integer, intent(in) :: n
+      if (trace%n /= n) call trace_allocate(trace, n)
+      ready = trace%n == n
+   end function ready
+
+   !> The column of the k-th oldest of `count` entries of a ring whose newest is in column `newest` of
+   !> `kept`.
+   pure integer function column(k, count, newest, kept)
+      integer, intent(in) :: k, count, newest, kept
+      column = modulo(newest - count + k - 1, kept) + 1
+   end function column
+
+   !> The committed state (u, λ, its step) appended to the kept states (the last traced_kept); if none
+   !> is kept, the start of the step (u_before, λ_before, its step) first.
+   subroutine trace_remember(trace, u, lambda, step, u_before, lambda_before, step_before)
+      type(path_trace_t), intent(inout) :: trace
+      real(dp), intent(in) :: u(:), u_before(:)
+      real(dp), intent(in) :: lambda, lambda_before
+      integer, intent(in) :: step, step_before
+      if (.not. ready(trace, size(u))) return
+      if (trace%count == 0) call push(trace, u_before, lambda_before, step_before)
+      call push(trace, u, lambda, step)
+   end subroutine trace_remember
+
+   !> One state into the ring of kept states.
+   pure subroutine push(trace, u, lambda, step)
+      type(path_trace_t), intent(inout) :: trace
+      real(dp), intent(in) :: u(:), lambda
+      integer, intent(in) :: step
+      trace%newest = modulo(trace%newest, traced_kept) + 1
+      trace%count = min(trace%count + 1, traced_kept)
+      trace%u(:, trace%newest) = u
+      trace%lambda(trace%newest) = lambda
+      trace%step(trace%newest) = step
+   end subroutine push
+
+   !> The step number at the start of a traced segment (two consecutive kept states a, b, before the
+   !> step that started at step `step_before`) along which the committed state (u (n), λ) lies, going
+   !> back; 0 if none (docs/theory.md §2.3, "back along the path"). Along the segment: the
+   !> displacements' projection on its chord b − a between −sagitta_share and 1 + sagitta_share of the
+   !> way from a to b and within sagitta_share of the chord's length of it, λ within sagitta_share of
+   !> the segment's Δλ of its range; going back: the step's `increment` (n) makes an obtuse angle with
+   !> b − a and its Δλ `dlambda` has the other sign than the segment's (a piece whose displacements run
+   !> back near the traced ones while λ goes on the same way is another piece: pipeline_hump_corner_100
+   !> past its corner at step 137, λ falling with two contacts where it fell with four). The working set
+   !> is not compared: the piece a corner step folds back onto differs from the traced one by a contact
+   !> of almost no reaction (pipeline over the hump, weight then axial force: one node). The segment
+   !> that ends at the step's start is not tested: going back over it is the reversal test's (and a
+   !> corner may turn back by more than a right angle there, §2.12).
+   integer function trace_retraced_step(trace, map, u, lambda, step_before, increment, dlambda) result(step)
+      type(path_trace_t), intent(inout) :: trace   !< its kept states unchanged (work vectors used)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: u(:), lambda, increment(:), dlambda
+      integer, intent(in) :: step_before
+      real(dp) :: length2, t, low, high
+      integer :: k, a, b
+      step = 0
+      if (trace%n /= size(u)) return
+      do k = 1, trace%count - 1
+         a = column(k, trace%count, trace%newest, traced_kept)
+         b = column(k + 1, trace%count, trace%newest, traced_kept)
+         if (trace%step(b) >= step_before) cycle
+         trace%chord(:) = trace%u(:, b) - trace%u(:, a)
+         length2 = masked_dot(map, trace%chord, trace%chord)
+         if (length2 <= 0.0_dp) cycle
+         if (masked_dot(map, increment, trace%chord) >= 0.0_dp) cycle
+         if (dlambda*(trace%lambda(b) - trace%lambda(a)) >= 0.0_dp) cycle
+         trace%offset(:) = u - trace%u(:, a)
+         t = masked_dot(map, trace%offset, trace%chord)/length2
+         if (t < -sagitta_share .or. t > 1.0_dp + sagitta_share) cycle
+         trace%offset(:) = trace%offset - t*trace%chord
+         if (masked_norm(map, trace%offset) > sagitta_share*sqrt(length2)) cycle
+         low = min(trace%lambda(a), trace%lambda(b))
+         high = max(trace%lambda(a), trace%lambda(b))
+         if (lambda < low - sagitta_share*(high - low) .or. lambda > high + sagitta_share*(high - low)) cycle
+         step = trace%step(a)
+         return
+      end do
+   end function trace_retraced_step
+
+   !> The committed state u (n) at step `step` kept as a corner passed (the last corners_kept).
+   subroutine trace_remember_corner(trace, u, step)
+      type(path_trace_t), intent(inout) :: trace
+      real(dp), intent(in) :: u(:)
+      integer, intent(in) :: step
+      if (.not. ready(trace, size(u))) return
+      trace%corner_newest = modulo(trace%corner_newest, corners_kept) + 1
+      trace%corners = min(trace%corners + 1, corners_kept)
+      trace%corner_u(:, trace%corner_newest) = u
+      trace%corner_step(trace%corner_newest) = step
+   end subroutine trace_remember_corner
+
+   !> The step at which the path passed a corner at the committed state u (n) before (the same
+   !> displacements to 1e-9 of their size: a loop comes back to the same converged state up to the
+   !> round-off of its corrections, 1e-11 measured on pipeline_hump_corner_200; distinct corners of
+   !> a path differ in their displacements by far more), or 0. The oldest corner is compared first.
+   integer function trace_corner_revisited(trace, u) result(step)
+      type(path_trace_t), intent(inout) :: trace   !< its corners unchanged (work vector used)
+      real(dp), intent(in) :: u(:)
+      integer :: k, c
+      real(dp) :: size_u
+      step = 0
+      if (trace%n /= size(u)) return
+      size_u = norm2(u)
+      do k = 1, trace%corners
+         c = column(k, trace%corners, trace%corner_newest, corners_kept)
+         trace%offset(:) = u - trace%corner_u(:, c)
+         if (norm2(trace%offset) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
+            step = trace%corner_step(c)
+            return
+         end if
+      end do
+   end function trace_corner_revisited
+
+end module uniarc_path_trace
