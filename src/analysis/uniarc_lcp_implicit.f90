@@ -42,7 +42,7 @@ module uniarc_lcp_implicit
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input, error_analysis
    use uniarc_memory, only: allocation_failure
-   use uniarc_foreign, only: dgetrf, dgetrs
+   use uniarc_foreign, only: dgetrf, dgetrs, interrupt_signal
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_lemke, only: lemke_solved, lemke_ray_termination, lemke_pivot_limit, lemke_breakdown
@@ -141,6 +141,7 @@ contains
       if (allocated(error)) return
       report%message = 'not solved to the stated accuracy'
       do round = 1, opts%rounds
+         if (interrupted(report)) return
          call operator%frame_q(q, failure)
          report%solves = report%solves + 1
          if (allocated(failure)) then
@@ -205,6 +206,10 @@ contains
       ! indices exchanged an odd number of times by this phase (the frame it started from: false)
       moved = .false.
       do step = 1, opts%block_steps + 1
+         if (interrupted(report)) then
+            broken = .true.
+            return
+         end if
          violated = q < -opts%tolerance*scale
          count_violated = count(violated)
          if (count_violated == 0) then
@@ -307,6 +312,7 @@ contains
       report%lemke_pivots = report%lemke_pivots + 1
       report%pivots = report%pivots + 1
       do
+         if (interrupted(report)) return
          if (pivots >= opts%max_pivots) then
             report%status = lemke_pivot_limit
             report%message = 'Lemke: pivot limit ('//integer_to_string(opts%max_pivots)//') reached'
@@ -654,6 +660,15 @@ contains
       report%status = lemke_breakdown
       report%message = report%fatal%message
    end subroutine keep_fatal
+
+   !> True when a SIGINT or SIGTERM has arrived (uniarc_foreign: interrupt_signal, polled once per
+   !> pivot, exchange and round): the solve is abandoned as a breakdown whose message says so, and its
+   !> caller's step does not converge (docs/contracts.md, "Interrupts").
+   logical function interrupted(report)
+      type(implicit_lcp_report_t), intent(inout) :: report
+      interrupted = interrupt_signal() /= 0
+      if (interrupted) call breakdown(report, 'interrupted by a signal')
+   end function interrupted
 
    subroutine breakdown(report, message)
       type(implicit_lcp_report_t), intent(inout) :: report

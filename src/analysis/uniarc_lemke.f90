@@ -39,6 +39,7 @@
 module uniarc_lemke
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_lemke_scaling, only: equilibrate, scale_down, saturating_product, saturating_sum, safe_divide
    use uniarc_lemke_basis, only: value_limit, identity, original_column, refine, refactor
@@ -296,6 +297,12 @@ contains
          if (report%pivots >= max_pivots) then
             report%status = lemke_pivot_limit
             report%message = 'pivot limit reached'
+            exit
+         end if
+         ! A SIGINT or SIGTERM abandons the solve (docs/contracts.md, "Interrupts").
+         if (interrupt_signal() /= 0) then
+            report%status = lemke_breakdown
+            report%message = 'interrupted by a signal'
             exit
          end if
          ! Complementary pivot rule: the partner of the variable that just left enters.

@@ -20,6 +20,7 @@ module uniarc_path_driver
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_input, error_internal, error_analysis
    use uniarc_strings, only: integer_to_string, real_to_string
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, &
                                     nodal_displacements, path_restart
@@ -254,6 +255,16 @@ contains
          end if
       end if
       call path_advance(model, driver%state, driver%trace, error, outcome%cuts)
+      ! A SIGINT or SIGTERM during the step (its critical-point search included): the step is
+      ! abandoned, not returned as converged, and no collapse or plateau is sought after it; the caller
+      ! ends the path at the step before (docs/contracts.md, "Interrupts").
+      if (interrupt_signal() /= 0) then
+         if (.not. allocated(error)) call make_error(error, 'step '//integer_to_string(previous%step + 1)// &
+                                                     ' abandoned: interrupted by a signal', error_analysis)
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
       if (near_collapse .and. .not. allocated(error)) then
          ! (beyond the bound by more than the reactions' error: 100 times Newton's force tolerance,
          ! which the equilibrium on either side of the step meets)

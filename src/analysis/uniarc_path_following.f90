@@ -24,6 +24,7 @@
 module uniarc_path_following
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits, &
@@ -511,6 +512,15 @@ contains
             do attempt = halvings, options%max_cuts
                trial%length = length
                call attempt_step(model, state, system, trial)
+               if (interrupt_signal() /= 0) then
+                  ! A SIGINT or SIGTERM: no cut-back, the step is abandoned (the committed state is
+                  ! unchanged) and the run ends with the steps traced (docs/contracts.md, "Interrupts").
+                  call move_alloc(system, state%system)
+                  call make_error(error, 'step '//integer_to_string(state%point%step + 1)// &
+                                  ' abandoned: interrupted by a signal', error_analysis)
+                  if (present(cuts)) cuts = halvings
+                  return
+               end if
                if (allocated(trial%fatal)) then
                   ! Out of memory: a shorter step would not fit either (fail_attempt); the run ends.
                   call move_alloc(system, state%system)

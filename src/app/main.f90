@@ -4,7 +4,7 @@
 program main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use uniarc_error, only: error_t, error_input, error_analysis
-   use uniarc_foreign, only: exit_program, ignore_file_size_signal, catch_interrupts, interrupt_signal
+   use uniarc_foreign, only: exit_program, ignore_file_size_signal, catch_interrupts, interrupt_signal, signal_name
    use uniarc_model, only: model_t
    use uniarc_deck, only: read_deck
    use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
@@ -15,6 +15,7 @@ program main
    type(model_t) :: model
    type(run_options_t) :: run_options
    type(error_t), allocatable :: error
+   integer :: signal
 
    ! A file size limit (ulimit -f) makes writes fail with EFBIG, reported like a full file system.
    call ignore_file_size_signal()
@@ -33,10 +34,15 @@ program main
    end if
 
    call read_deck(cli%deck, cli%overrides, model, error)
+   ! the reading stops at an interrupt (uniarc_deck): said as one, exit 128 + its number
+   if (allocated(error)) call check_interrupt('the reading of the deck')
    if (allocated(error)) call fail(error)
 
    if (cli%check) then
+      ! --check stops at an interrupt too (after the deck is read, and after the check's own work).
+      call check_interrupt('the check of the deck')
       call check_deck(model, error)
+      call check_interrupt('the check of the deck')
       if (allocated(error)) call fail(error)
       call exit_program(0)
    end if
@@ -47,11 +53,22 @@ program main
    run_options%verbose = cli%verbose
    run_options%csv = cli%csv
    run_options%provenance = make_provenance(version_text, cli%deck, cli%overrides)
-   call run_model(model, run_options, error)
+   call run_model(model, run_options, error, signal)
    if (allocated(error)) call fail(error)
-   if (interrupt_signal() /= 0) call exit_program(128 + interrupt_signal())
+   ! 128 + the signal the run said it was interrupted by; one that came after that, once the files were
+   ! committed, does not change a complete run's exit code.
+   if (signal /= 0) call exit_program(128 + signal)
 
 contains
+
+   !> With an interrupt received: say it, with what it stopped (`what`), and exit 128 + its number.
+   subroutine check_interrupt(what)
+      character(len=*), intent(in) :: what
+      if (interrupt_signal() == 0) return
+      write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())//' during '//what// &
+         '; no result file written'
+      call exit_program(128 + interrupt_signal())
+   end subroutine check_interrupt
 
    subroutine fail(error)
       type(error_t), intent(in) :: error

@@ -128,7 +128,7 @@ contains
              '      --csv        also write the tables comma-separated: STEM.path.csv, ...'//nl// &
              '      --check      read the deck, build the model and print its summary (counts,'//nl// &
              '                   supports, loads, contact groups, analysis, estimated memory);'//nl// &
-             '                   no analysis, no file; exit status 0 or 2'//nl// &
+             '                   no analysis, no file; exit status 0 or 2 (130/143 if interrupted)'//nl// &
              '  -h, --help       this text'//nl// &
              '      --version    the version'//nl//nl// &
              'exit status: 0 success; 1 analysis failed (steps traced so far are kept);'//nl// &

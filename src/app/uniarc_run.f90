@@ -57,22 +57,27 @@ contains
    !> in the run's work directory and moved to their final names together when every file is complete
    !> — when the analysis succeeds and when it fails part-way (docs/contracts.md: exit code 1, every
    !> converged step). An I/O error stops the run and removes its unfinished files. A SIGINT or SIGTERM
-   !> (uniarc_foreign: catch_interrupts) ends a path after the step in progress, with the files of the
-   !> steps traced; the caller reads interrupt_signal() for the exit code (docs/contracts.md).
+   !> (uniarc_foreign: catch_interrupts) abandons the step in progress (its Lemke pivots, Newton
+   !> iterations, cut-backs and critical-point search poll it) and ends the path with the files of the
+   !> steps traced. `signal` is the number of the signal the run said ("interrupted by ...") it was
+   !> interrupted by, 0 when none: the caller's exit code is 128 + it (docs/contracts.md, "Interrupts").
+   !> A signal that arrives after that message was due (the run complete) is not reported: exit 0.
    !> Errors: those of check_model (error_input: memory, stiffness), of the result directory, of the
    !> analysis; a non-finite displacement, λ or reaction ends the run (error_analysis) before it is
    !> written. `model` is unchanged on return (intent(inout) for uniarc_model_steps: step_model, which
    !> moves its steps out for a copy of it and back).
-   subroutine run_model(model, options, error)
+   subroutine run_model(model, options, error, signal)
       type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
+      integer, intent(out) :: signal
       type(result_directory_t) :: results
       type(model_t) :: imperfect
       type(dof_map_t) :: map
       character(len=:), allocatable :: warning, held
       ! An interrupt while the deck was read: nothing computed, nothing written (main's exit code).
-      if (interrupt_signal() /= 0) then
+      signal = interrupt_signal()
+      if (signal /= 0) then
          write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
             ' before the analysis started; no result file written'
          return
@@ -107,9 +112,11 @@ contains
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
+      ! a stale lock taken over (its run killed): said, as it may have left an incomplete set
+      if (allocated(results%note)) write (error_unit, '(a)') 'note: '//results%note
       select case (model%analysis%kind)
       case (analysis_linear)
-         call run_linear(model, options, results, error, warning)
+         call run_linear(model, options, results, error, warning, signal)
       case (analysis_nonlinear)
          if (model%analysis%imperfection_bifurcation > 0) then
             ! *IMPERFECTION without FILE=: the mode of the perfect structure's path first.
@@ -117,15 +124,28 @@ contains
             if (.not. allocated(error)) then
                ! The deck's analysis steps moved, not copied, into the imperfect model and back.
                if (allocated(model%steps)) call move_alloc(model%steps, imperfect%steps)
-               call run_path(imperfect, options, results, error, warning)
+               call run_path(imperfect, options, results, error, warning, signal)
                if (allocated(imperfect%steps)) call move_alloc(imperfect%steps, model%steps)
             end if
          else
-            call run_path(model, options, results, error, warning)
+            call run_path(model, options, results, error, warning, signal)
          end if
       case default
          call make_error(error, 'unknown analysis kind', error_internal)
       end select
+      ! An analysis that failed with an interrupt received: its solve was abandoned for the signal
+      ! (the solvers poll it) before there was a converged state to write (the start of the path, the
+      ! linear solve, the perfect structure's run of *IMPERFECTION); said as an interrupt, not as a
+      ! failure, and nothing is committed (abandon_results below). Not once files were committed or
+      ! removed (results%claimed false: a failure reported with its rows, or an I/O error).
+      if (allocated(error) .and. signal == 0 .and. interrupt_signal() /= 0 .and. results%claimed) then
+         if (error%category == error_analysis .and. .not. error%out_of_memory) then
+            signal = interrupt_signal()
+            deallocate (error)
+            write (error_unit, '(a)') 'interrupted by '//signal_name(signal)// &
+               ' before the analysis had a converged state to write; no result file written'
+         end if
+      end if
       ! Not said yet (the first run of *IMPERFECTION failed): said unless the deck is refused.
       call release_warning(warning, error)
       ! The lock and the work directory go on every way out (nothing left once the files are committed).
@@ -275,12 +295,13 @@ contains
    !> step (*STEP), each solved under the loads of every step so far (uniarc_model_steps). `warning`
    !> (a nearly singular model's, if allocated) is said once the first solution has passed the checks
    !> that refuse a deck (release_warning).
-   subroutine run_linear(model, options, results, error, warning)
+   subroutine run_linear(model, options, results, error, warning, signal)
       type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable, intent(inout) :: warning
+      integer, intent(inout) :: signal   !< the signal said to have interrupted the run (run_model)
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(step_record_t), allocatable :: records(:)
@@ -361,7 +382,8 @@ contains
       if (.not. allocated(io_error)) call finish_vtk_series(vtk, results, stepped, records(n_steps), io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
-      if (interrupt_signal() /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())// &
+      signal = interrupt_signal()
+      if (signal /= 0) write (error_unit, '(a)') 'interrupted by '//signal_name(signal)// &
          ' during the linear analysis, which ended all the same: its result files are complete'
       if (.not. options%quiet) call print_tracks(model, records(n_steps))
    end subroutine run_linear
@@ -374,15 +396,18 @@ contains
    !> a row of that state at its λ = 0. An error of the analysis ends the path with the files of the
    !> steps so far; an error of the result files ends it at once. A step whose λ, displacements or
    !> reactions are not finite is not written: it ends the path as an analysis error. An interrupt
-   !> (SIGINT, SIGTERM) is polled after every written step: the path ends there, and its files are
-   !> completed and committed. `warning` (a nearly singular model's, if allocated) is said once the
+   !> (SIGINT, SIGTERM) is polled after every written step and inside the step (driver_step: the step
+   !> in progress is abandoned, not written): the path ends at the last written step, and its files
+   !> are completed and committed. One that arrives after the path ended by its stop rule is said too
+   !> (the files are then complete); `signal` returns the one said (run_model). `warning` (a nearly singular model's, if allocated) is said once the
    !> path's start has passed the checks that refuse a deck (release_warning).
-   subroutine run_path(model, options, results, error, warning)
+   subroutine run_path(model, options, results, error, warning, signal)
       type(model_t), intent(inout) :: model
       type(run_options_t), intent(in) :: options
       type(result_directory_t), intent(inout) :: results
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable, intent(inout) :: warning
+      integer, intent(inout) :: signal   !< the signal said to have interrupted the run (run_model)
       type(output_files_t) :: files
       type(vtk_series_t) :: vtk
       type(path_driver_t) :: driver
@@ -494,8 +519,15 @@ contains
                clock_last = clock_now
             end if
          end do
+         if (allocated(error) .and. interrupt_signal() /= 0) then
+            ! The step in progress was abandoned for the interrupt (driver_step): not an analysis
+            ! error; the path ends at the last written step, as between steps.
+            deallocate (error)
+            driver%stop = stop_none
+         end if
          if (allocated(error)) call name_analysis_step(model, k_step, error)
-         if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none) exit
+         if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none .or. &
+             interrupt_signal() /= 0) exit
          ! The next analysis step, from the state where this one stopped (its shape and, with *OUTPUT,
          ! FORCES, its forces written first: the end of every analysis step is in STEM.forces).
          call write_forces(files, stepped, record, io_error)
@@ -553,10 +585,16 @@ contains
          call write_modes_file(modes, results, options%stem, options%provenance, model, model%output%vtk, io_error)
       call conclude_outputs(files, results, io_error, error)
       if (allocated(error)) return
-      if (interrupt_signal() /= 0 .and. driver%stop == stop_none) then
-         write (error_unit, '(a)') 'interrupted by '//signal_name(interrupt_signal())//' after step '// &
+      signal = interrupt_signal()
+      if (signal /= 0 .and. driver%stop == stop_none) then
+         write (error_unit, '(a)') 'interrupted by '//signal_name(signal)//' after step '// &
             integer_to_string(record%step)//' (lambda = '//short_number(record%lambda)//'): the '// &
             counted(record%step, 'step')//' traced are in '//results%directory//'/'//options%stem//'.path'
+      else if (signal /= 0) then
+         ! The path had ended by its stop rule (or an error) when the signal came: said all the same,
+         ! never a silent exit code 130/143 (docs/contracts.md, "Interrupts").
+         write (error_unit, '(a)') 'interrupted by '//signal_name(signal)//' after the path had ended ('// &
+            stop_message(model, driver)//'): its result files are complete'
       end if
       ! *PATH, SWITCH=n on a path that met fewer bifurcations: said, not left to be guessed from .crit.
       if (stepped%analysis%switch_bifurcation > driver%state%bifurcations .and. .not. allocated(error)) &

@@ -76,3 +76,46 @@ int uniarc_read_regular_file(const char *path, char *buffer, int size) {
     close(descriptor);
     return count < 0 ? -1 : (int)count;
 }
+
+#include <errno.h>
+
+/* Whether the process `pid` exists on this host: kill(pid, 0) sends nothing and fails with ESRCH
+ * only when there is no such process (EPERM: it exists, owned by another user). 1 exists, 0 gone,
+ * -1 unknown (pid ≤ 0, or another failure): a lock is taken over only on 0 (docs/contracts.md). */
+int uniarc_process_exists(int pid) {
+    if (pid <= 0) return -1;
+    if (kill((pid_t)pid, 0) == 0) return 1;
+    if (errno == ESRCH) return 0;
+    if (errno == EPERM) return 1;
+    return -1;
+}
+
+/* This host's name (gethostname) into `buffer` of `size` bytes, NUL-terminated; its length, or -1. */
+int uniarc_host_name(char *buffer, int size) {
+    if (size <= 1 || gethostname(buffer, (size_t)size - 1) != 0) return -1;
+    buffer[size - 1] = '\0';
+    return (int)strlen(buffer);
+}
+
+#include <dirent.h>
+
+/* The entries of a directory, one at a time: open (NULL when it cannot be read), the next entry's
+ * name into `buffer` of `size` bytes (its length; -1 at the end; -2 for a name too long for it,
+ * skipped), close. "." and ".." are skipped. */
+void *uniarc_open_directory(const char *path) { return (void *)opendir(path); }
+
+int uniarc_next_entry(void *directory, char *buffer, int size) {
+    struct dirent *entry;
+    size_t length;
+    for (;;) {
+        entry = readdir((DIR *)directory);
+        if (entry == NULL) return -1;
+        if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0) continue;
+        length = strlen(entry->d_name);
+        if (size <= 0 || length >= (size_t)size) return -2;
+        memcpy(buffer, entry->d_name, length + 1);
+        return (int)length;
+    }
+}
+
+void uniarc_close_directory(void *directory) { closedir((DIR *)directory); }

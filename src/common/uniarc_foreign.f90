@@ -21,7 +21,8 @@ module uniarc_foreign
    public :: lapack_check, rename_file, make_directory, exit_program
    public :: stream_t, stream_open, stream_write, stream_flush, stream_close
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
-   public :: file_status, read_regular_file
+   public :: file_status, read_regular_file, process_state, host_name, directory_entries, entry_name_t
+   public :: process_alive, process_gone, process_unknown
    public :: catch_interrupts, interrupt_signal, signal_name
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
@@ -47,6 +48,13 @@ module uniarc_foreign
    !> statx(2)'s AT_SYMLINK_NOFOLLOW (<fcntl.h>, Linux): a symbolic link is looked at, not its target.
    integer(c_int), parameter :: at_symlink_nofollow = int(z'100', c_int)
 
+   !> One name of a directory listing (directory_entries).
+   type :: entry_name_t
+      character(len=:), allocatable :: name
+   end type entry_name_t
+
+   !> process_state's answers.
+   integer, parameter :: process_alive = 1, process_gone = 0, process_unknown = -1
    !> SIGXFSZ, sent to a process that writes past its file size limit (Linux; BSD and macOS too).
    integer(c_int), parameter :: signal_file_size = 25_c_int
 
@@ -193,6 +201,38 @@ module uniarc_foreign
          integer(c_int), value, intent(in) :: size
          integer(c_int) :: count
       end function c_read_regular_file
+
+      function c_process_exists(pid) bind(c, name='uniarc_process_exists') result(state)
+         import :: c_int
+         integer(c_int), value, intent(in) :: pid
+         integer(c_int) :: state
+      end function c_process_exists
+
+      function c_open_directory(path) bind(c, name='uniarc_open_directory') result(directory)
+         import :: c_char, c_ptr
+         character(kind=c_char), intent(in) :: path(*)
+         type(c_ptr) :: directory
+      end function c_open_directory
+
+      function c_next_entry(directory, buffer, size) bind(c, name='uniarc_next_entry') result(length)
+         import :: c_ptr, c_char, c_int
+         type(c_ptr), value, intent(in) :: directory
+         character(kind=c_char), intent(out) :: buffer(*)
+         integer(c_int), value, intent(in) :: size
+         integer(c_int) :: length
+      end function c_next_entry
+
+      subroutine c_close_directory(directory) bind(c, name='uniarc_close_directory')
+         import :: c_ptr
+         type(c_ptr), value, intent(in) :: directory
+      end subroutine c_close_directory
+
+      function c_host_name(buffer, size) bind(c, name='uniarc_host_name') result(length)
+         import :: c_int, c_char
+         character(kind=c_char), intent(out) :: buffer(*)
+         integer(c_int), value, intent(in) :: size
+         integer(c_int) :: length
+      end function c_host_name
 
       function c_strlen(text) bind(c, name='strlen') result(length)
          import :: c_ptr, c_size_t
@@ -393,6 +433,74 @@ contains
    integer function process_id()
       process_id = int(c_getpid())
    end function process_id
+
+   !> Whether process `pid` exists on this host (kill(pid, 0), POSIX): process_alive, process_gone
+   !> (ESRCH: no such process) or process_unknown (pid ≤ 0 or another failure).
+   integer function process_state(pid)
+      integer, intent(in) :: pid
+      process_state = int(c_process_exists(int(pid, c_int)))
+   end function process_state
+
+   !> The names in directory `path` (opendir/readdir, POSIX; "." and ".." left out, names longer than
+   !> 4095 bytes skipped), in the system's order. `ok` is false, with no names, when it cannot be read
+   !> or its names do not fit in memory.
+   subroutine directory_entries(path, names, ok)
+      character(len=*), intent(in) :: path
+      type(entry_name_t), allocatable, intent(out) :: names(:)
+      logical, intent(out) :: ok
+      type(entry_name_t), allocatable :: grown(:)
+      type(c_ptr) :: directory
+      character(kind=c_char) :: buffer(4096)
+      integer :: length, count, i, status
+      allocate (names(0))
+      directory = c_open_directory(path//c_null_char)
+      ok = c_associated(directory)
+      if (.not. ok) return
+      count = 0
+      deallocate (names)
+      allocate (names(16), stat=status)
+      ok = status == 0
+      do while (ok)
+         length = int(c_next_entry(directory, buffer, int(size(buffer), c_int)))
+         if (length == -1) exit
+         if (length < 0) cycle
+         if (count == size(names)) then
+            allocate (grown(2*count), stat=status)
+            ok = status == 0
+            if (.not. ok) exit
+            do i = 1, count
+               call move_alloc(names(i)%name, grown(i)%name)
+            end do
+            call move_alloc(grown, names)
+         end if
+         count = count + 1
+         allocate (character(len=length) :: names(count)%name, stat=status)
+         ok = status == 0
+         if (.not. ok) exit
+         do i = 1, length
+            names(count)%name(i:i) = buffer(i)
+         end do
+      end do
+      call c_close_directory(directory)
+      if (ok) then
+         names = names(1:count)
+      else
+         if (allocated(names)) deallocate (names)
+         allocate (names(0))
+      end if
+   end subroutine directory_entries
+
+   !> This host's name (gethostname, POSIX), or '' when it cannot be had.
+   function host_name() result(name)
+      character(len=:), allocatable :: name
+      character(kind=c_char) :: buffer(256)
+      integer :: length, i
+      length = int(c_host_name(buffer, int(size(buffer), c_int)))
+      allocate (character(len=max(0, length)) :: name)
+      do i = 1, length
+         name(i:i) = buffer(i)
+      end do
+   end function host_name
 
    !> Ignore SIGXFSZ, so that a write past the file size limit (`ulimit -f`) fails with EFBIG and is
    !> reported like a full file system, instead of killing the process (libgfortran installs a handler

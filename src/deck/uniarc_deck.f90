@@ -10,6 +10,7 @@
 !> checks.
 module uniarc_deck
    use uniarc_kinds, only: dp
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_error, only: error_t, make_error, error_input, add_context
    use uniarc_strings, only: field_t, is_name, same_text, integer_to_string
@@ -59,6 +60,8 @@ contains
 
       position = 1
       do
+         ! A SIGINT or SIGTERM stops the reading (the caller exits 130/143, docs/contracts.md, "Interrupts").
+         if (interrupted(error)) return
          call next_card(source, position, card, found, error)
          if (allocated(error)) return
          if (.not. found) exit
@@ -199,6 +202,14 @@ contains
 
    !> *PARAMETER: `name = expression` lines. A `-D name=value` replaces the expression where the deck
    !> defines `name`, so later parameters built on it follow the override.
+   !> True, with `error` allocated, when a SIGINT or SIGTERM has arrived (uniarc_foreign:
+   !> interrupt_signal): the reading of the deck stops; the caller (main) reports the interrupt.
+   logical function interrupted(error)
+      type(error_t), allocatable, intent(inout) :: error
+      interrupted = interrupt_signal() /= 0
+      if (interrupted) call make_error(error, 'the reading of the deck was interrupted by a signal', error_input)
+   end function interrupted
+
    subroutine read_parameter(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -212,6 +223,7 @@ contains
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
       do i = 1, card%n_data
+         if (interrupted(error)) return
          line = card%data_lines(i)
          text = source%lines(line)%text
          first = verify(text, ' ')

@@ -20,6 +20,7 @@ module uniarc_path_locate
    use uniarc_path_probe, only: re_solve_step, restore_tangent
    use uniarc_path_state_copy, only: copy_state, move_state, copy_point_record, move_point
    use uniarc_error, only: error_t, error_analysis
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_critical_points, only: critical_event_t, find_critical_events, opposite_signs, same_signs
    use uniarc_path_integrator, only: degenerate_tangent
@@ -141,6 +142,8 @@ contains
       do k = 1, probes
          width = hb - ha
          if (width <= tolerance*length) exit
+         ! A SIGINT or SIGTERM ends the search; the step it serves is abandoned (path_driver: driver_step).
+         if (interrupt_signal() /= 0) exit
          ! Secant (regula falsi) on the indicator when it changes sign across the bracket, kept 5 %
          ! inside it; bisection when it does not or when one end has moved twice in a row (the
          ! regula falsi's one-sided stall).

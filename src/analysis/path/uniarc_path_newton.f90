@@ -13,6 +13,7 @@
 module uniarc_path_newton
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
+   use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: reserve
    use uniarc_model, only: model_t, analysis_options_t
@@ -235,6 +236,11 @@ contains
          trial%predictor_dlambda = trial%dlambda
          test = new_newton_test(options, state%length_scale)
          do while (trial%iterations <= options%max_iterations)
+            ! A SIGINT or SIGTERM abandons the attempt, not converged (docs/contracts.md, "Interrupts").
+            if (interrupt_signal() /= 0) then
+               trial%reason = 'interrupted by a signal'
+               exit
+            end if
             lambda = state%lambda + trial%dlambda
             lin%x = state%u + trial%increment
             call gather_nodal(state%map, lin%x, lin%nodal)
