@@ -589,7 +589,8 @@ contains
       if (signal /= 0 .and. driver%stop == stop_none) then
          write (error_unit, '(a)') 'interrupted by '//signal_name(signal)//' after step '// &
             integer_to_string(record%step)//' (lambda = '//short_number(record%lambda)//'): the '// &
-            counted(record%step, 'step')//' traced are in '//results%directory//'/'//options%stem//'.path'
+            counted(record%step, 'step')//' traced '//trim(merge('is in ', 'are in', record%step == 1))//' '// &
+            results%directory//'/'//options%stem//'.path'
       else if (signal /= 0) then
          ! The path had ended by its stop rule (or an error) when the signal came: said all the same,
          ! never a silent exit code 130/143 (docs/contracts.md, "Interrupts").
