@@ -276,13 +276,7 @@ contains
             driver%collapse_upper = upper
             driver%collapse_points = points
             driver%collapse_nodes = nodes
-            driver%stop = stop_collapse
-            outcome%stop = stop_collapse
-            outcome%advanced = .false.
-            outcome%iterations = 0
-            outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
-                                               driver%state%lambda, 0.0_dp)]
-            outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+            call end_at_collapse(driver, previous, outcome)
             return
          end if
       end if
@@ -316,13 +310,7 @@ contains
             end if
             if (collapsed) then
                deallocate (error)
-               driver%stop = stop_collapse
-               outcome%stop = stop_collapse
-               outcome%advanced = .false.
-               outcome%iterations = 0
-               outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), &
-                                                  driver%state%lambda, 0.0_dp)]
-               outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+               call end_at_collapse(driver, previous, outcome)
                return
             end if
          end if
@@ -592,5 +580,20 @@ contains
       end if
       if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit
    end function stop_reason
+
+   !> The path (or the analysis step) ends at its committed state, a certified bearing collapse
+   !> (docs/theory.md §3.9): the step's outcome is the `bearing_collapse` row at the step `previous`
+   !> ended, with the tracked values of that state, and no advance.
+   subroutine end_at_collapse(driver, previous, outcome)
+      type(path_driver_t), intent(inout) :: driver
+      type(path_point_t), intent(in) :: previous
+      type(step_outcome_t), intent(inout) :: outcome
+      driver%stop = stop_collapse
+      outcome%stop = stop_collapse
+      outcome%advanced = .false.
+      outcome%iterations = 0
+      outcome%events = [critical_event_t('bearing_collapse', real(previous%step, dp), driver%state%lambda, 0.0_dp)]
+      outcome%event_tracked = reshape(driver%tracked, [size(driver%tracked), 1])
+   end subroutine end_at_collapse
 
 end module uniarc_path_driver

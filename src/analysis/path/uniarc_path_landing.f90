@@ -80,14 +80,15 @@ contains
    !> limit of the tracked value inside the step), keeps the trial.
    subroutine land_on_track_limit(model, state, system, trial, length, landed)
       type(model_t), intent(in) :: model
-      type(path_state_t), intent(in) :: state
+      type(path_state_t), intent(inout) :: state   !< unchanged (inout for copy_state)
       type(path_system_t), intent(inout) :: system
       type(step_trial_t), intent(inout) :: trial
       real(dp), intent(inout) :: length
       logical, intent(out) :: landed
-      type(model_t), allocatable :: controlled
-      type(path_state_t), allocatable :: start
+      type(analysis_options_t) :: controlled
+      type(path_state_t) :: start
       type(step_trial_t) :: landing
+      type(error_t), allocatable :: error
       real(dp) :: before, after, goal, stop_value
       integer :: k, equation
       landed = .false.
@@ -102,19 +103,30 @@ contains
       ! the tracked DOF's increment to the goal, u_goal − u_n
       goal = (sign(stop_value, after) - before)/model%tracks(k)%scale
       if (.not. (abs(goal) > 0.0_dp)) return
-      allocate (controlled, source=model)
-      controlled%analysis%control = control_displacement
-      controlled%analysis%control_node = model%tracks(k)%node
-      controlled%analysis%control_dof = model%tracks(k)%dof
-      allocate (start, source=state)
+      ! The same model under displacement control of the tracked DOF (its options only: no copy of
+      ! the model), from a copy of the committed state; a copy or a landing refused memory ends the
+      ! run (trial%fatal, as fail_attempt), as for the landing on lambda_max.
+      controlled = model%analysis
+      controlled%control = control_displacement
+      controlled%control_node = model%tracks(k)%node
+      controlled%control_dof = model%tracks(k)%dof
+      call copy_state(state, start, 'the state a step lands on stop_value from', error)
+      if (allocated(error)) then
+         call fail_attempt(trial, 'no memory for the landing on stop_value', error)
+         return
+      end if
       start%control_equation = equation
       start%direction = 1
       if (goal < 0.0_dp) start%direction = -1
       landing%length = abs(goal)
-      call attempt_step(controlled, start, system, landing)
+      call attempt_step(model, start, system, landing, analysis=controlled)
+      if (allocated(landing%fatal)) then
+         call fail_attempt(trial, 'no memory for the landing on stop_value', landing%fatal)
+         return
+      end if
       if (.not. landing%converged) return
       length = length*abs(goal)/max(abs(trial%increment(equation)), tiny(1.0_dp))
-      trial = landing
+      call move_trial(landing, trial)
       landed = .true.
    end subroutine land_on_track_limit
 
