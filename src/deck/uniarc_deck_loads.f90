@@ -265,7 +265,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, centre_option
+      integer :: i, j, line, centre_option, status
       logical :: follower
       real(dp) :: value, angle, centre(2)
       type(field_t), allocatable :: fields(:)
@@ -351,18 +351,22 @@ contains
             end if
             select case (load_type)
             case ('PX')
-               call add_line_load(deck%model, elements(j), dof_ux, value)
+               call add_line_load(deck%model, elements(j), dof_ux, value, status)
             case ('PY')
-               call add_line_load(deck%model, elements(j), dof_uy, value)
+               call add_line_load(deck%model, elements(j), dof_uy, value, status)
             case ('WEIGHT')
                angle = 270.0_dp
                if (size(fields) > 3) call field_real(source, table, line, fields(4), 'an angle in degrees', angle, error)
                if (allocated(error)) return
-               call add_line_load(deck%model, elements(j), dof_ux, value*cos_degrees(angle))
-               call add_line_load(deck%model, elements(j), dof_uy, value*sin_degrees(angle))
+               call add_line_load(deck%model, elements(j), dof_ux, value*cos_degrees(angle), status)
+               if (status == 0) &
+                  call add_line_load(deck%model, elements(j), dof_uy, value*sin_degrees(angle), status)
             case default
-               call add_pressure(deck%model, elements(j), value, follower)
+               call add_pressure(deck%model, elements(j), value, follower, status)
             end select
+            call allocation_failure(status, 'the distributed load records', 64.0_dp*deck%model%n_loads, &
+                                    error_input, error)
+            if (allocated(error)) return
          end do
       end do
    end subroutine read_distributed_load
@@ -408,7 +412,7 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line
+      integer :: i, j, line, status
       real(dp) :: alpha, delta_t, difference, depth
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: elements(:)
@@ -466,7 +470,10 @@ contains
                   return
                end if
             end if
-            call add_thermal_load(deck%model, elements(j), alpha, delta_t, difference, depth)
+            call add_thermal_load(deck%model, elements(j), alpha, delta_t, difference, depth, status)
+            call allocation_failure(status, 'the list of temperature changes', 80.0_dp*deck%model%n_thermal, &
+                                    error_input, error)
+            if (allocated(error)) return
          end do
       end do
    end subroutine read_temperature

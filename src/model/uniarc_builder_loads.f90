@@ -25,12 +25,17 @@ contains
 
    !> Add a reference force per unit initial length `value` in global direction `dof` (dof_ux: x, else y)
    !> on `element`; such loads on one element are summed into its one fixed-direction record.
-   pure subroutine add_line_load(builder, element, dof, value)
+   !> `status` (optional): nonzero, the stat= of the growth of the load records refused by the system
+   !> (the load is then not added; without it a refusal stops the program with the runtime's message).
+   pure subroutine add_line_load(builder, element, dof, value, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: element, dof
       real(dp), intent(in) :: value
-      integer :: record
-      call load_record(builder, element, slot_fixed, record)
+      integer, intent(out), optional :: status
+      integer :: record, grown
+      call load_record(builder, element, slot_fixed, record, grown)
+      if (present(status)) status = grown
+      if (grown /= 0) return
       if (dof == dof_ux) then
          builder%loads(record)%qx = builder%loads(record)%qx + value
       else
@@ -41,26 +46,38 @@ contains
    !> Add a reference pressure per unit length `value` along the left normal of `element` (its tangent
    !> node1 → node2 turned by +90°), following the deformed normal if `follower`; summed per element
    !> into one pressure and one follower-pressure record.
-   pure subroutine add_pressure(builder, element, value, follower)
+   !> `status` (optional): as for add_line_load.
+   pure subroutine add_pressure(builder, element, value, follower, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: element
       real(dp), intent(in) :: value
       logical, intent(in) :: follower
-      integer :: record
-      call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record)
+      integer, intent(out), optional :: status
+      integer :: record, grown
+      call load_record(builder, element, merge(slot_follower, slot_pressure, follower), record, grown)
+      if (present(status)) status = grown
+      if (grown /= 0) return
       builder%loads(record)%pressure = builder%loads(record)%pressure + value
    end subroutine add_pressure
 
    !> Add a temperature change of `element` (thermal_load_t: α, ΔT at the axis, ΔT_left − ΔT_right,
    !> depth h), a reference load scaled by λ; several on one element add up.
-   pure subroutine add_thermal_load(builder, element, alpha, delta_t, difference, depth)
+   !> `status` (optional): as for add_line_load (the list of temperature changes).
+   pure subroutine add_thermal_load(builder, element, alpha, delta_t, difference, depth, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: element
       real(dp), intent(in) :: alpha, delta_t, difference, depth
+      integer, intent(out), optional :: status
       type(thermal_load_t), allocatable :: grown(:)
-      if (.not. allocated(builder%thermal)) allocate (builder%thermal(8))
+      integer :: refused
+      refused = 0
+      if (.not. allocated(builder%thermal)) allocate (builder%thermal(8), stat=refused)
+      if (present(status)) status = refused
+      if (refused /= 0) return
       if (builder%n_thermal == size(builder%thermal)) then
-         allocate (grown(2*size(builder%thermal)))
+         allocate (grown(2*size(builder%thermal)), stat=refused)
+         if (present(status)) status = refused
+         if (refused /= 0) return
          grown(1:builder%n_thermal) = builder%thermal(1:builder%n_thermal)
          call move_alloc(grown, builder%thermal)
       end if
@@ -147,16 +164,20 @@ contains
    end subroutine take_loads
 
    !> The load record of `element` in `slot`, made if the element has none there yet.
-   pure subroutine load_record(builder, element, slot, record)
+   !> `status`: the stat= of the growth of the records (nonzero: refused by the system, no record made).
+   pure subroutine load_record(builder, element, slot, record, status)
       type(model_builder_t), intent(inout) :: builder
       integer, intent(in) :: element, slot
-      integer, intent(out) :: record
+      integer, intent(out) :: record, status
       type(distributed_load_t), allocatable :: grown(:)
+      status = 0
       record = builder%load_index(slot, element)
       if (record > 0) return
-      if (.not. allocated(builder%loads)) allocate (builder%loads(16))
+      if (.not. allocated(builder%loads)) allocate (builder%loads(16), stat=status)
+      if (status /= 0) return
       if (builder%n_loads == size(builder%loads)) then
-         allocate (grown(2*size(builder%loads)))
+         allocate (grown(2*size(builder%loads)), stat=status)
+         if (status /= 0) return
          grown(1:builder%n_loads) = builder%loads(1:builder%n_loads)
          call move_alloc(grown, builder%loads)
       end if

@@ -318,7 +318,7 @@ contains
             call hold_floating(model, state, active, nodal, system%tangent)
          end if
       end if
-      if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent)
+      if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent, error)
    end subroutine equilibrium_at
 
    !> A node whose every element end is a joint at its moment limit (`*RELEASE, MY=` on all the ends that
@@ -329,13 +329,19 @@ contains
    !> of the rotation is the node's moment residual over k — zero when the joints' moments balance there
    !> (exactly, as they are ±MY), and an equilibrium that cannot be met (a moment on the node beyond what
    !> the joints pass) stays a failed step.
-   subroutine hold_yielded_nodes(model, map, tangent)
+   !> Errors: the nodes' joint stiffnesses (one real per node) refused by the system (out of memory).
+   subroutine hold_yielded_nodes(model, map, tangent, error)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       type(band_matrix_t), intent(inout) :: tangent
-      real(dp) :: stiffness(model%n_nodes)
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp), allocatable :: stiffness(:)
       type(end_joint_t) :: joints(2)
-      integer :: e, i, node, j
+      integer :: e, i, node, j, status
+      allocate (stiffness(model%n_nodes), stat=status)
+      call allocation_failure(status, 'the joint stiffnesses of the nodes', 8.0_dp*model%n_nodes, error_analysis, &
+                              error)
+      if (allocated(error)) return
       stiffness = 0.0_dp
       do e = 1, model%n_elements
          joints = end_joints_of(model, e)
