@@ -337,6 +337,50 @@ def check_bed(args):
         fail('the yielding candidates differ from the reference')
 
 
+def minimise_bed_energy(stiffness, k, q, free, u, scale):
+    """The deflections u (from the start u, its prescribed entries kept) that minimise the convex
+    energy 1/2 u'Ku + sum Phi_i(w_i) of a beam on a tensionless elastic-perfectly plastic bed lumped
+    to its nodes (springs k_i, limits q_i; w = u[0::2] down positive) over the entries `free`:
+    Newton's method with an exact line search (the slope of a convex energy along a line is
+    monotone: bisection). Returns u and the bed's force law and the energy's gradient as functions
+    (the residual forces of the prescribed entries are the loads there)."""
+
+    def force(w):
+        return np.where(w <= 0.0, 0.0, np.minimum(k*w, q))
+
+    def gradient(u):
+        g = stiffness @ u
+        g[0::2] += force(u[0::2])
+        return g
+
+    for _ in range(500):
+        g = gradient(u)
+        # 1e-10 of the bed's capacity, or the round-off of K u where that is larger: on a fine mesh
+        # the bending terms of a row (EI/h^3 times the deflections: 1.25e5 x 1e-3 at 400 elements)
+        # leave g an error of order 100 eps times them, above 1e-10 qu L
+        floor = 100.0*np.finfo(float).eps*np.max(np.abs(stiffness) @ np.abs(u))
+        if np.max(np.abs(g[free])) <= max(1e-10*scale, floor):
+            break
+        w = u[0::2]
+        hessian = stiffness.copy()
+        hessian[0::2, 0::2] += np.diag(np.where((w > 0.0) & (k*w < q), k, 0.0))
+        step = np.zeros(len(u))
+        step[free] = -np.linalg.solve(hessian[np.ix_(free, free)], g[free])
+        t = 1.0
+        if gradient(u + step)[free] @ step[free] > 0.0:
+            low, high = 0.0, 1.0
+            for _ in range(80):
+                t = 0.5*(low + high)
+                if gradient(u + t*step)[free] @ step[free] > 0.0:
+                    high = t
+                else:
+                    low = t
+        u = u + t*step
+    else:
+        fail('reference: Newton did not converge')
+    return u, force, gradient
+
+
 def midspan_equilibrium(length, n, ei, modulus, qu, w0):
     """The load (the central force) in equilibrium with a free-free beam on a tensionless
     elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i) whose midspan is
@@ -361,42 +405,9 @@ def midspan_equilibrium(length, n, ei, modulus, qu, w0):
     q = qu*tributary
     free = np.arange(2, dofs)
 
-    def force(w):
-        return np.where(w <= 0.0, 0.0, np.minimum(k*w, q))
-
-    def gradient(u):
-        g = stiffness @ u
-        g[0::2] += force(u[0::2])
-        return g
-
     u = np.zeros(dofs)
     u[0::2] = w0
-    scale = qu*length
-    for _ in range(500):
-        g = gradient(u)
-        # 1e-10 of the bed's capacity, or the round-off of K u where that is larger: on a fine mesh
-        # the bending terms of a row (EI/h^3 times the deflections: 1.25e5 x 1e-3 at 400 elements)
-        # leave g an error of order 100 eps times them, above 1e-10 qu L
-        floor = 100.0*np.finfo(float).eps*np.max(np.abs(stiffness) @ np.abs(u))
-        if np.max(np.abs(g[free])) <= max(1e-10*scale, floor):
-            break
-        w = u[0::2]
-        hessian = stiffness.copy()
-        hessian[0::2, 0::2] += np.diag(np.where((w > 0.0) & (k*w < q), k, 0.0))
-        step = np.zeros(dofs)
-        step[free] = -np.linalg.solve(hessian[np.ix_(free, free)], g[free])
-        t = 1.0
-        if gradient(u + step)[free] @ step[free] > 0.0:
-            low, high = 0.0, 1.0
-            for _ in range(80):
-                t = 0.5*(low + high)
-                if gradient(u + t*step)[free] @ step[free] > 0.0:
-                    high = t
-                else:
-                    low = t
-        u = u + t*step
-    else:
-        fail('reference: Newton did not converge')
+    u, force, gradient = minimise_bed_energy(stiffness, k, q, free, u, qu*length)
     w = u[0::2]
     return 2.0*gradient(u)[0], w, force(w) >= q*(1.0 - 1e-12)
 
@@ -420,42 +431,9 @@ def loaded_node_equilibrium(length, n, ei, modulus, qu, node, w_node, w_end):
     q = qu*tributary
     free = np.array([i for i in range(dofs) if i not in (2*node, 2*n)])
 
-    def force(w):
-        return np.where(w <= 0.0, 0.0, np.minimum(k*w, q))
-
-    def gradient(u):
-        g = stiffness @ u
-        g[0::2] += force(u[0::2])
-        return g
-
     u = np.zeros(dofs)
     u[0::2] = w_node + (w_end - w_node)*(np.arange(n + 1) - node)/(n - node)
-    scale = qu*length
-    for _ in range(500):
-        g = gradient(u)
-        # 1e-10 of the bed's capacity, or the round-off of K u where that is larger: on a fine mesh
-        # the bending terms of a row (EI/h^3 times the deflections: 1.25e5 x 1e-3 at 400 elements)
-        # leave g an error of order 100 eps times them, above 1e-10 qu L
-        floor = 100.0*np.finfo(float).eps*np.max(np.abs(stiffness) @ np.abs(u))
-        if np.max(np.abs(g[free])) <= max(1e-10*scale, floor):
-            break
-        w = u[0::2]
-        hessian = stiffness.copy()
-        hessian[0::2, 0::2] += np.diag(np.where((w > 0.0) & (k*w < q), k, 0.0))
-        step = np.zeros(dofs)
-        step[free] = -np.linalg.solve(hessian[np.ix_(free, free)], g[free])
-        t = 1.0
-        if gradient(u + step)[free] @ step[free] > 0.0:
-            low, high = 0.0, 1.0
-            for _ in range(80):
-                t = 0.5*(low + high)
-                if gradient(u + t*step)[free] @ step[free] > 0.0:
-                    high = t
-                else:
-                    low = t
-        u = u + t*step
-    else:
-        fail('reference: Newton did not converge')
+    u, force, gradient = minimise_bed_energy(stiffness, k, q, free, u, qu*length)
     w = u[0::2]
     g = gradient(u)
     return g[2*node], g[2*n], w, force(w) >= q*(1.0 - 1e-12)
