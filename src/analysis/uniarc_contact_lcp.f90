@@ -403,7 +403,7 @@ contains
       self%frame_units%force = max(self%units%force, largest_reaction)
       ! Round-off of q: what the last refinement corrected (an upper estimate of the error left after
       ! it, Higham 2002, §12.1), carried through the same formulas; zero before any refactorisation.
-      if (.not. allocated(self%round_off)) allocate (self%round_off(self%m))
+      ! (round_off is allocated, with its status checked, where the operator is built.)
       self%round_off = 0.0_dp
       if (allocated(self%correction)) then
          particular = abs(self%correction(:, 1)) + abs(dlambda*self%correction(:, 2))
@@ -615,7 +615,7 @@ contains
    subroutine border_vector(self)
       type(contact_lcp_operator_t), intent(inout) :: self
       real(dp) :: denominator, magnitude
-      if (.not. allocated(self%border)) allocate (self%border(size(self%du_tangent)))
+      ! (border is allocated, with its status checked, where the operator is built.)
       self%border = 0.0_dp
       ! The constraint fixes δλ only where it sees the response to the reference load: tᵀK_S⁻¹R (or the
       ! controlled component of K_S⁻¹R) must not vanish. It does when the contacts of the frame carry

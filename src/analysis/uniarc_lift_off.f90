@@ -42,12 +42,15 @@ contains
    !> motion j (force times length per unit of the coordinate). k ≥ 0, m ≥ 0.
    !> Out: lifts, .true. when no r ≥ 0 balances the load; combination (k), c = B r* + b, the motion
    !> (in the coordinates of the v_j) along which every gap opens and the load does work (0 when
-   !> `lifts` is false). No error: the least-squares problem always has a solution.
+   !> `lifts` is false); status, 0, or the stat= of a work array (of length m, or the passive set's
+   !> square) the system refused — then lifts is false and nothing is decided (the caller keeps its
+   !> own message; docs/contracts.md, "Memory"). The least-squares problem always has a solution.
    !> Source: Lawson & Hanson (1974), Solving Least Squares Problems, Ch. 23 (algorithm NNLS).
-   pure subroutine lifting_motion(gap_rates, work, lifts, combination)
+   pure subroutine lifting_motion(gap_rates, work, lifts, combination, status)
       real(dp), intent(in) :: gap_rates(:, :), work(:)
       logical, intent(out) :: lifts
       real(dp), intent(out) :: combination(:)
+      integer, intent(out) :: status
       real(dp), allocatable :: r(:), z(:), gradient(:)
       logical, allocatable :: passive(:)
       real(dp) :: size_b, size_e, alpha, tolerance
@@ -56,24 +59,36 @@ contains
       m = size(gap_rates, 2)
       lifts = .false.
       combination = 0.0_dp
+      status = 0
       size_b = norm2(work)
       if (k == 0 .or. size_b == 0.0_dp) return
-      allocate (r(m), source=0.0_dp)
-      allocate (z(m), source=0.0_dp)
-      allocate (passive(m), source=.false.)
+      allocate (r(m), z(m), gradient(m), passive(m), stat=status)
+      if (status /= 0) return
+      r = 0.0_dp
+      z = 0.0_dp
+      passive = .false.
       size_e = 0.0_dp
-      if (m > 0) size_e = maxval([(norm2(gap_rates(:, c)), c=1, m)])
+      do c = 1, m
+         size_e = max(size_e, norm2(gap_rates(:, c)))
+      end do
       ! Lawson & Hanson: grow the passive set P (r_P > 0) by the column of the steepest descent of
       ! ½‖B r + b‖², solve the least squares on P, step back to the boundary where a component of
       ! the solution would turn negative.
       tolerance = 1.0e3_dp*epsilon(1.0_dp)*size_e*size_b
       do iteration = 1, 3*m + 3
-         gradient = -matmul(transpose(gap_rates), matmul(gap_rates, r) + work)
+         combination = matmul(gap_rates, r) + work
+         do c = 1, m
+            gradient(c) = -dot_product(gap_rates(:, c), combination)
+         end do
          if (.not. any(.not. passive .and. gradient > tolerance)) exit
          t = maxloc(gradient, 1, mask=.not. passive)
          passive(t) = .true.
          do inner = 1, 3*m + 3
-            call least_squares(gap_rates, -work, passive, z)
+            call least_squares(gap_rates, -work, passive, z, status)
+            if (status /= 0) then
+               combination = 0.0_dp
+               return
+            end if
             if (all(z > 0.0_dp .or. .not. passive)) exit
             ! the step to the first component reaching 0 (a dependent column, z = 0 at r = 0: none)
             alpha = 1.0_dp
@@ -93,18 +108,26 @@ contains
 
    !> z_P = argmin ‖E_P z − f‖ over the columns of `passive` (z = 0 elsewhere), by modified
    !> Gram–Schmidt (E has few rows: a column that adds no direction to the ones before it gets 0).
-   pure subroutine least_squares(e, f, passive, z)
+   !> status: 0, or the stat= of the work arrays the system refused (z is then 0).
+   pure subroutine least_squares(e, f, passive, z, status)
       real(dp), intent(in) :: e(:, :), f(:)
       logical, intent(in) :: passive(:)
       real(dp), intent(out) :: z(:)
+      integer, intent(out) :: status
       real(dp), allocatable :: q(:, :), upper(:, :), rhs(:)
       integer, allocatable :: columns(:), kept(:)
       real(dp) :: v(size(e, 1)), length
       integer :: i, j, p, n_kept
       z = 0.0_dp
-      columns = pack([(j, j=1, size(passive))], passive)
-      p = size(columns)
-      allocate (q(size(e, 1), p), upper(p, p), rhs(p), kept(p))
+      p = count(passive)
+      allocate (columns(p), q(size(e, 1), p), upper(p, p), rhs(p), kept(p), stat=status)
+      if (status /= 0) return
+      i = 0
+      do j = 1, size(passive)
+         if (.not. passive(j)) cycle
+         i = i + 1
+         columns(i) = j
+      end do
       upper = 0.0_dp
       n_kept = 0
       do i = 1, p
@@ -148,6 +171,7 @@ contains
       real(dp), allocatable :: rates(:, :), motion(:)
       real(dp) :: gap, gradient(2), hessian(2, 2)
       real(dp), allocatable :: c_motion(:)
+      real(dp) :: work(size(motions, 2))
       logical :: lifts
       logical, allocatable :: unilateral(:)
       integer, allocatable :: which(:)
@@ -182,8 +206,12 @@ contains
             end do
          end do
       end do
-      call lifting_motion(rates, matmul(transpose(motions), unbalanced), lifts, c_motion)
-      if (.not. lifts) return
+      ! b_j = v_jᵀ(λR − F), column by column (no transposed copy of the motions)
+      do j = 1, k
+         work(j) = dot_product(motions(:, j), unbalanced)
+      end do
+      call lifting_motion(rates, work, lifts, c_motion, status)
+      if (status /= 0 .or. .not. lifts) return
       motion(:) = matmul(motions, c_motion)
       largest = maxloc(abs(map%metric*motion), 1)
       label = 0

@@ -7,7 +7,6 @@ module uniarc_run
    use uniarc_model, only: model_t, analysis_linear, analysis_nonlinear, tracked_values, analysis_step_t
    use uniarc_deck_source, only: echo_window
    use uniarc_linear_static, only: solve_linear_static, explain_static_imbalance
-   use uniarc_path_following, only: candidate_reactions
    use uniarc_copy, only: copy_array, reserve
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
                                  stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &

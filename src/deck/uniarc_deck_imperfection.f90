@@ -166,7 +166,8 @@ contains
          character(len=*), parameter :: wanted_names(6) = [character(len=11) :: 'bifurcation', 'node', 'x0', &
                                                               'y0', 'ux', 'uy']
          allocate (found(deck%model%n_nodes), stat=status)
-         call allocation_failure(status, 'the nodes of the modes table', 4.0_dp*deck%model%n_nodes, error_input, error)
+         call allocation_failure(status, 'the nodes of the modes table '//table%path, 4.0_dp*deck%model%n_nodes, &
+                                 error_input, error)
          if (allocated(error)) return
          found(:) = .false.
          if (table%n_lines < 1) then
@@ -206,7 +207,7 @@ contains
                if (nint(values(1)) /= wanted) cycle
                if (.not. allocated(mode)) then
                   allocate (mode(2, deck%model%n_nodes), stat=status)
-                  call allocation_failure(status, 'the imperfection read from the modes table', &
+                  call allocation_failure(status, 'the imperfection read from the modes table '//table%path, &
                                           16.0_dp*deck%model%n_nodes, error_input, error)
                   if (allocated(error)) return
                   mode(:, :) = 0.0_dp

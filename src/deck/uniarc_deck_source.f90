@@ -109,6 +109,14 @@ contains
                          ' bytes, found '//trim(adjustl(bytes_text(bytes)))//' bytes', error_input)
          return
       end if
+      if (bytes == 0) then
+         ! A size of 0 is what an empty file reports, and also a kernel file (/proc, /sys) whose text is
+         ! made when it is read: read it to its end rather than take it for empty.
+         call read_unsized(path, buffer, error)
+         if (allocated(error)) return
+         call split_lines(buffer, limit, source, error)
+         return
+      end if
       allocate (character(len=bytes) :: buffer, stat=status)
       if (status /= 0) then
          call make_error(error, path//': cannot hold the deck in memory ('// &
@@ -132,6 +140,57 @@ contains
       close (unit)
       call split_lines(buffer, limit, source, error)
    end subroutine read_source
+
+   !> `text` := the whole of the file `path` that reports a size of 0 (module procedure read_source),
+   !> read byte by byte to its end into a buffer that doubles as it fills; more than max_deck_bytes
+   !> is refused as a deck too large. Errors: error_input, naming the file.
+   subroutine read_unsized(path, text, error)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable, intent(out) :: text
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: buffer, grown
+      character(len=1) :: byte
+      character(len=512) :: message
+      integer :: unit, status, used
+      allocate (character(len=4096) :: buffer)
+      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
+            iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
+         return
+      end if
+      used = 0
+      do
+         read (unit, iostat=status, iomsg=message) byte
+         if (is_iostat_end(status)) exit
+         if (status /= 0) then
+            call make_error(error, path//': cannot read ('//trim(message)//')', error_input)
+            close (unit)
+            return
+         end if
+         if (used == len(buffer)) then
+            if (used >= max_deck_bytes) then
+               call make_error(error, path//': expected a deck of at most '// &
+                               integer_to_string(int(max_deck_bytes))//' bytes, found more', error_input)
+               close (unit)
+               return
+            end if
+            allocate (character(len=min(2*int(used, int64), max_deck_bytes + 1)) :: grown, stat=status)
+            if (status /= 0) then
+               call make_error(error, path//': cannot hold the deck in memory ('// &
+                               integer_to_string(2*used)//' bytes)', error_input)
+               close (unit)
+               return
+            end if
+            grown(1:used) = buffer
+            call move_alloc(grown, buffer)
+         end if
+         used = used + 1
+         buffer(used:used) = byte
+      end do
+      close (unit)
+      text = buffer(1:used)
+   end subroutine read_unsized
 
    !> The reason in gfortran's message of a failed OPEN, "Cannot open file 'PATH': REASON", without its
    !> prefix (the caller names the file and says it cannot be opened); the whole message otherwise.

@@ -535,8 +535,14 @@ contains
       end do
       model%analysis = builder%analysis
       model%output = builder%output
-      allocate (model%thermal_loads(builder%n_thermal))
-      if (builder%n_thermal > 0) model%thermal_loads = builder%thermal(1:builder%n_thermal)
+      ! one record of 40 bytes per element at most, allocated with stat= and copied in place
+      allocate (model%thermal_loads(builder%n_thermal), stat=status)
+      call allocation_failure(status, 'the temperature changes of the model', 40.0_dp*builder%n_thermal, &
+                              error_input, error)
+      if (allocated(error)) return
+      do i = 1, builder%n_thermal
+         model%thermal_loads(i) = builder%thermal(i)
+      end do
       if (builder%n_prescribed > 0) then
          allocate (model%prescribed(dofs_per_node, n), stat=status)
          call allocation_failure(status, 'the prescribed displacements of the model', 8.0_dp*dofs_per_node*n, &

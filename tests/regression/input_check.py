@@ -17,7 +17,8 @@ them with messages, and refuses what is not a deck (docs/input.md, "Limits"; doc
 
   input_check.py --uniarc EXE --out DIR --not-a-file
       A directory, /dev/null, /dev/zero and a FIFO given as the deck: each refused at once with exit
-      code 2 and `PATH: expected a regular file as the deck, found a ...`, nothing written.
+      code 2 and `PATH: expected a regular file as the deck, found a ...`, nothing written; a kernel
+      file of reported size 0 (/proc/self/status) read to its end: refused at 1:1 as no card.
 
   input_check.py --uniarc EXE --out DIR --empty-outdir
       `-o ''` (which wrote the result files to /): exit code 2, `option -o needs a directory`, nothing
@@ -122,6 +123,16 @@ def check_not_a_file(args, failures):
             failures.append(f'{path}: exit code {code}, expected 2')
         if expected not in stderr:
             failures.append(f'{path}: stderr lacks "{expected}"')
+    # A kernel file reports a size of 0 although it has text (/proc): it is read to its end, not taken
+    # for empty (it was refused as "expected at least one element"), so its first line is the error.
+    kernel = '/proc/self/status'
+    if os.path.exists(kernel) and os.stat(kernel).st_size == 0:
+        code, stderr = run([args.uniarc, kernel, '-o', out], timeout=60)
+        expected = f"error: {kernel}:1:1: expected a card (a line starting with '*'), found 'Name:"
+        if code != 2:
+            failures.append(f'{kernel}: exit code {code}, expected 2')
+        if expected not in stderr:
+            failures.append(f'{kernel}: stderr lacks "{expected}"')
     if os.listdir(out):
         failures.append(f'OUTDIR is not empty: {os.listdir(out)}')
 

@@ -662,16 +662,21 @@ contains
    end subroutine nodal_displacements
 
    !> Reactions of every candidate at the committed state (exactly 0 for those out of contact).
-   pure function candidate_reactions(state) result(reaction)
+   !> Out: reaction (m), m the map's candidates, force units of the load; status, 0 or the stat= of
+   !> the allocation the system refused (reaction then unallocated).
+   pure subroutine candidate_reactions(state, reaction, status)
       type(path_state_t), intent(in) :: state
-      real(dp), allocatable :: reaction(:)
+      real(dp), allocatable, intent(out) :: reaction(:)
+      integer, intent(out) :: status
       integer :: c
-      allocate (reaction(size(state%map%candidate_equation)), source=0.0_dp)
+      allocate (reaction(size(state%map%candidate_equation)), stat=status)
+      if (status /= 0) return
+      reaction = 0.0_dp
       if (.not. allocated(state%reactions)) return
       ! Out of the working set a reaction is zero by definition; its unknown holds round-off only.
       do c = 1, size(reaction)
          if (state%active(c)) reaction(c) = state%reactions(c)
       end do
-   end function candidate_reactions
+   end subroutine candidate_reactions
 
 end module uniarc_path_state
