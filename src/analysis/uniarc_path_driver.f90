@@ -34,11 +34,13 @@ module uniarc_path_driver
    use uniarc_path_state_copy, only: copy_point_record, move_map, copy_state, move_state
    use uniarc_memory, only: allocation_failure
    use uniarc_path_pace, only: pace_t, pace_start, pace_record
+   use uniarc_path_trace, only: trace_closed_loop
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
    public :: driver_next_analysis_step
-   public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse
+   public :: stop_none, stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &
+             stop_closed_loop
 
    !> Why the path ended (`path_driver_t%stop`, `step_outcome_t%stop`).
    integer, parameter :: stop_none = 0         !< it has not: the next step may be taken
@@ -49,6 +51,10 @@ module uniarc_path_driver
    !> the next step failed at a bearing collapse of beds or springs at their limits (QU=, TU=), which
    !> the committed state certifies (uniarc_path_collapse): a result, the path's last point
    integer, parameter :: stop_collapse = 5
+   !> the step passed through the state where the branch began (the unloaded state, the analysis
+   !> step's start, the bifurcation of a branch switch): the path is a closed loop, traced once
+   !> (uniarc_path_trace, trace_closed_loop; docs/theory.md §2.3)
+   integer, parameter :: stop_closed_loop = 6
 
    !> When the path stops (docs/input.md, *PATH); driver_start copies them from `model%analysis`.
    type :: stop_rules_t
@@ -75,6 +81,9 @@ module uniarc_path_driver
       real(dp) :: collapse_upper = 0.0_dp
       integer :: collapse_points = 0
       character(len=:), allocatable :: collapse_nodes
+      !> at stop_closed_loop: the step and λ of the state where the closed branch began
+      integer :: loop_origin_step = 0
+      real(dp) :: loop_origin_lambda = 0.0_dp
       logical :: started = .false.                 !< driver_start succeeded
       !> Converged steps before the current analysis step (driver_next_analysis_step): the step
       !> numbers go on across analysis steps, and max_steps counts the steps of the current one.
@@ -363,6 +372,13 @@ contains
          outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
+      ! A step through the state where its branch began: the path has closed on itself and would go round
+      ! the same loop again (a secondary branch that is a closed curve through its bifurcation).
+      if (.not. driver%state%point%switched) then
+         call trace_closed_loop(driver%trace, driver%state%map, driver%state%lambda_scale, driver%loop_origin_step, &
+                                driver%loop_origin_lambda)
+         if (driver%loop_origin_step >= 0 .and. driver%stop == stop_none) driver%stop = stop_closed_loop
+      end if
       ! A commit that switched tangential springs off is followed by its release step (Δλ = 0) before
       ! the path stops at a load or track limit: the last row is in equilibrium without their forces
       ! (docs/theory.md §3.8).

@@ -52,6 +52,7 @@ module uniarc_path_following
    use uniarc_path_state_copy, only: copy_state, move_state
    use uniarc_path_landing, only: land_on_load_limit, land_on_track_limit
    use uniarc_path_trace, only: path_trace_t, trace_allocate, trace_forget, trace_remember, trace_retraced_step, &
+                                trace_set_origin, &
                                 trace_remember_corner, trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
                                   add_concave_corner_hint
@@ -100,6 +101,8 @@ contains
          state%u = 0.0_dp
          state%last_increment = 0.0_dp
          call trace_allocate(trace, state%map%n_equations)
+         ! the unloaded state: where the path's first branch begins (a closed loop comes back to it)
+         call trace_set_origin(trace, state%u, 0.0_dp, 0)
          if (has_moment_limits(model)) then
             allocate (state%joint_plastic(2, model%n_elements), stat=status)
             call allocation_failure(status, 'the committed plastic rotations of the joints', &
@@ -179,6 +182,8 @@ contains
          call size_first_step(model, state, error)
          if (allocated(error)) return
          call describe_point(model, state, state%point%step, 0, 0, error)
+         if (allocated(error)) return
+         call trace_set_origin(trace, state%u, 0.0_dp, state%point%step)
       end associate
    end subroutine path_restart
 
@@ -482,7 +487,12 @@ contains
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
          if (present(cuts)) cuts = halvings
-         if (allocated(error)) call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+         if (allocated(error)) then
+            call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
+            return
+         end if
+         ! the secondary branch begins at the bifurcation it left from
+         call trace_set_origin(trace, state%bifurcation%u, state%point%switch_lambda, state%point%step)
          return
       end if
       if (allocated(state%bifurcation)) deallocate (state%bifurcation)

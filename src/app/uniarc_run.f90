@@ -9,7 +9,7 @@ module uniarc_run
    use uniarc_linear_static, only: solve_linear_static, explain_static_imbalance
    use uniarc_copy, only: copy_array, reserve
    use uniarc_path_driver, only: path_driver_t, step_outcome_t, driver_start, driver_step, stop_none, &
-                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, &
+                                 stop_load_limit, stop_track_limit, stop_step_limit, stop_failure, stop_collapse, stop_closed_loop, &
                                  driver_next_analysis_step
    use uniarc_model_steps, only: n_analysis_steps, step_model, has_prescribed
    use uniarc_support_reactions, only: support_reactions, prescribed_force
@@ -809,6 +809,11 @@ contains
          message = 'stopped by the step limit: max_steps = '//integer_to_string(driver%rules%max_steps)//' reached'
       case (stop_failure)
          message = 'stopped by an error'
+      case (stop_closed_loop)
+         message = 'stopped where the path closes on itself: its last step passes through the state of step '// &
+                   integer_to_string(driver%loop_origin_step)//' (lambda = '// &
+                   short_number(driver%loop_origin_lambda)//') where this branch began; followed on, it '// &
+                   'would go round the same loop again'
       case (stop_collapse)
          message = 'stopped by a bearing collapse: '//integer_to_string(driver%collapse_points)// &
                    ' contact point(s) of beds or springs at their limit QU or TU (nodes '//driver%collapse_nodes// &

@@ -1,7 +1,9 @@
 !> The memory of the path traced so far that guards a step against going back or round a loop
 !> (docs/theory.md §2.3 "back along the path", §2.12 "loops of corners"): the last committed states of
 !> the analysis step (displacements, λ, step number) and the committed states at which the last corners
-!> were passed.
+!> were passed; and the state where the branch being traced began (the unloaded state, the start of an
+!> analysis step, the bifurcation a branch switch left from), against which a path that closes on
+!> itself is recognised (§2.3, "closed loops").
 !>
 !> Both are ring buffers allocated once, with stat=, for the path's number of unknowns (again only if an
 !> analysis step renumbers the equations), and held by the caller of the path following (the path
@@ -17,16 +19,16 @@ module uniarc_path_trace
    private
    public :: path_trace_t, traced_kept, corners_kept, traced_vectors
    public :: trace_allocate, trace_forget, trace_remember, trace_retraced_step, trace_remember_corner, &
-             trace_corner_revisited
+             trace_corner_revisited, trace_set_origin, trace_closed_loop
 
    !> Committed states kept for the test of a step going back along the path (trace_retraced_step).
    integer, parameter :: traced_kept = 16
    !> Corners kept for the test of a loop of corners (trace_corner_revisited): a loop of more corners
    !> than that is not recognised.
    integer, parameter :: corners_kept = 8
-   !> Vectors of the number of unknowns a path_trace_t holds: the kept states, the kept corners and two
-   !> work vectors (uniarc_memory's estimate counts them).
-   integer, parameter :: traced_vectors = traced_kept + corners_kept + 2
+   !> Vectors of the number of unknowns a path_trace_t holds: the kept states, the kept corners, the
+   !> branch's origin and two work vectors (uniarc_memory's estimate counts them).
+   integer, parameter :: traced_vectors = traced_kept + corners_kept + 3
    !> A state lies along a traced segment when within this share of the segment's chord of it: the
    !> arc of a step deviates from its chord by its sagitta, |chord| tan(θ/4)/2 ≈ |chord| θ/8 for a turn θ
    !> between its end tangents, 0.05 |chord| for the turns of at most 2 × 22° measured away from folds
@@ -49,6 +51,12 @@ module uniarc_path_trace
       integer :: corners = 0                !< corners kept
       integer :: corner_newest = 0
       real(dp), allocatable :: chord(:), offset(:)   !< (n) work vectors
+      real(dp), allocatable :: origin_u(:)  !< (n) the state where the branch traced began
+      real(dp) :: origin_lambda = 0.0_dp
+      integer :: origin_step = 0
+      logical :: has_origin = .false.
+      !> the largest distance (masked norm of the displacements) of a kept state from the origin
+      real(dp) :: reach = 0.0_dp
    end type path_trace_t
 
 contains
@@ -63,31 +71,98 @@ contains
       trace%newest = 0
       trace%corners = 0
       trace%corner_newest = 0
+      trace%has_origin = .false.
       if (trace%n == n) return
       if (allocated(trace%u)) deallocate (trace%u)
       if (allocated(trace%corner_u)) deallocate (trace%corner_u)
       if (allocated(trace%chord)) deallocate (trace%chord)
       if (allocated(trace%offset)) deallocate (trace%offset)
+      if (allocated(trace%origin_u)) deallocate (trace%origin_u)
       trace%n = -1
       allocate (trace%u(n, traced_kept), trace%corner_u(n, corners_kept), trace%chord(n), trace%offset(n), &
-                stat=status)
+                trace%origin_u(n), stat=status)
       if (status /= 0) then
          if (allocated(trace%u)) deallocate (trace%u)
          if (allocated(trace%corner_u)) deallocate (trace%corner_u)
          if (allocated(trace%chord)) deallocate (trace%chord)
          if (allocated(trace%offset)) deallocate (trace%offset)
+         if (allocated(trace%origin_u)) deallocate (trace%origin_u)
          return
       end if
       trace%n = n
    end subroutine trace_allocate
 
-   !> The kept states are forgotten (the start of an analysis step: its λ measures another load
-   !> pattern). The corners are kept.
+   !> The kept states and the origin are forgotten (the start of an analysis step: its λ measures
+   !> another load pattern). The corners are kept.
    pure subroutine trace_forget(trace)
       type(path_trace_t), intent(inout) :: trace
       trace%count = 0
       trace%newest = 0
+      trace%has_origin = .false.
    end subroutine trace_forget
+
+   !> The state (u (n), λ, its step) where the branch now traced begins: the unloaded state, the start
+   !> of an analysis step, or the bifurcation a branch switch leaves from (trace_closed_loop).
+   subroutine trace_set_origin(trace, u, lambda, step)
+      type(path_trace_t), intent(inout) :: trace
+      real(dp), intent(in) :: u(:), lambda
+      integer, intent(in) :: step
+      trace%has_origin = .false.
+      if (.not. ready(trace, size(u))) return
+      trace%origin_u(:) = u
+      trace%origin_lambda = lambda
+      trace%origin_step = step
+      trace%reach = 0.0_dp
+      trace%has_origin = .true.
+   end subroutine trace_set_origin
+
+   !> The step of the origin (trace_set_origin) when the last traced segment — the two newest kept
+   !> states a, b, the step just committed — passes through it, or −1 (docs/theory.md §2.3, "closed
+   !> loops"). A path that comes back to the state where its branch began has closed on itself:
+   !> followed on, it goes round the same loop again (a secondary branch that is a closed curve
+   !> through its bifurcation). Distances are those of the arc length, in (u, ψλ) (ψ = lambda_scale,
+   !> the displacement a unit of λ moves at the start, > 0; `map` gives the norm of the displacements,
+   !> masked_dot): through the origin means its projection on the chord b − a between −sagitta_share
+   !> and 1 + sagitta_share of the way from a to b (a step may end on the origin or start from it) and
+   !> its distance from the chord within sagitta_share of the chord's length, as for a step going back
+   !> (trace_retraced_step); and the path has gone away first: some kept state of this branch was
+   !> farther from the origin than four chords (the first steps out of the origin, or a cut-back step
+   !> near it, are not a return). Called once for each committed step (it keeps the branch's reach).
+   !> Out: step, the origin's step or −1; lambda, the origin's λ (0 when step is −1).
+   subroutine trace_closed_loop(trace, map, lambda_scale, step, lambda)
+      type(path_trace_t), intent(inout) :: trace   !< its kept states unchanged (work vectors used)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: lambda_scale
+      integer, intent(out) :: step
+      real(dp), intent(out) :: lambda
+      real(dp) :: length2, t, reach_before, chord_lambda, offset_lambda, distance2
+      integer :: a, b
+      step = -1
+      lambda = 0.0_dp
+      if (.not. trace%has_origin .or. trace%count < 2) return
+      a = column(trace%count - 1, trace%count, trace%newest, traced_kept)
+      b = trace%newest
+      if (trace%step(a) < trace%origin_step) return
+      ! the reach before this step (the newest state's own distance is what is being tested)
+      reach_before = trace%reach
+      trace%offset(:) = trace%u(:, b) - trace%origin_u
+      offset_lambda = lambda_scale*(trace%lambda(b) - trace%origin_lambda)
+      trace%reach = max(trace%reach, sqrt(masked_dot(map, trace%offset, trace%offset) + offset_lambda**2))
+      trace%chord(:) = trace%u(:, b) - trace%u(:, a)
+      chord_lambda = lambda_scale*(trace%lambda(b) - trace%lambda(a))
+      length2 = masked_dot(map, trace%chord, trace%chord) + chord_lambda**2
+      if (.not. (length2 > 0.0_dp)) return
+      if (reach_before <= 4.0_dp*sqrt(length2)) return
+      trace%offset(:) = trace%origin_u - trace%u(:, a)
+      offset_lambda = lambda_scale*(trace%origin_lambda - trace%lambda(a))
+      t = (masked_dot(map, trace%offset, trace%chord) + offset_lambda*chord_lambda)/length2
+      if (.not. (t >= -sagitta_share .and. t <= 1.0_dp + sagitta_share)) return
+      trace%offset(:) = trace%offset - t*trace%chord
+      distance2 = masked_dot(map, trace%offset, trace%offset) + (offset_lambda - t*chord_lambda)**2
+      if (distance2 > sagitta_share**2*length2) return
+      step = trace%origin_step
+      lambda = trace%origin_lambda
+   end subroutine trace_closed_loop
 
    !> Whether the trace holds vectors of length n (reallocated for n if not: an analysis step that
    !> renumbered the equations starts empty).
