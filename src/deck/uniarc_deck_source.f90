@@ -123,12 +123,8 @@ contains
                          integer_to_string(int(bytes))//' bytes)', error_input)
          return
       end if
-      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
-            iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
-         return
-      end if
+      call open_deck(path, unit, error)
+      if (allocated(error)) return
       do offset = 0, int(bytes) - 1, chunk_bytes
          read (unit, iostat=status, iomsg=message) buffer(offset + 1:min(offset + chunk_bytes, int(bytes)))
          if (status /= 0) then
@@ -153,12 +149,8 @@ contains
       character(len=512) :: message
       integer :: unit, status, used
       allocate (character(len=4096) :: buffer)
-      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
-            iostat=status, iomsg=message)
-      if (status /= 0) then
-         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
-         return
-      end if
+      call open_deck(path, unit, error)
+      if (allocated(error)) return
       used = 0
       do
          read (unit, iostat=status, iomsg=message) byte
@@ -191,6 +183,19 @@ contains
       close (unit)
       text = buffer(1:used)
    end subroutine read_unsized
+
+   !> `unit` := the deck `path` opened for reading as a stream of bytes; error_input naming the file
+   !> and the system's reason when it cannot be opened.
+   subroutine open_deck(path, unit, error)
+      character(len=*), intent(in) :: path
+      integer, intent(out) :: unit
+      type(error_t), allocatable, intent(out) :: error
+      character(len=512) :: message
+      integer :: status
+      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
+            iostat=status, iomsg=message)
+      if (status /= 0) call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
+   end subroutine open_deck
 
    !> The reason in gfortran's message of a failed OPEN, "Cannot open file 'PATH': REASON", without its
    !> prefix (the caller names the file and says it cannot be opened); the whole message otherwise.
