@@ -21,8 +21,8 @@ module uniarc_run
    use uniarc_vtk, only: vtk_series_t, open_vtk_series, vtk_snapshot_due, write_vtk_snapshot, &
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
-                                      abandon_results
-   use uniarc_foreign, only: interrupt_signal, signal_name
+                                      abandon_results, stem_file
+   use uniarc_foreign, only: interrupt_signal, signal_name, same_file
    use uniarc_dof_map, only: dof_map_t, build_dof_map, bed_deflection
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
@@ -109,6 +109,8 @@ contains
          end if
       end if
       if (options%verbose .and. .not. options%quiet) call print_memory_line(model, map)
+      call refuse_deck_among_results(model, options, error)
+      if (allocated(error)) return
       call claim_result_directory(options%output_directory, options%stem, results, error)
       if (allocated(error)) return
       ! a stale lock taken over (its run killed): said, as it may have left an incomplete set
@@ -789,6 +791,24 @@ contains
          record%prescribed_force = prescribed_force(stepped, reactions)
       end if
    end subroutine record_state
+
+   !> error_input when the deck itself is in OUTDIR under the name of one of its own result files
+   !> (a deck walker.path, whose stem is walker): the run would overwrite it with its path table, or
+   !> remove it as an earlier run's file (docs/contracts.md, "Result files").
+   subroutine refuse_deck_among_results(model, options, error)
+      type(model_t), intent(in) :: model
+      type(run_options_t), intent(in) :: options
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: base
+      if (.not. allocated(model%deck_path)) return
+      base = model%deck_path(index(model%deck_path, '/', back=.true.) + 1:)
+      if (.not. stem_file(options%stem, base)) return
+      if (.not. same_file(model%deck_path, options%output_directory//'/'//base)) return
+      call make_error(error, model%deck_path//': expected a deck whose name is not one of its own result files: '// &
+                      'the results of '//options%stem//' in '//options%output_directory//' include '//base// &
+                      ', which would overwrite or remove the deck; rename the deck (e.g. '//options%stem// &
+                      '.inp) or write the results elsewhere (-o DIR)', error_input)
+   end subroutine refuse_deck_among_results
 
    !> Which stop rule ended the path, with the limit that was met, for the closing message.
    function stop_message(model, driver) result(message)

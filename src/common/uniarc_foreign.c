@@ -1,6 +1,6 @@
 /* The C side of uniarc_foreign (src/common/uniarc_foreign.f90): what Fortran cannot do itself.
  *
- * Interrupts (SIGINT, SIGTERM) as a request to stop, polled by the step loop (docs/contracts.md,
+ * Interrupts (SIGINT, SIGTERM, SIGHUP, SIGXCPU) as a request to stop, polled by the step loop (docs/contracts.md,
  * "Interrupts"). The handler only records the signal's number in a volatile sig_atomic_t, the one
  * kind of object a handler may write (C11 7.14.1.1, POSIX signal-safety); the program reads it
  * between steps through uniarc_interrupt_signal and ends the run itself, with the steps traced.
@@ -29,18 +29,31 @@ static int catch_one(int number) {
     return sigaction(number, &action, NULL);
 }
 
-/* Install the handler for SIGINT and SIGTERM; 0 on success, -1 if the system refused. */
+/* Install the handler for SIGINT and SIGTERM, and for SIGHUP (the terminal closed) and SIGXCPU (the
+ * CPU time limit, `ulimit -t`, reached: the hard limit's SIGKILL follows later), which ask a run to
+ * stop as well; 0 on success, -1 if the system refused. */
 int uniarc_catch_interrupts(void) {
     int status = catch_one(SIGINT);
     if (catch_one(SIGTERM) != 0) status = -1;
+    if (catch_one(SIGHUP) != 0) status = -1;
+    if (catch_one(SIGXCPU) != 0) status = -1;
     return status;
 }
 
 /* The number of the last SIGINT or SIGTERM received since uniarc_catch_interrupts, or 0. */
 int uniarc_interrupt_signal(void) { return (int)received_signal; }
 
-/* The numbers of SIGINT and SIGTERM on this system (2 and 15 on Linux). */
-int uniarc_signal_number(int which) { return which == 0 ? SIGINT : SIGTERM; }
+/* The numbers of SIGINT, SIGTERM, SIGHUP and SIGXCPU on this system (which = 0, 1, 2, 3: 2, 15, 1
+ * and 24 on Linux); -1 for another `which`. */
+int uniarc_signal_number(int which) {
+    switch (which) {
+    case 0: return SIGINT;
+    case 1: return SIGTERM;
+    case 2: return SIGHUP;
+    case 3: return SIGXCPU;
+    default: return -1;
+    }
+}
 
 #include <sys/resource.h>
 
@@ -88,6 +101,14 @@ int uniarc_process_exists(int pid) {
     if (errno == ESRCH) return 0;
     if (errno == EPERM) return 1;
     return -1;
+}
+
+/* Whether the paths `first` and `second` name the same file (stat(2): the same device and inode,
+ * links followed): 1 the same, 0 not, -1 when either cannot be looked at (no such file). */
+int uniarc_same_file(const char *first, const char *second) {
+    struct stat a, b;
+    if (stat(first, &a) != 0 || stat(second, &b) != 0) return -1;
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino ? 1 : 0;
 }
 
 /* This host's name (gethostname) into `buffer` of `size` bytes, NUL-terminated; its length, or -1. */

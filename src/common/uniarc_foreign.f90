@@ -23,7 +23,7 @@ module uniarc_foreign
    public :: remove_file, remove_directory, process_id, ignore_file_size_signal
    public :: file_status, read_regular_file, process_state, host_name, directory_entries, entry_name_t
    public :: process_alive, process_gone, process_unknown
-   public :: catch_interrupts, interrupt_signal, signal_name
+   public :: catch_interrupts, interrupt_signal, signal_name, same_file
 
    !> An open C stdio stream (FILE *), written by stream_write and ended by stream_close.
    type :: stream_t
@@ -207,6 +207,12 @@ module uniarc_foreign
          integer(c_int), value, intent(in) :: pid
          integer(c_int) :: state
       end function c_process_exists
+
+      function c_same_file(first, second) bind(c, name='uniarc_same_file') result(same)
+         import :: c_int, c_char
+         character(kind=c_char), intent(in) :: first(*), second(*)
+         integer(c_int) :: same
+      end function c_same_file
 
       function c_open_directory(path) bind(c, name='uniarc_open_directory') result(directory)
          import :: c_char, c_ptr
@@ -441,6 +447,13 @@ contains
       process_state = int(c_process_exists(int(pid, c_int)))
    end function process_state
 
+   !> Whether the paths `first` and `second` name one file (the same device and inode, links
+   !> followed); false when either does not exist or cannot be looked at.
+   logical function same_file(first, second)
+      character(len=*), intent(in) :: first, second
+      same_file = c_same_file(first//c_null_char, second//c_null_char) == 1_c_int
+   end function same_file
+
    !> The names in directory `path` (opendir/readdir, POSIX; "." and ".." left out, names longer than
    !> 4095 bytes skipped), in the system's order. `ok` is false, with no names, when it cannot be read
    !> or its names do not fit in memory.
@@ -511,7 +524,7 @@ contains
       previous = c_signal(signal_file_size, transfer(1_c_intptr_t, c_null_funptr))
    end subroutine ignore_file_size_signal
 
-   !> Catch SIGINT and SIGTERM (src/common/uniarc_signals.c): from now on they only set a flag, read by
+   !> Catch SIGINT, SIGTERM, SIGHUP and SIGXCPU (src/common/uniarc_foreign.c): from now on they only set a flag, read by
    !> interrupt_signal, and the step loop ends the run with the steps traced (docs/contracts.md,
    !> "Interrupts"). A second signal of the same kind ends the program at once. Signals ignored at
    !> start stay ignored. `caught` is false when the system refused (the signals then kill as before).
@@ -522,12 +535,12 @@ contains
       if (present(caught)) caught = status == 0
    end subroutine catch_interrupts
 
-   !> The number of the SIGINT or SIGTERM received since catch_interrupts, or 0 when none was.
+   !> The number of the SIGINT, SIGTERM, SIGHUP or SIGXCPU received since catch_interrupts, or 0 when none was.
    integer function interrupt_signal()
       interrupt_signal = int(c_interrupt_signal())
    end function interrupt_signal
 
-   !> "SIGINT" or "SIGTERM" for the number of either, else "signal N".
+   !> "SIGINT", "SIGTERM", "SIGHUP" or "SIGXCPU" for the number of each, else "signal N".
    function signal_name(number) result(name)
       integer, intent(in) :: number
       character(len=:), allocatable :: name
@@ -535,6 +548,10 @@ contains
          name = 'SIGINT'
       else if (number == int(c_signal_number(1_c_int))) then
          name = 'SIGTERM'
+      else if (number == int(c_signal_number(2_c_int))) then
+         name = 'SIGHUP'
+      else if (number == int(c_signal_number(3_c_int))) then
+         name = 'SIGXCPU'
       else
          name = 'signal '//integer_to_string(number)
       end if

@@ -244,25 +244,34 @@ contains
             if (tail == trim(tables(k)) .or. tail == trim(tables(k))//'.csv') stem_file = .true.
          end do
          if (tail == '.modes' .or. tail == '.pvd') stem_file = .true.
-         if (numbered(tail, '_', '.vtp', 4) .or. numbered(tail, '_', '.vtk', 4) .or. &
-             numbered(tail, '_mode_', '.vtp', 2)) stem_file = .true.
+         ! only the numbers as uniarc writes them: a snapshot's at least four digits (zero-padded to
+         ! four), a mode's two (01-99) or three (100-999) — so that another deck's snapshots,
+         ! STEM_mode_0000.vtp of the deck STEM_mode, are not taken for modes of STEM. A mode numbered
+         ! 1000 or more would read as such a snapshot and is not removed.
+         if (numbered(tail, '_', '.vtp', 4, 4) .or. numbered(tail, '_', '.vtk', 4, 4) .or. &
+             (numbered(tail, '_mode_', '.vtp', 2, 2) .and. len(tail) <= len('_mode_999.vtp'))) stem_file = .true.
       end associate
    end function stem_file
 
-   !> Whether `text` is `before`, at least `fewest` decimal digits, then `after`.
-   pure logical function numbered(text, before, after, fewest)
+   !> Whether `text` is `before`, a number written as uniarc writes it, then `after`: at least
+   !> `fewest` decimal digits, and at most `most` of them unless the first is not 0 (a number
+   !> zero-padded to `most` digits, or a larger one written in full without leading zeros).
+   pure logical function numbered(text, before, after, fewest, most)
       character(len=*), intent(in) :: text, before, after
-      integer, intent(in) :: fewest
+      integer, intent(in) :: fewest, most
       integer :: n
       numbered = .false.
       n = len(text) - len(before) - len(after)
       if (n < fewest) return
       if (text(1:len(before)) /= before .or. text(len(text) - len(after) + 1:) /= after) return
-      numbered = verify(text(len(before) + 1:len(before) + n), '0123456789') == 0
+      if (verify(text(len(before) + 1:len(before) + n), '0123456789') /= 0) return
+      if (n > most .and. text(len(before) + 1:len(before) + 1) == '0') return
+      numbered = .true.
    end function numbered
 
    !> The process id of a stale lock at `lock_path`: one whose lines `pid N` and `host H` name this
-   !> host and a process that no longer exists on it (process_state: ESRCH); 0 for any other lock (a
+   !> host and a process that no longer exists on it (process_state: ESRCH), or this process itself
+   !> (its id reused); 0 for any other lock (a
    !> live process, another host, a lock without a host line, one that cannot be read).
    integer function stale_lock_pid(lock_path) result(pid)
       character(len=*), intent(in) :: lock_path
@@ -284,6 +293,10 @@ contains
          pid = 0
          return
       end if
+      ! A lock naming this very process is stale too: this run has not written its lock yet, so
+      ! the process that did is gone and its id came back (a container's PID namespace restarts
+      ! at the same ids: a run killed in one, the next one given the same pid).
+      if (pid == process_id()) return
       if (process_state(pid) /= process_gone) pid = 0
    end function stale_lock_pid
 

@@ -19,6 +19,15 @@
       OUTDIR below a regular file (DIR/file/results), which no one can create: exit code 2 (bad input,
       issue 14: it was 1), "cannot create output directory DIR/file/results: Not a directory", and the
       analysis never starts (no output on stdout).
+
+  io_check.py --uniarc EXE --deck DECK --out DIR --stems
+      OUTDIR shared with other files of like names: (1) a copy of DECK named STEM.path, and one named
+      STEM.modes, in OUTDIR: refused with exit code 2 ("expected a deck whose name is not one of its
+      own result files"), the deck unchanged (a run replaced the first with its path table and removed
+      the second as a stale result); (2) the VTK snapshots STEM_mode_NNNN.vtp of a deck STEM_mode beside
+      a run of STEM: all kept (they were removed as modes of STEM); (3) a lock STEM.lock that names the
+      run's own process id on this host (a container's PID namespace gives a killed run's id to the
+      next one): taken over as stale, the run succeeds (it refused, "another uniarc run (pid 1)").
 """
 import argparse
 import os
@@ -121,6 +130,59 @@ def check_unusable_outdir(args, stem, failures):
         failures.append(f'files written: {sorted(os.listdir(args.out))}')
 
 
+def check_stems(args, stem, failures):
+    out = os.path.join(args.out, 'stems')
+    fresh(out)
+    text = open(args.deck).read()
+    for suffix in ('.path', '.modes'):
+        deck = os.path.join(out, stem + suffix)
+        with open(deck, 'w') as file:
+            file.write(text)
+        result = subprocess.run([args.uniarc, deck, '-o', out, '-q'], capture_output=True, text=True,
+                                timeout=600)
+        print(result.stderr, end='')
+        if result.returncode != 2:
+            failures.append(f'deck {stem + suffix}: exit code {result.returncode}, expected 2')
+        expected = (f'error: {deck}: expected a deck whose name is not one of its own result files: the '
+                    f'results of {stem} in {out} include {stem + suffix}')
+        if expected not in result.stderr:
+            failures.append(f'deck {stem + suffix}: stderr lacks "{expected}"')
+        if not os.path.exists(deck) or open(deck).read() != text:
+            failures.append(f'deck {stem + suffix}: changed or removed by its own run')
+        if sorted(os.listdir(out)) != [stem + suffix]:
+            failures.append(f'deck {stem + suffix}: files written {sorted(os.listdir(out))}')
+        os.remove(deck)
+
+    others = [f'{stem}_mode_{k:04d}.vtp' for k in (0, 10, 1000)] + [f'{stem}_mode.pvd', f'{stem}_mode.path']
+    for name in others:
+        with open(os.path.join(out, name), 'w') as file:
+            file.write('another deck\n')
+    result = run(args.uniarc, args.deck, out)
+    if result.returncode != 0:
+        failures.append(f'beside another deck\'s files: exit code {result.returncode}: {result.stderr}')
+    kept = [name for name in others if os.path.exists(os.path.join(out, name))]
+    if kept != others:
+        failures.append(f'another deck\'s files removed: {sorted(set(others) - set(kept))}')
+
+    own = os.path.join(args.out, 'own_pid')
+    fresh(own)
+    lock = os.path.join(own, stem + '.lock')
+    host = os.uname().nodename
+
+    def lock_with_own_pid():
+        with open(lock, 'w') as file:
+            file.write(f'pid {os.getpid()}\nhost {host}\n')
+    result = subprocess.run([args.uniarc, args.deck, '-o', own, '-q'], capture_output=True, text=True,
+                            timeout=600, preexec_fn=lock_with_own_pid)
+    print(result.stderr, end='')
+    if result.returncode != 0:
+        failures.append(f'a lock naming the run\'s own pid: exit code {result.returncode}, expected 0')
+    if 'note: removed the stale lock' not in result.stderr:
+        failures.append('a lock naming the run\'s own pid: no note of the stale lock taken over')
+    if os.path.exists(lock):
+        failures.append('a lock naming the run\'s own pid: the lock is left')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--uniarc', required=True)
@@ -130,6 +192,7 @@ def main():
     mode.add_argument('--file-size-limit', type=int, metavar='KIB')
     mode.add_argument('--lock', action='store_true')
     mode.add_argument('--unusable-outdir', action='store_true')
+    mode.add_argument('--stems', action='store_true')
     parser.add_argument('--expect-file', metavar='NAME')
     args = parser.parse_args()
     args.out = os.path.abspath(args.out)
@@ -139,6 +202,8 @@ def main():
         check_lock(args, stem, failures)
     elif args.unusable_outdir:
         check_unusable_outdir(args, stem, failures)
+    elif args.stems:
+        check_stems(args, stem, failures)
     else:
         check_file_size_limit(args, stem, failures)
     for failure in failures:
