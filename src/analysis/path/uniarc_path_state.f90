@@ -64,8 +64,12 @@ module uniarc_path_state
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
-      !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2).
+      !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2): a
+      !> `contact_stability` row.
       logical :: stability_by_contact = .false.
+      !> When stability_by_contact: the fraction of the interval and λ of that contact event (the
+      !> middle of the locator's final bracket), a `contact_stability` row of STEM.crit.
+      real(dp) :: stability_fraction = -1.0_dp, stability_lambda = 0.0_dp
       !> The sign change of dλ/ds since the previous point happens where the working set changes (a
       !> corner of the path, uniarc_path_locate): a contact event with λ at an extreme (`contact_corner`
       !> in STEM.crit), not a limit point (docs/theory.md §2.12).
