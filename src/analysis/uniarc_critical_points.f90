@@ -87,8 +87,16 @@ contains
          unexplained = max(0, unexplained - 1)
       end if
       ! A change of the count located where the working set changes is a change of stability at a
-      ! contact event (uniarc_path_locate), not a critical point.
-      if (after%stability_by_contact) unexplained = 0
+      ! contact event (uniarc_path_locate), not a critical point: a row of its own, so that every
+      ! change of the count is explained by a row (docs/contracts.md, STEM.crit).
+      if (after%stability_by_contact .and. unexplained > 0) then
+         event%kind = 'contact_stability'
+         event%fraction = after%stability_fraction
+         event%lambda = after%stability_lambda
+         event%position = before%step + event%fraction
+         events = [events, event]
+         unexplained = 0
+      end if
       if (unexplained > 0) then
          ! A change of the count on the tangent with touching contacts released is a lift-off
          ! (unilateral) bifurcation: the structure buckles away from contacts that carry no force.

@@ -867,10 +867,11 @@ contains
                                    integer_to_string(multiplicity)//' eigenvalues of the tangent vanish together)'
    end function multiplicity_note
 
-   !> Contact events (contact_start, contact_lost) as opposed to critical points of the path.
+   !> Contact events (contact_start, contact_lost, contact_stability) as opposed to critical points of
+   !> the path.
    pure logical function is_contact_event(kind)
       character(len=*), intent(in) :: kind
-      is_contact_event = kind == 'contact_start' .or. kind == 'contact_lost'
+      is_contact_event = kind == 'contact_start' .or. kind == 'contact_lost' .or. kind == 'contact_stability'
    end function is_contact_event
 
    !> Every number of a step's row is finite (λ, displacements, reactions, contact summaries).

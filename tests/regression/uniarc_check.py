@@ -418,6 +418,9 @@ def main():
     parser.add_argument('--expect-modes-min', action='append', default=[])
     parser.add_argument('--expect-no-return', action='append', default=[])
     parser.add_argument('--expect-free-span', action='append', default=[])
+    parser.add_argument('--expect-count-explained', action='store_true',
+                        help='every change of the neg_pivots column between two rows of the path has a row of '
+                             'STEM.crit between those steps')
     parser.add_argument('--reject-stderr', action='append', default=[])
     parser.add_argument('--expect-stdout', action='append', default=[])
     parser.add_argument('--reject-stdout', action='append', default=[])
@@ -489,6 +492,8 @@ def main():
     crit_file = os.path.join(args.out, stem + '.crit')
     if args.expect_exit in (0, 1) and os.path.exists(crit_file) and os.path.exists(path_file):
         failures += check_limits_bracketed(path_file, crit_file)
+    if args.expect_count_explained:
+        failures += check_count_explained(path_file, crit_file)
     # On every run: no result file shows a negative zero (pandas and gnuplot users see '-0'), and
     # every table has its provenance lines and its counts written as integers.
     for name in sorted(os.listdir(args.out)) if os.path.isdir(args.out) else []:
@@ -659,6 +664,24 @@ def check_limits_bracketed(path_file, crit_file):
             failures.append(f'limit_max at step {position:g}: lambda {value!r} below a converged neighbour {around}')
         if kind == 'limit_min' and any(value > x + slack for x in around):
             failures.append(f'limit_min at step {position:g}: lambda {value!r} above a converged neighbour {around}')
+    return failures
+
+
+def check_count_explained(path_file, crit_file):
+    """Every change of the stability count (the path's neg_pivots column) between two consecutive rows
+    is explained by an event of STEM.crit located between those two steps (a limit point, a
+    bifurcation of either kind, a contact event: docs/contracts.md, STEM.crit)."""
+    failures = []
+    path_names, path_rows = read_table(path_file)
+    column = path_names.index('neg_pivots')
+    names, events = read_events(crit_file)
+    positions = [numbers[names.index('step')] for _, numbers in events]
+    for a, b in zip(path_rows, path_rows[1:]):
+        if a[column] == b[column]:
+            continue
+        if not any(a[0] <= position <= b[0] for position in positions):
+            failures.append(f'neg_pivots changes from {a[column]:g} to {b[column]:g} between steps {a[0]:g} and '
+                            f'{b[0]:g} with no row of {os.path.basename(crit_file)} there')
     return failures
 
 

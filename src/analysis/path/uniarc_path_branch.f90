@@ -214,6 +214,7 @@ contains
       state%point%bifurcation_fraction = -1.0_dp
       state%point%bifurcation_multiplicity = 0
       state%point%stability_by_contact = .false.
+      state%point%stability_fraction = -1.0_dp
       state%point%limit_by_contact = .false.
    end subroutine switch_branch
 

@@ -55,6 +55,20 @@ module uniarc_path_locate
    !> pressurised rings, on the bifurcated branch), at the near-bifurcation of Walker's whole arch with
    !> a crown imperfection of 1e-4 it is 1.9e-4 and 1.1e-2 (it scales with the imperfection).
    real(dp), parameter :: mode_load_cosine = 1.0e-6_dp
+   !> The count changes at a contact event (the least eigenvalue μ jumps across zero where the working
+   !> set changes) only if, with m = (h_b − h_a)/Δl |μ_after − μ_before| the change of μ that a smooth
+   !> piece makes across the final bracket (its share of μ's change over the step), μ changes across
+   !> the bracket by more than jump_ratio m and is more than regular_ratio m away from zero at both of
+   !> its ends: the tangent is regular on either side. A smooth zero crossing inside the bracket leaves
+   !> both ends within about m of zero (regular_ratio allows for μ's curvature over the step); a
+   !> contact event that shares its bracket does not make it one. Measured, as (change, nearer end)/m:
+   !> the perfect oval liner in its host at its three-lobed bifurcation, a contact opening within the
+   !> bracket, (0.64, 0.17) at om = 0.001 (Release), (136, 0.33) at om = 0.02 (Debug: the far end of
+   !> the bracket re-solved 0.013 higher in λ, on another set) — bifurcations; the bed pairs touching
+   !> Walker's whole arch (2190, 616) at 80 elements, (2800, 504) at 120, (200, 14.7) at 160 (at
+   !> 146.6) — contact events.
+   real(dp), parameter :: jump_ratio = 10.0_dp
+   real(dp), parameter :: regular_ratio = 2.0_dp
 
 contains
 
@@ -107,6 +121,7 @@ contains
       after%point%bifurcation_fraction = -1.0_dp
       after%point%bifurcation_multiplicity = 0
       after%point%stability_by_contact = .false.
+      after%point%stability_fraction = -1.0_dp
       after%point%limit_by_contact = .false.
       left_branch = .false.
       unresolved = .false.
@@ -233,13 +248,18 @@ contains
                if (t >= 0.0_dp .and. t <= 1.0_dp) after%point%limit_lambda = pa%lambda + fa*t*(pb%s - pa%s)
             end if
          end if
-      else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active)) then
+      else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active) .and. &
+               jumps_at_contact()) then
          ! The count changes where the working set does (within 1e-3 of the step): a contact closing
          ! or opening adds or removes its stiffness, and the least eigenvalue jumps across zero there
          ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
-         ! crosses, and no mode to switch to (docs/theory.md §2.2).
+         ! crosses, and no mode to switch to (docs/theory.md §2.2); a `contact_stability` row, placed
+         ! in the middle of the final bracket. (Where μ passes through zero smoothly in a bracket that
+         ! a contact event happens to share, jumps_at_contact is false: a bifurcation, below.)
          after%point%stability_by_contact = .true.
+         after%point%stability_fraction = min(1.0_dp, max(0.0_dp, 0.5_dp*(ha + hb)/length))
+         after%point%stability_lambda = 0.5_dp*(pa%lambda + pb%lambda)
       else if (hb - ha <= tolerance*length .and. .not. in_lambda_alone() .and. &
                load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
@@ -292,6 +312,15 @@ contains
             indicator = point%min_eigenvalue
          end if
       end function indicator
+
+      !> Whether the least eigenvalue jumps across zero over the final bracket [pa, pb] rather than
+      !> passing through it smoothly (jump_ratio, regular_ratio).
+      logical function jumps_at_contact()
+         real(dp) :: share
+         share = ((hb - ha)/length)*abs(after%point%min_eigenvalue - before%point%min_eigenvalue)
+         jumps_at_contact = abs(pb%min_eigenvalue - pa%min_eigenvalue) > jump_ratio*share .and. &
+                            min(abs(pa%min_eigenvalue), abs(pb%min_eigenvalue)) > regular_ratio*share
+      end function jumps_at_contact
 
       !> Whether the reference load has a component along the least eigenvector of `near`'s tangent
       !> above round-off (|φᵀR| > mode_load_cosine |φ||R|): the critical point there is a limit

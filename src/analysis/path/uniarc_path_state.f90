@@ -64,8 +64,12 @@ module uniarc_path_state
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
-      !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2).
+      !> a change of stability at a contact event, not a bifurcation (docs/theory.md §2.2): a
+      !> `contact_stability` row.
       logical :: stability_by_contact = .false.
+      !> When stability_by_contact: the fraction of the interval and λ of that contact event (the
+      !> middle of the locator's final bracket), a `contact_stability` row of STEM.crit.
+      real(dp) :: stability_fraction = -1.0_dp, stability_lambda = 0.0_dp
       !> The sign change of dλ/ds since the previous point happens where the working set changes (a
       !> corner of the path, uniarc_path_locate): a contact event with λ at an extreme (`contact_corner`
       !> in STEM.crit), not a limit point (docs/theory.md §2.12).
@@ -378,15 +382,62 @@ contains
       type(band_matrix_t), intent(inout) :: tangent
       logical, intent(in), optional :: released(:)
       real(dp) :: diagonal
-      integer :: i, j
+      integer :: i, j, held(3)
+      held = 0
       do i = 1, size(state%floating_equation)
          if (sees_floating(model, state, active, nodal, i, released)) cycle
-         j = state%floating_equation(i)
+         j = held_equation(model, state, active, i, held, released)
+         if (i <= size(held)) held(i) = j
          diagonal = abs(band_get(tangent, j, j))
          if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
          call band_add(tangent, j, j, diagonal)
       end do
    end subroutine hold_floating
+
+   !> The equation at which hold_floating holds the free rigid motion i that no contact of the set
+   !> `active` sees. With no contact in the set, state%floating_equation(i) (where the motion moves
+   !> most). With contacts that touch but do not see the motion (their normals across it: an oval
+   !> liner pressed against its host at the side, where the host's normal is square to its vertical
+   !> floating motion), at a node of one of them, the equation where the motion moves that node most
+   !> (at least half its largest component, so that the spring holds the motion as firmly as at
+   !> floating_equation; an equation `held` by another motion is skipped). The spring fixes that
+   !> equation in every self-equilibrated solve (δx_j = 0): held at the contact, the structure deforms
+   !> about the point where it touches, and that point does not move along the motion. Held elsewhere,
+   !> a liner's own deformation carried the contact node along the motion (a symmetric ovalisation
+   !> moved the side of a liner held at its crown by half the crown's deflection), the tilt of the
+   !> host's normal that this drift made grew past floating_tolerance, the contact "saw" the motion
+   !> with no load pushing along it, and the tangent became the slide of a contact tilted by a drift
+   !> (docs/theory.md §2.8): the perfect liner (eps = 0) failed its first steps.
+   !> `released` (optional): candidates of `active` left out of the set.
+   integer function held_equation(model, state, active, i, held, released) result(j)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: active(:)
+      integer, intent(in) :: i
+      integer, intent(in) :: held(:)
+      logical, intent(in), optional :: released(:)
+      real(dp) :: size_v, best
+      integer :: c, k, node, e
+      j = state%floating_equation(i)
+      size_v = maxval(abs(state%floating_motion(:, i)))
+      best = 0.5_dp*size_v
+      do c = 1, size(active)
+         if (.not. (active(c) .and. candidate_live(state%map, c))) cycle
+         if (present(released)) then
+            if (released(c)) cycle
+         end if
+         node = model%contacts(c)%node
+         do k = 1, 2
+            e = state%map%equation(k, node)
+            if (e <= 0) cycle
+            if (any(held == e)) cycle
+            if (abs(state%floating_motion(e, i)) > best) then
+               best = abs(state%floating_motion(e, i))
+               j = e
+            end if
+         end do
+      end do
+   end function held_equation
 
    !> A structure held only by its contacts that floats free at the committed state (no contact in
    !> state%active) is touched by the working set `active` (nodal: the committed displacements): a
