@@ -155,10 +155,19 @@ contains
                alpha = sum(b(:, p)**2)
                beta = sum(b(:, q)**2)
                gamma = sum(b(:, p)*b(:, q))
-               if (.not. abs(gamma) > epsilon(1.0_dp)*sqrt(alpha*beta)) cycle
+               ! (a column of zero length — its squares underflow to 0 while its products with
+               ! another are subnormal round-off — needs no rotation: ζ would overflow)
+               if (.not. abs(gamma) > epsilon(1.0_dp)*sqrt(alpha)*sqrt(beta)) cycle
+               if (.not. min(alpha, beta) > tiny(1.0_dp)) cycle
                rotated = .true.
                zeta = (beta - alpha)/(2.0_dp*gamma)
-               t = sign(1.0_dp, zeta)/(abs(zeta) + sqrt(1.0_dp + zeta**2))
+               ! t = 1/(2ζ) where ζ² would overflow or 1 + ζ² rounds to ζ² (|ζ| > 1/√ε): the same t to
+               ! a relative O(1/ζ²) below ε (Golub & Van Loan 2013, §8.5.2, the symmetric Schur rotation)
+               if (abs(zeta) > 1.0_dp/sqrt(epsilon(1.0_dp))) then
+                  t = 0.5_dp/zeta
+               else
+                  t = sign(1.0_dp, zeta)/(abs(zeta) + sqrt(1.0_dp + zeta**2))
+               end if
                cs = 1.0_dp/sqrt(1.0_dp + t**2)
                sn = cs*t
                column(:) = b(:, p)

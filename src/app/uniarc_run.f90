@@ -255,6 +255,8 @@ contains
       call available_memory(available, origin)
       if (available >= 0.0_dp) text = text//'; '//memory_text(available)//' available ('//origin//')'
       write (error_unit, '(a)') text
+      ! said before the analysis starts, not held in the buffer until the first progress line
+      flush (error_unit)
    end subroutine print_memory_line
 
    !> `uniarc --check`: the checks of run_model (uniarc_check: memory, stiffness) and the model's

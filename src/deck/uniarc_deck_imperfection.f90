@@ -14,6 +14,7 @@
 !> the added shape, sqrt(dx² + dy²); a negative one flips the mode. Applied to the nodes when the card
 !> is read: the contact cards, which build their candidates from the coordinates, come after it.
 module uniarc_deck_imperfection
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_input
    use uniarc_memory, only: allocation_failure
@@ -141,7 +142,8 @@ contains
                     integer_to_string(deck%model%node_label(missing))//' in '//path, error)
          return
       end if
-      largest = maxval(sqrt(shift(1, :)**2 + shift(2, :)**2))
+      ! (norm2 scales: no overflow for translations near the largest real)
+      largest = maxval(norm2(shift, dim=1))
       if (.not. largest > 0.0_dp) then
          call raise(source, card%line, path_field%column, 'expected a mode that moves some node, found a '// &
                     'zero translation in bifurcation '//integer_to_string(block)//' of '//path, error)
@@ -200,6 +202,13 @@ contains
                   read (words(columns(j)), *, iostat=status) values(j)
                   if (status /= 0) then
                      call raise(table, line, starts(columns(j)), 'expected a number in column '// &
+                                trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))//'''', error)
+                     return
+                  end if
+                  ! NaN, Infinity and numbers past the largest real (1e309 reads as Infinity) are
+                  ! no mode: they made the imperfection NaN or, through its overflowing norm, zero
+                  if (.not. ieee_is_finite(values(j))) then
+                     call raise(table, line, starts(columns(j)), 'expected a finite number in column '// &
                                 trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))//'''', error)
                      return
                   end if

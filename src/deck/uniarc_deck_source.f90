@@ -6,7 +6,7 @@
 module uniarc_deck_source
    use, intrinsic :: iso_fortran_env, only: int64
    use uniarc_kinds, only: dp
-   use uniarc_foreign, only: file_status
+   use uniarc_foreign, only: file_status, interrupt_signal
    use uniarc_error, only: error_t, make_error, error_input, add_context
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: field_t, split_fields, to_upper, is_name, first_nonblank, last_nonblank, &
@@ -138,50 +138,78 @@ contains
    end subroutine read_source
 
    !> `text` := the whole of the file `path` that reports a size of 0 (module procedure read_source),
-   !> read byte by byte to its end into a buffer that doubles as it fills; more than max_deck_bytes
-   !> is refused as a deck too large. Errors: error_input, naming the file.
+   !> read to its end as formatted stream records (libgfortran's buffered reads, a line or a chunk of
+   !> a long line at a time) into a buffer that doubles as it fills; more than max_deck_bytes is
+   !> refused as a deck too large, and a SIGINT or SIGTERM stops the reading (an endless kernel file
+   !> such as /proc/self/pagemap is read until either). Errors: error_input, naming the file.
    subroutine read_unsized(path, text, error)
       character(len=*), intent(in) :: path
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: buffer, grown
-      character(len=1) :: byte
+      character(len=:), allocatable :: buffer
+      character(len=65536) :: chunk
       character(len=512) :: message
-      integer :: unit, status, used
-      allocate (character(len=4096) :: buffer)
-      call open_deck(path, unit, error)
-      if (allocated(error)) return
+      integer :: unit, status, used, got
+      integer(int64) :: capacity
+      allocate (character(len=65536) :: buffer)
+      open (newunit=unit, file=path, status='old', action='read', access='stream', form='formatted', &
+            iostat=status, iomsg=message)
+      if (status /= 0) then
+         call make_error(error, path//': cannot open ('//runtime_reason(message)//')', error_input)
+         return
+      end if
       used = 0
       do
-         read (unit, iostat=status, iomsg=message) byte
+         if (interrupt_signal() /= 0) then
+            call make_error(error, path//': reading stopped by a signal', error_input)
+            close (unit)
+            return
+         end if
+         read (unit, '(a)', advance='no', size=got, iostat=status, iomsg=message) chunk
          if (is_iostat_end(status)) exit
-         if (status /= 0) then
+         if (status /= 0 .and. .not. is_iostat_eor(status)) then
             call make_error(error, path//': cannot read ('//trim(message)//')', error_input)
             close (unit)
             return
          end if
-         if (used == len(buffer)) then
-            if (used >= max_deck_bytes) then
-               call make_error(error, path//': expected a deck of at most '// &
-                               integer_to_string(int(max_deck_bytes))//' bytes, found more', error_input)
-               close (unit)
-               return
-            end if
-            allocate (character(len=min(2*int(used, int64), max_deck_bytes + 1)) :: grown, stat=status)
+         ! the chunk read, and a line feed where its record (line) ended
+         capacity = int(used, int64) + got + 1
+         if (capacity > max_deck_bytes) then
+            call make_error(error, path//': expected a deck of at most '// &
+                            integer_to_string(int(max_deck_bytes))//' bytes, found more', error_input)
+            close (unit)
+            return
+         end if
+         if (capacity > len(buffer)) then
+            call grow(buffer, int(min(max(2*int(len(buffer), int64), capacity), max_deck_bytes)), used, status)
             if (status /= 0) then
                call make_error(error, path//': cannot hold the deck in memory ('// &
                                integer_to_string(2*used)//' bytes)', error_input)
                close (unit)
                return
             end if
-            grown(1:used) = buffer
-            call move_alloc(grown, buffer)
          end if
-         used = used + 1
-         buffer(used:used) = byte
+         buffer(used + 1:used + got) = chunk(1:got)
+         used = used + got
+         if (is_iostat_eor(status)) then
+            used = used + 1
+            buffer(used:used) = achar(10)
+         end if
       end do
       close (unit)
       text = buffer(1:used)
+   contains
+      !> buffer := a buffer of `length` holding its first `used` characters (stat= in `status`).
+      subroutine grow(buffer, length, used, status)
+         character(len=:), allocatable, intent(inout) :: buffer
+         integer, intent(in) :: length, used
+         integer, intent(out) :: status
+         character(len=:), allocatable :: grown
+         allocate (character(len=length) :: grown, stat=status)
+         if (status /= 0) return
+         grown(1:used) = buffer(1:used)
+         call move_alloc(grown, buffer)
+      end subroutine grow
    end subroutine read_unsized
 
    !> `unit` := the deck `path` opened for reading as a stream of bytes; error_input naming the file

@@ -5,6 +5,7 @@
 #                solver): exit 143 within a few seconds, "interrupted by SIGTERM after step 0", the
 #                row of step 0 only, no lock or work directory left. Before: the step ran on for
 #                minutes, the signal unheeded until it ended.
+#   hangup       the same with SIGHUP: exit 129, "interrupted by SIGHUP after step 0", nothing left.
 #   check        SIGTERM 0.5 s into `uniarc --check` of a deck that takes seconds to read: exit 143
 #                and "interrupted by SIGTERM". Before: exit 0, "check passed".
 #   after_end    SIGTERM once the last row of a path that ends by its stop rule is written, while the
@@ -52,6 +53,22 @@ in_step)
    # iteration; 10 s leaves room for a loaded machine.
    if [ "$(echo "$took > 10" | bc)" -eq 1 ]; then fail "the run took $took s to end after the signal"; fi
    grep -q 'interrupted by SIGTERM after step 0' "$work/err" || fail 'stderr lacks "interrupted by SIGTERM after step 0"'
+   [ "$(rows "$out/long_contact_step.path")" -eq 1 ] || fail "long_contact_step.path does not hold row 0 alone"
+   ls -A "$out" | grep -q 'lock\|part' && fail "left behind: $(ls -A "$out")"
+   ;;
+hangup)
+   # SIGHUP (the terminal closed) asks the run to stop as SIGTERM does (review of issue 14: it killed
+   # the run, exit 129 without a word, the lock and work directory left)
+   out=$work/out
+   timeout -k 120 300 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q 2> "$work/err" &
+   pid=$!
+   sleep 1
+   kill -HUP $pid
+   wait $pid
+   status=$?
+   cat "$work/err"
+   [ "$status" -eq 129 ] || fail "exit code $status, expected 129"
+   grep -q 'interrupted by SIGHUP after step 0' "$work/err" || fail 'stderr lacks "interrupted by SIGHUP after step 0"'
    [ "$(rows "$out/long_contact_step.path")" -eq 1 ] || fail "long_contact_step.path does not hold row 0 alone"
    ls -A "$out" | grep -q 'lock\|part' && fail "left behind: $(ls -A "$out")"
    ;;
