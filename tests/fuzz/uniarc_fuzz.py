@@ -303,8 +303,10 @@ def check_other_file(path, problems):
         problems.append(('nonfinite', f'{os.path.basename(path)}: {m.group()!r}'))
 
 
-def judge(deck_name, returncode, timed_out, stderr, outdir):
-    """The contract's verdict on one run: ('exit0'|'exit1'|'exit2', []) or (outcome, [(class, detail)])."""
+def judge(deck_name, returncode, timed_out, stderr, outdir, read_files=()):
+    """The contract's verdict on one run: ('exit0'|'exit1'|'exit2', []) or (outcome, [(class, detail)]).
+    read_files: the paths of the other files the deck reads (a modes table of *IMPERFECTION, FILE=), as
+    the deck writes them: an exit 2 may name one of them, at the line and column of its fault."""
     problems = []
     if timed_out:
         return 'timeout', [('timeout', 'no exit within the time limit')]
@@ -334,7 +336,8 @@ def judge(deck_name, returncode, timed_out, stderr, outdir):
     if leftovers:
         problems.append(('lock or work directory left', ', '.join(os.path.basename(f.rstrip('/')) for f in leftovers[:3])))
     if returncode == 2:
-        location = re.compile(r'^error: ' + re.escape(deck_name) + r':(\d+:\d+:)? \S', re.M)
+        names = '|'.join(re.escape(n) for n in (deck_name, *read_files))
+        location = re.compile(r'^error: (?:' + names + r'):(\d+:\d+:)? \S', re.M)
         if not location.search(stderr):
             problems.append(('exit 2 without file:line:col', first_line(stderr, ['error']) or '(no message)'))
         if files:
@@ -395,6 +398,16 @@ def limit_resources(memory_mb, file_mb):
     return apply
 
 
+def read_files(deck_path):
+    """The files a deck reads besides itself, as uniarc names them in a message: each FILE= of the deck
+    (a relative path is the deck's folder's, which uniarc prefixes as the folder of the deck's path)."""
+    try:
+        text = open(deck_path, errors='replace').read()
+    except OSError:
+        return ()
+    return tuple(m.group(1) for m in re.finditer(r'(?im)^\*IMPERFECTION\b[^\n]*\bFILE\s*=\s*([^,\s]+)', text))
+
+
 def run_deck(uniarc, deck_path, workdir, timeout, memory_mb, file_mb, defines=()):
     """Run uniarc on the deck (copied into workdir) and judge the run. Returns a result dict."""
     os.makedirs(workdir, exist_ok=True)
@@ -415,7 +428,7 @@ def run_deck(uniarc, deck_path, workdir, timeout, memory_mb, file_mb, defines=()
         _, stderr = process.communicate()
     seconds = time.monotonic() - start
     stderr = stderr.decode('utf-8', 'replace')
-    outcome, problems = judge(name, process.returncode, timed_out, stderr, outdir)
+    outcome, problems = judge(name, process.returncode, timed_out, stderr, outdir, read_files(deck_path))
     return {'outcome': outcome, 'problems': problems, 'seconds': seconds, 'command': command,
             'returncode': process.returncode, 'stderr_head': stderr[:2000]}
 
