@@ -32,6 +32,17 @@ fail() {
    echo "FAIL ($case_name): $*"
    failures=$((failures + 1))
 }
+wait_for_row_0() {   # until the run's work directory holds its path table with row 0 (at most 60 s):
+   # the signal then falls in the long contact step after it, on a loaded machine too (a fixed 1 s
+   # sleep could fall before step 0 was written)
+   local k
+   for k in $(seq 600); do
+      if [ "$(cat "$1"/.long_contact_step.part.*/long_contact_step.path 2> /dev/null | grep -c '^ *[0-9]')" -ge 1 ]; then
+         return
+      fi
+      sleep 0.1
+   done
+}
 rows() {   # the number of data rows (lines starting with a digit) of a table
    grep -c '^ *[0-9]' "$1" 2> /dev/null || echo 0
 }
@@ -41,7 +52,7 @@ in_step)
    out=$work/out
    timeout -k 120 300 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q 2> "$work/err" &
    pid=$!
-   sleep 1
+   wait_for_row_0 "$out"
    sent=$(date +%s.%N)
    kill -TERM $pid
    wait $pid
@@ -62,7 +73,7 @@ hangup)
    out=$work/out
    timeout -k 120 300 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q 2> "$work/err" &
    pid=$!
-   sleep 1
+   wait_for_row_0 "$out"
    kill -HUP $pid
    wait $pid
    status=$?
