@@ -13,7 +13,10 @@ module uniarc_path_acceptance
    public :: degenerate_step, far_from_predictor, off_branch, tangent_turn_cosine
 
    !> A step whose ends agree (count of negative pivots, sign of dλ/ds, working set) may turn the
-   !> path's tangent by at most 45° (docs/theory.md §2.3, "a tangent that turns too far").
+   !> path's tangent by at most 45° (docs/theory.md §2.3, "a tangent that turns too far"): the steps
+   !> that crossed the neck of a loop of ex. 3's long path turned it by 58° and 62°, the angle between
+   !> the branches there; a bound on the angle between successive tangents is a classic control of
+   !> the step of a continuation method (Allgower & Georg 1990, ch. 6).
    real(dp), parameter, public :: max_turn_cosine = 0.7071067811865476_dp
 
 contains
