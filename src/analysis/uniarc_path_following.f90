@@ -41,9 +41,11 @@ module uniarc_path_following
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
    use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
+   use uniarc_critical_points, only: same_signs
    use uniarc_path_mechanism, only: check_mechanism, find_mechanism, floating_motions
    use uniarc_path_integrator, only: degenerate_tangent
-   use uniarc_path_acceptance, only: degenerate_step, far_from_predictor, off_branch
+   use uniarc_path_acceptance, only: degenerate_step, far_from_predictor, off_branch, tangent_turn_cosine, &
+                                     max_turn_cosine
    use uniarc_path_branch, only: switch_branch
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
@@ -461,7 +463,8 @@ contains
    !> (docs/theory.md §2.3): far from its predictor (far_from_predictor), its landing tangent across
    !> the step or a reversal (off_branch), a chord longer than overlong_ratio step lengths (arc length),
    !> a change of the inertia by more than one while the step can be halved (on a lift-off tangent: with
-   !> the working set unchanged), or a pair of critical
+   !> the working set unchanged), a tangent that turns by more than 45° over a step whose ends agree
+   !> (tangent_turn_cosine: a loop of the path may lie inside it), or a pair of critical
    !> points hidden in the step (uniarc_path_hidden, find_hidden_pair).
    !> Errors (error_analysis): no convergence down to the smallest step (which step, from which λ, why;
    !> under load control from a stable state, that this is where the load reaches a limit point); a
@@ -765,6 +768,21 @@ contains
                   ! from the last step, vanishes within it (docs/theory.md §2.3).
                   jump = 'the least eigenvalue, extrapolated from the last step, vanishes inside it '// &
                          'while the count of negative pivots at its end is that of its start'
+               else if (options%control == control_arclength .and. &
+                        0.5_dp*length >= options%min_increment*state%first_length .and. &
+                        state%point%neg_pivots == before%point%neg_pivots .and. &
+                        same_signs(before%point%dlambda_ds, state%point%dlambda_ds) .and. &
+                        .not. (state%point%liftoff .or. before%point%liftoff) .and. &
+                        same_set(before, state) .and. &
+                        .not. degenerate_tangent(before, before%tangent_displacement) .and. &
+                        tangent_turn_cosine(state%map, before%tangent_displacement, before%direction, landing, &
+                                            state%direction) < max_turn_cosine) then
+                  ! Ends that agree say nothing of what lies between them: a step that turns the
+                  ! tangent this far may have crossed the narrow neck of a loop of the path, from the
+                  ! branch going into it to the one coming out (ex. 3 at k = 1e5, docs/theory.md §2.3,
+                  ! "a tangent that turns too far"); cut, the shorter steps follow the loop.
+                  jump = 'the path''s tangent turns by more than 45 degrees in the step, whose ends agree '// &
+                         '(a loop of the path may lie inside it)'
                else
                   call find_hidden_pair(model, before, state, system, length, hidden, error)
                   if (allocated(error)) then
@@ -883,6 +901,21 @@ contains
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
    end subroutine path_advance
+
+   !> Whether the working set, the yielding set and the joints are those of `before` at `after`: the
+   !> step followed one smooth piece of the path.
+   pure logical function same_set(before, after)
+      type(path_state_t), intent(in) :: before, after
+      same_set = .false.
+      if (size(before%active) /= size(after%active)) return
+      if (any(before%active .neqv. after%active)) return
+      if (allocated(before%joint_plastic)) return
+      if (allocated(before%yielding) .and. allocated(after%yielding)) then
+         if (size(before%yielding) /= size(after%yielding)) return
+         if (any(before%yielding .neqv. after%yielding)) return
+      end if
+      same_set = .true.
+   end function same_set
 
    !> Prefix a step's error message with where it happened and from which λ.
    subroutine add_where(error, where, state)

@@ -10,7 +10,14 @@ module uniarc_path_acceptance
    use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
-   public :: degenerate_step, far_from_predictor, off_branch
+   public :: degenerate_step, far_from_predictor, off_branch, tangent_turn_cosine
+
+   !> A step whose ends agree (count of negative pivots, sign of dλ/ds, working set) may turn the
+   !> path's tangent by at most 45° (docs/theory.md §2.3, "a tangent that turns too far"): the steps
+   !> that crossed the neck of a loop of ex. 3's long path turned it by 58° and 62°, the angle between
+   !> the branches there; a bound on the angle between successive tangents is a classic control of
+   !> the step of a continuation method (Allgower & Georg 1990, ch. 6).
+   real(dp), parameter, public :: max_turn_cosine = 0.7071067811865476_dp
 
 contains
 
@@ -60,5 +67,22 @@ contains
          off_branch = off_branch .or. masked_dot(map, increment, last) < 0.0_dp
       end if
    end function off_branch
+
+   !> The cosine of the angle by which the path's tangent turns over a step: between the tangent
+   !> `before` (n, K⁻¹R at the step's start, followed in the sense `sense_before` = ±1) and `after`
+   !> (n, at its end, sense `sense_after`), both oriented forward along the path (2 when either is
+   !> zero: no direction to compare). K⁻¹R changes sign at a limit point, where the path goes on
+   !> smoothly; the senses (state%direction) orient it.
+   pure real(dp) function tangent_turn_cosine(map, before, sense_before, after, sense_after) result(cosine)
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: before(:), after(:)
+      integer, intent(in) :: sense_before, sense_after
+      real(dp) :: size_before, size_after
+      size_before = masked_norm(map, before)
+      size_after = masked_norm(map, after)
+      cosine = 2.0_dp
+      if (.not. (size_before > 0.0_dp .and. size_after > 0.0_dp)) return
+      cosine = real(sense_before*sense_after, dp)*masked_dot(map, before, after)/(size_before*size_after)
+   end function tangent_turn_cosine
 
 end module uniarc_path_acceptance

@@ -114,6 +114,10 @@ contains
       type(path_state_t) :: probe_state, state_a, state_b
       type(critical_event_t), allocatable :: events(:)
       real(dp) :: ha, hb, h, fa, fb, fp, width, t
+      !> the most extreme λ of the converged probes (highest past a maximum, lowest past a minimum)
+      !> and the step parameter h of its probe
+      real(dp) :: extreme_lambda, extreme_h
+      logical :: have_extreme
       integer :: k, same_side, last_side, side, status
       logical :: limit, bifurcation, probed, converged
       logical, allocatable :: set_a(:), set_b(:)
@@ -152,6 +156,9 @@ contains
          if (allocated(error)) return
       end if
       probed = .false.
+      have_extreme = .false.
+      extreme_lambda = 0.0_dp
+      extreme_h = 0.0_dp
       last_side = 0
       same_side = 0
       do k = 1, probes
@@ -181,6 +188,7 @@ contains
          end if
          probed = .true.
          fp = indicator(probe)
+         if (limit) call keep_extreme(probe%lambda, h)
          if (passed(probe)) then
             hb = h
             call move_point(probe, pb)
@@ -227,6 +235,24 @@ contains
             after%point%limit_lambda = min(after%point%limit_lambda, pa%lambda, pb%lambda)
          end if
          after%point%limit_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
+         ! Every probe is a converged state of the piece of path between the step's ends, on which λ
+         ! has this one extremum: the limit is at least as extreme as each of them. Where the fold is
+         ! almost a corner of λ(s) and Chan's corrections spread the probes along the path more than
+         ! their lengths h differ, the final bracket (narrowed in h) can hold a spurious pair of
+         ! slopes while a probe outside it lay nearer the extremum: ex. 3's long path with 160
+         ! elements and steps up to 15 times the first bracketed its fourth limit_min between
+         ! −208.940 and −208.958, interpolated −208.96 and reported the step's end, −208.966, while a
+         ! probe had converged at −208.9717 (the limit of a trace with 4 times smaller steps,
+         ! −208.97175: docs/theory.md §2.2). That probe's λ is then the point's.
+         if (have_extreme) then
+            if (before%point%dlambda_ds > 0.0_dp .and. extreme_lambda > after%point%limit_lambda .or. &
+                before%point%dlambda_ds < 0.0_dp .and. extreme_lambda < after%point%limit_lambda) then
+               after%point%limit_lambda = extreme_lambda
+               ! (its place too, if it lies outside the final bracket)
+               if (extreme_h < ha .or. extreme_h > hb) &
+                  after%point%limit_fraction = min(1.0_dp, max(0.0_dp, extreme_h/length))
+            end if
+         end if
          ! dλ/ds jumps across the sign change where the working set changes: the ends of the final
          ! bracket (narrowed on the sign of dλ/ds) have different sets, and at least half of the
          ! step's change of dλ/ds happens across that bracket (on a smooth piece the change across it
@@ -301,6 +327,19 @@ contains
       if (probed) call restore_tangent(model, after, system, error)
 
    contains
+
+      !> Keep the λ of a converged probe (step parameter h) if it is the most extreme so far in the
+      !> sense of the limit (highest towards a maximum, lowest towards a minimum).
+      subroutine keep_extreme(lambda, h)
+         real(dp), intent(in) :: lambda, h
+         if (have_extreme) then
+            if (before%point%dlambda_ds > 0.0_dp .and. .not. lambda > extreme_lambda) return
+            if (before%point%dlambda_ds < 0.0_dp .and. .not. lambda < extreme_lambda) return
+         end if
+         have_extreme = .true.
+         extreme_lambda = lambda
+         extreme_h = h
+      end subroutine keep_extreme
 
       !> The quantity whose zero is the point: dλ/ds for a limit, the least eigenvalue for a
       !> bifurcation.
