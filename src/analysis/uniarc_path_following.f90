@@ -50,6 +50,7 @@ module uniarc_path_following
    use uniarc_path_element_loads, only: element_load_norm, natural_deformation_scale
    use uniarc_contact_lcp, only: degenerate_fraction
    use uniarc_path_corner, only: step_past_corner
+   use uniarc_path_contact_branch, only: split_tie, split_tolerance
    use uniarc_path_approach, only: rigid_approach
    use uniarc_path_state_copy, only: copy_state, move_state
    use uniarc_path_landing, only: land_on_load_limit, land_on_track_limit
@@ -485,7 +486,11 @@ contains
       character(len=:), allocatable :: jump, went_back
       integer :: attempt, halvings
       logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved, multiple
+      logical :: tie_split_cut, split_allowed
       integer :: revisited
+      state%point%tie_kept = .false.
+      tie_split_cut = .false.
+      split_allowed = .false.
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
       if (state%switch_due) then
          call switch_branch(model, state, error, halvings)
@@ -562,6 +567,21 @@ contains
                   call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                   return
                end if
+               ! *PATH, TIES=KEEP: a step that changes one of two tied candidates and not the other
+               ! (mirror images on a symmetric path) leaves the branch it followed at a branch point of the contact
+               ! set, by the round-off that chose between them (docs/theory.md §2.3, "Contacts that
+               ! tie"): cut like a step off its branch. Where every length splits the pair, the tied
+               ! candidates are at their change and the corner step moves them together (§2.12).
+               if (trial%converged .and. options%control == control_arclength .and. .not. trial%release .and. &
+                   options%keep_ties .and. .not. split_allowed) then
+                  if (split_tie(state%point, state%active, trial%active, length, split_tolerance) > 0) then
+                     tie_split_cut = .true.
+                     trial%converged = .false.
+                     trial%reason = 'it changes one of two tied contacts and not the other (a branch point of '// &
+                                    'the contact set)'
+                     system%holds_converged = .false.
+                  end if
+               end if
                if (trial%converged) then
                   ! The distance test holds only where the predictor's linearisation does: a step
                   ! whose working set changed (a contact closed or opened) corrects by O(Δl), not
@@ -613,6 +633,18 @@ contains
                   end if
                   if (corner_passed) call trace_remember_corner(trace, state%u, state%point%step)
                end if
+            end if
+            if (.not. trial%converged .and. tie_split_cut .and. .not. split_allowed) then
+               ! The branch followed does not go on with the tied contacts together (it folds back at
+               ! the branch point, or no step moves them together): the step is made again from its full
+               ! length with the split allowed, leaving the branch there as the contact LCP chooses
+               ! (a contact_branching row, docs/theory.md §2.3).
+               split_allowed = .true.
+               tie_split_cut = .false.
+               if (allocated(went_back)) deallocate (went_back)
+               length = state%step_length
+               halvings = 0
+               cycle steps
             end if
             if (.not. trial%converged) then
                ! A load that lifts the structure off every contact that could hold it: no equilibrium
@@ -858,6 +890,7 @@ contains
                if (state%eigenvalue_slope_known) state%eigenvalue_slope_known = size(state%active) == size(before%active)
                state%previous_eigenvalue = before%point%min_eigenvalue
                state%previous_s = before%point%s
+               state%point%tie_kept = tie_split_cut
                exit steps
             end if
             call move_state(before, state)   ! the step rejected: back to its start
@@ -877,6 +910,16 @@ contains
                ! Release build (the Debug build's round-off reached the corner by a failed length).
                length = state%step_length
                halvings = options%max_cuts + 1
+               cycle steps
+            end if
+            if (length < options%min_increment*state%first_length .and. tie_split_cut .and. &
+                .not. split_allowed) then
+               ! as above: the tied contacts kept together lead nowhere but back
+               split_allowed = .true.
+               tie_split_cut = .false.
+               if (allocated(went_back)) deallocate (went_back)
+               length = state%step_length
+               halvings = 0
                cycle steps
             end if
             if (length < options%min_increment*state%first_length) then

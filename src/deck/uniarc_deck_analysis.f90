@@ -165,8 +165,8 @@ contains
       type(field_t) :: field
       real(dp) :: value
 
-      call check_options(source, card, [character(len=10) :: 'CONTROL=', 'ITERATION=', 'NODE=', 'DOF=', 'SWITCH='], &
-                         error)
+      call check_options(source, card, [character(len=10) :: 'CONTROL=', 'ITERATION=', 'NODE=', 'DOF=', 'SWITCH=', &
+                                        'TIES='], error)
       if (allocated(error)) return
       call require_analysis_once(source, card, deck, error)
       if (allocated(error)) return
@@ -183,6 +183,19 @@ contains
          case default
             call raise(source, card%line, card%options(k)%value_column, 'expected CONTROL=ARCLENGTH, '// &
                        'LOAD or DISPLACEMENT, found '''//clip(card%options(k)%value)//'''', error)
+            return
+         end select
+      end if
+      k = option_index(card, 'TIES')
+      if (k > 0) then
+         select case (to_upper(card%options(k)%value))
+         case ('KEEP')
+            deck%model%analysis%keep_ties = .true.
+         case ('SPLIT')
+            deck%model%analysis%keep_ties = .false.
+         case default
+            call raise(source, card%line, card%options(k)%value_column, 'expected TIES=KEEP or SPLIT, found '''// &
+                       clip(card%options(k)%value)//'''', error)
             return
          end select
       end if

@@ -257,6 +257,10 @@ module uniarc_model
       !> *PATH, SWITCH=n: follow the secondary branch from the n-th located bifurcation (0: stay on the
       !> primary path; docs/theory.md §2.6)
       integer :: switch_bifurcation = 0
+      !> *PATH, TIES=KEEP: a step that changes one of two tied contacts and not the other is cut, and the
+      !> pair moved together, unless the branch followed goes nowhere else but back (docs/theory.md
+      !> §2.3, "Contacts that tie"); TIES=SPLIT (the default): the contact LCP's choice is taken
+      logical :: keep_ties = .false.
       !> *IMPERFECTION without FILE=: add the mode of the perfect structure's n-th located bifurcation,
       !> computed in a first run, scaled to a largest nodal translation `imperfection_amplitude` (length)
       !> (0: none; uniarc_path_imperfection)

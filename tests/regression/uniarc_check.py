@@ -421,6 +421,7 @@ def main():
     parser.add_argument('--expect-count-explained', action='store_true',
                         help='every change of the neg_pivots column between two rows of the path has a row of '
                              'STEM.crit between those steps')
+    parser.add_argument('--expect-mirror-reactions', action='append', default=[])
     parser.add_argument('--reject-stderr', action='append', default=[])
     parser.add_argument('--expect-stdout', action='append', default=[])
     parser.add_argument('--reject-stdout', action='append', default=[])
@@ -485,6 +486,8 @@ def main():
         failures += check_modes_min(expectation, os.path.join(args.out, stem + '.modes'))
     for expectation in args.expect_free_span:
         failures += check_free_span(expectation, os.path.join(args.out, stem + '.contact'))
+    for expectation in args.expect_mirror_reactions:
+        failures += check_mirror_reactions(expectation, os.path.join(args.out, stem + '.contact'))
     if (args.expect_crit or args.expect_crit_column or args.expect_crit_count or args.expect_crit_before
             or args.expect_crit_path or args.expect_crit_step_name):
         path_names, path_rows = read_table(path_file)
@@ -566,15 +569,55 @@ def check_no_return(columns, names, rows):
     return failures
 
 
+def check_mirror_reactions(expectation, contact_file):
+    """--expect-mirror-reactions N:TOL on STEM.contact (*OUTPUT, FORCES, EVERY=1): at every step of the
+    last analysis step the reactions of the candidates at nodes i and N + 1 - i agree within TOL times
+    the step's largest reaction (a mirror-symmetric structure traced on its symmetric path: a step that
+    changed one contact of a mirror pair and not the other shows as a difference of the order of the
+    reactions)."""
+    spec, tolerance = expectation.split(':')
+    mirror, tolerance = int(spec), float(tolerance)
+    if not os.path.exists(contact_file):
+        return [f'no {contact_file}']
+    with open(contact_file) as f:
+        lines = [line.split() for line in f.read().splitlines() if line.strip() and not line.startswith('#')]
+    names = lines[0]
+    col = {n: names.index(n) for n in ('step', 'node', 'reaction', 'analysis_step')}
+    rows = [fields for fields in lines[1:]]
+    last = max(float(r[col['analysis_step']]) for r in rows)
+    steps = {}
+    for r in rows:
+        if float(r[col['analysis_step']]) == last:
+            steps.setdefault(float(r[col['step']]), {})[int(r[col['node']])] = float(r[col['reaction']])
+    worst, worst_step = 0.0, None
+    for step, reactions in sorted(steps.items()):
+        largest = max(abs(v) for v in reactions.values())
+        if largest == 0.0:
+            continue
+        for node, reaction in reactions.items():
+            if mirror + 1 - node not in reactions:
+                return [f'step {step:g}: node {node} has no mirror image {mirror + 1 - node} among the candidates']
+            difference = abs(reaction - reactions[mirror + 1 - node])/largest
+            if difference > worst:
+                worst, worst_step = difference, step
+    ok = worst <= tolerance
+    where = f' at step {worst_step:g}' if worst_step is not None else ''
+    print(f'{"ok" if ok else "FAIL"}: reactions of nodes i and {mirror + 1} - i at the {len(steps)} steps of analysis '
+          f'step {last:g} (worst difference {worst:.3e} of the largest{where}, tolerance {tolerance:.1e})')
+    return [] if ok else [f'mirror reactions differ by {worst:.3e} of the largest{where}']
+
+
 def check_free_span(expectation, contact_file):
-    """--expect-free-span LAMBDA_MAX,EI,H,S_MID=VALUE:TOL on STEM.contact (*OUTPUT, FORCES, EVERY=1): at
-    every step of the last analysis step past its largest lambda (post-buckling) with lambda <=
-    LAMBDA_MAX, the lifted span L between the
+    """--expect-free-span LAMBDA_MAX,EI,H,S_MID[,LAMBDA_MIN]=VALUE:TOL on STEM.contact (*OUTPUT, FORCES,
+    EVERY=1): at every step of the last analysis step past its largest lambda (post-buckling) with
+    LAMBDA_MIN <= lambda <= LAMBDA_MAX, the lifted span L between the
     innermost candidates with a reaction on either side of S_MID (their coordinates s), plus H (the
     lift-off point lies between that node and the next free one on each side: half of 2H on average),
     gives lambda L^2/EI = VALUE within TOL (relative)."""
     spec, target = expectation.split('=')
-    lam_max, ei, h, s_mid = (float(v) for v in spec.split(','))
+    fields = [float(v) for v in spec.split(',')]
+    lam_max, ei, h, s_mid = fields[:4]
+    lam_min = fields[4] if len(fields) > 4 else -float('inf')
     value, tolerance = (float(v) for v in target.split(':'))
     if not os.path.exists(contact_file):
         return [f'no {contact_file}']
@@ -591,7 +634,7 @@ def check_free_span(expectation, contact_file):
     peak = max(rows, key=lambda row: row[col['lambda']])[col['step']]
     steps = {}
     for row in rows:
-        if row[col['step']] > peak and row[col['lambda']] <= lam_max:
+        if row[col['step']] > peak and lam_min <= row[col['lambda']] <= lam_max:
             steps.setdefault(row[col['step']], []).append(row)
     if not steps:
         return [f'no step with lambda <= {lam_max:g} in {contact_file}']

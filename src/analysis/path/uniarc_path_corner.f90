@@ -32,6 +32,7 @@ module uniarc_path_corner
    use uniarc_path_integrator, only: degenerate_tangent
    use uniarc_path_newton, only: attempt_step
    use uniarc_path_state_copy, only: copy_state, move_trial
+   use uniarc_path_contact_branch, only: tie_pair
    implicit none
    private
    public :: step_past_corner
@@ -80,7 +81,7 @@ contains
       call pick_candidates(state, chosen, error)
       if (.not. allocated(error)) then
          if (size(chosen) == 0) return
-         call tie_groups(state, chosen, toggled, error)
+         call tie_groups(state, chosen, model%analysis%keep_ties, toggled, error)
       end if
       if (.not. allocated(error)) then
          allocate (assumed(size(state%active)), stat=status)
@@ -225,8 +226,9 @@ contains
    !> The assumptions (columns of `toggled`): each chosen candidate with the chosen ones of the same
    !> kind that tie with it (values and rates along the committed tangent within tie_tolerance).
    !> Errors: its arrays of one entry per candidate refused by the system (error_analysis, out of memory).
-   subroutine tie_groups(state, chosen, toggled, error)
+   subroutine tie_groups(state, chosen, keep, toggled, error)
       type(path_state_t), intent(in) :: state
+      logical, intent(in) :: keep   !< *PATH, TIES=KEEP (uniarc_model)
       integer, intent(in) :: chosen(:)
       logical, allocatable, intent(out) :: toggled(:, :)
       type(error_t), allocatable, intent(out) :: error
@@ -260,15 +262,41 @@ contains
          call move_alloc(kept, toggled)
       end if
    contains
+      !> The value pick_candidates ranks: the committed reaction of a candidate in the working set (the
+      !> point's value is its gap, 0, where the reaction is not positive: a mirror pair held at
+      !> r = −6.8e-8 past the pipeline's limit), the point's value (the gap) of one out of it.
+      real(dp) function value(c)
+         integer, intent(in) :: c
+         value = state%point%contact_value(c)
+         if (state%active(c) .and. allocated(state%reactions)) value = state%reactions(c)
+      end function value
       logical function ties(p, q)
          integer, intent(in) :: p, q
-         ties = close_to(state%point%contact_value(p), state%point%contact_value(q)) .and. &
-                close_to(state%point%contact_rate(p), state%point%contact_rate(q))
+         ! TIES=KEEP: the values of candidates at their change are round-off about zero, compared on
+         ! the scale of their change over the step length that failed (tie_pair); the reactions and
+         ! their rates of those in the working set
+         if (keep) then
+            ties = tie_pair(value(p), value(q), rate(p), rate(q), state%step_length, tie_tolerance)
+         else
+            ties = close_to(state%point%contact_value(p), state%point%contact_value(q)) .and. &
+                   close_to(state%point%contact_rate(p), state%point%contact_rate(q))
+         end if
       end function ties
       logical function close_to(x, y)
          real(dp), intent(in) :: x, y
          close_to = abs(x - y) <= tie_tolerance*max(abs(x), abs(y))
       end function close_to
+      !> The rate of value(c) along the committed tangent: of a reaction that is an unknown of the
+      !> augmented system, its component of K_S⁻¹R (the point's rate is the gap's, round-off, where the
+      !> reaction is not positive: −6.3e-13 and −3.1e-11 for that pair); else the point's.
+      real(dp) function rate(c)
+         integer, intent(in) :: c
+         integer :: row
+         rate = state%point%contact_rate(c)
+         row = state%map%candidate_equation(c)
+         if (state%active(c) .and. .not. state%point%in_contact(c) .and. row > 0 .and. &
+             allocated(state%tangent_displacement)) rate = state%tangent_displacement(row)
+      end function rate
    end subroutine tie_groups
 
    !> K_S⁻¹R at the committed state with the working set `active`; unallocated if K_S is singular.

@@ -78,6 +78,10 @@ module uniarc_path_state
       !> the interval before it joins two branches and holds no critical point.
       logical :: switched = .false.
       real(dp) :: switch_lambda = 0.0_dp   !< when switched: λ of the state the branch left from
+      !> The step to this point was cut because a longer one changed one of two tied contacts and not
+      !> the other, and it moved them together (uniarc_path_following): a branch point of the contact
+      !> set passed on the branch followed (`contact_branching` in STEM.crit, docs/theory.md §2.3).
+      logical :: tie_kept = .false.
    end type path_point_t
 
    !> A bifurcation located by re-solving a step (uniarc_path_locate): the converged state nearest to
