@@ -73,6 +73,7 @@ contains
       integer :: index, k
       ! with `status`, each allocation with stat= and a refusal returned before anything changes
       if (present(status)) then
+         status = 0
          if (.not. allocated(builder%sections)) allocate (builder%sections(4), stat=status)
          if (status /= 0) return
          if (builder%n_sections == size(builder%sections)) allocate (grown(2*size(builder%sections)), stat=status)
@@ -388,6 +389,7 @@ contains
       integer :: index, k
       ! with `status`, each allocation with stat= and a refusal returned before anything changes
       if (present(status)) then
+         status = 0
          if (.not. allocated(builder%tracks)) allocate (builder%tracks(4), stat=status)
          if (status /= 0) return
          if (builder%n_tracks == size(builder%tracks)) allocate (grown(2*size(builder%tracks)), stat=status)
