@@ -93,14 +93,7 @@ contains
       e = push/norm2(push)
       s_best = huge(1.0_dp)
       do c = 1, size(model%contacts)
-         if (.not. candidate_live(map, c)) cycle
-         if (model%contacts(c)%tangential) then
-            ! a tangential spring acts while its radial partner touches (docs/theory.md §3.8): the
-            ! floating test releases it with its partner, but where the partner touches at the start
-            ! the spring holds the translation it sees (a bar on a tangential bed pulled along itself)
-            if (tangential_holds(c)) return
-            cycle
-         end if
+         if (.not. candidate_live(map, c) .or. model%contacts(c)%tangential) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
          slope = dot_product(gradient, e)
@@ -143,31 +136,6 @@ contains
             if (map%equation(i, node) > 0) shift(map%equation(i, node)) = s_best*e(i)
          end do
       end do
-
-   contains
-
-      !> Whether tangential spring t holds the translation e at the start: it sees e (its gap's slope
-      !> along e, its tangent's component) and acts, being bonded or its radial partner touching.
-      logical function tangential_holds(t) result(holds)
-         integer, intent(in) :: t
-         real(dp) :: partner_gap, tangent_slope
-         integer :: p
-         holds = .false.
-         call candidate_gap(model%contacts(t), model%coordinates(:, model%contacts(t)%node), &
-                            nodal(1:2, model%contacts(t)%node), gap, gradient, hessian)
-         tangent_slope = dot_product(gradient, e)
-         if (.not. abs(tangent_slope) > slope_tolerance) return
-         p = model%contacts(t)%partner
-         if (p == 0) then
-            holds = model%contacts(t)%bilateral
-            return
-         end if
-         if (.not. candidate_live(map, p)) return
-         call candidate_gap(model%contacts(p), model%coordinates(:, model%contacts(p)%node), &
-                            nodal(1:2, model%contacts(p)%node), partner_gap, gradient, hessian)
-         holds = partner_gap <= touch_fraction*length_scale
-      end function tangential_holds
-
    end subroutine rigid_approach
 
    !> The plane translations (unit columns of `free`, n_free of them) that lie in the span of the

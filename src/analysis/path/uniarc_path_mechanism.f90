@@ -107,10 +107,7 @@ contains
       call allocation_failure(status, 'the floating motions', 24.0_dp*map%n_equations, error_analysis, error)
       if (allocated(error)) return
       do k = 1, 3
-         ! (a direction within 1e-12 of an axis tried along the axis too: a beam held in x and in
-         ! rotation, free to sink, was held by the round-off x component cos(π/2) of its sinking)
-         call free_rigid_motion(model, map, work, motion, ratio, row, what, error, error_analysis, axes=.true., &
-                                screen=k == 1)
+         call free_rigid_motion(model, map, work, motion, ratio, row, what, error, error_analysis, screen=k == 1)
          if (allocated(error)) return
          if (.not. allocated(motion)) exit
          j = maxloc(abs(map%metric*motion), 1)
@@ -235,9 +232,8 @@ contains
    !> huge, row 0), for a stiffness known to be singular (floating_motions).
    !> Errors: its vectors refused by the system (out of memory, of `category`, uniarc_memory).
    !> With `axes` true, a translation whose direction is within 1e-12 of an axis is tried along the
-   !> axis itself too (the refusal of a mechanism, and the floating motions of a model held by its
-   !> contacts: a tangential spring released by the floating test leaves its bar's axial translation
-   !> free, which the rigid approach then finds held by the springs whose partners touch).
+   !> axis itself too (the refusal of a mechanism; not the floating motions of a model held by its
+   !> contacts, whose detection it would change).
    subroutine free_rigid_motion(model, map, stiffness, motion, ratio, row, what, error, category, axes, screen)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
