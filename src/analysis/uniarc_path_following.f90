@@ -832,7 +832,10 @@ contains
             ! or one whose working set changed. Along one smooth piece the path turns back only through a
             ! limit point, whose far side may run within the sagitta of the near one at a sharp fold (ex. 3's
             ! long path with max_increment 20: step 138 past the limit 422.63 lies along steps 134–135).
-            if (len(jump) == 0 .and. (corner_passed .or. any(trial%active .neqv. before%active)) .and. &
+            ! (So may the first step from a working set changed in place, whose angle tests are skipped:
+            ! the retry of a failed step at a fold of the pipeline over its hump went back so.)
+            if (len(jump) == 0 .and. (corner_passed .or. before%set_edited .or. &
+                                      any(trial%active .neqv. before%active)) .and. &
                 .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                revisited = trace_retraced_step(trace, state%map, state%u, state%lambda, before%point%step, &
                                                trial%increment, trial%dlambda)
