@@ -23,7 +23,7 @@ module uniarc_path_driver
    use uniarc_foreign, only: interrupt_signal
    use uniarc_model, only: model_t, tracked_values
    use uniarc_path_following, only: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, &
-                                    nodal_displacements, path_restart
+                                    nodal_displacements, path_restart, path_change_working_set
    use uniarc_critical_points, only: critical_event_t, find_critical_events, find_contact_events, sort_events
    use uniarc_path_collapse, only: bearing_collapse, plastic_plateau
    use uniarc_path_contact_branch, only: find_contact_branching
@@ -453,19 +453,21 @@ contains
       saved_active(:) = driver%state%active
       if (.not. found) then
          if (.not. any(touching)) return
-         driver%state%active(:) = driver%state%active .or. touching
-         if (allocated(driver%state%system)) then
-            driver%state%system%holds_committed = .false.
-            driver%state%system%holds_converged = .false.
-         end if
-         call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
+         ! The committed state with the touching contacts in its set: its tangent is that set's (the
+         ! step's predictor and distance test then follow K_S⁻¹R of the set it starts with)
+         touching(:) = driver%state%active .or. touching
+         call path_change_working_set(model, driver%state, touching, plateau_error)
+         if (.not. allocated(plateau_error)) &
+            call path_advance(model, driver%state, driver%trace, plateau_error, plateau_cuts)
          if (allocated(plateau_error)) then
-            error%message = error%message//'; nor with the contacts that touch out of the working set in it'
-            driver%state%active(:) = saved_active
-            if (allocated(driver%state%system)) then
-               driver%state%system%holds_committed = .false.
-               driver%state%system%holds_converged = .false.
+            if (plateau_error%out_of_memory) then
+               call move_alloc(plateau_error, error)
+               return
             end if
+            error%message = error%message//'; nor with the contacts that touch out of the working set in it'
+            ! the committed state with its own set again, and that set's tangent
+            call path_change_working_set(model, driver%state, saved_active, plateau_error)
+            if (allocated(plateau_error)) call move_alloc(plateau_error, error)
             return
          end if
          cuts = cuts + plateau_cuts

@@ -23,7 +23,7 @@
 !> travel along the path through limit points, turning points and snap-back.
 module uniarc_path_following
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_analysis
+   use uniarc_error, only: error_t, make_error, error_analysis, error_internal
    use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
@@ -62,7 +62,7 @@ module uniarc_path_following
    implicit none
    private
    public :: path_state_t, path_point_t, path_trace_t, path_initialize, path_advance, nodal_displacements
-   public :: path_restart
+   public :: path_restart, path_change_working_set
    public :: candidate_reactions
 
    !> How a real is written in the messages of a failed step (λ, the step length): 6 digits suffice.
@@ -189,6 +189,52 @@ contains
          call trace_set_origin(trace, state%u, 0.0_dp, state%point%step)
       end associate
    end subroutine path_restart
+
+   !> The committed state's working set replaced by `active` (n_candidates) at the same displacements
+   !> and λ: the driver's retry of a failed step with the contacts that touch out of the set
+   !> (docs/theory.md §3.9, "Plateau of no length"). The committed tangent, K_S⁻¹R, residual, inertia
+   !> and point record are those of the new set (commit_tangent, describe_point), as after a commit:
+   !> the next step's predictor follows K_S⁻¹R of the set it starts with, and its distance test
+   !> (far_from_predictor) compares the corrector with that predictor, not with the tangent of the
+   !> old set (whose rigid motion, held in the tangent only while no contact saw it, made every
+   !> converged step of the new set land "far from the predictor"). The slope of the least
+   !> eigenvalue is forgotten (a new tangent, not a step along the old one).
+   !> Errors: commit_tangent's (a singular tangent with the new set; out of memory), describe_point's;
+   !> the state then holds `active` and the caller restores it (by this procedure with the old set).
+   subroutine path_change_working_set(model, state, active, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      logical, intent(in) :: active(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(path_system_t), allocatable :: system
+      if (.not. allocated(state%system)) then
+         call make_error(error, 'path_change_working_set: the committed state has no system of equations', &
+                         error_internal)
+         return
+      end if
+      state%active(:) = active
+      state%set_edited = .true.
+      state%eigenvalue_slope_known = .false.
+      ! The last increment belongs to the old set's piece of the path: the next step has no direction
+      ! of its own to keep (as after a floating slide), and under arc length it goes on with |λ|
+      ! growing, so that a step of the load presses the contacts the new set holds.
+      state%last_increment = 0.0_dp
+      if (model%analysis%control == control_arclength) then
+         state%direction = 1
+         if (state%lambda < 0.0_dp) state%direction = -1
+      end if
+      ! The pace of the old set (cut down where its tangent met the mechanism it could not follow) is
+      ! not the new set's: the next step starts from the path's first length (cut back as usual), so
+      ! that it goes forward by more than the old set's residual, which its corrector takes up (a
+      ! step of round-off length went back by that residual: the arc-length beam of 200 elements).
+      state%step_length = max(state%step_length, state%first_length)
+      call move_alloc(state%system, system)
+      system%holds_converged = .false.
+      call commit_tangent(model, state, system, .false., error)
+      call move_alloc(system, state%system)
+      if (allocated(error)) return
+      call describe_point(model, state, state%point%step, state%point%iterations, state%point%lcp_pivots, error)
+   end subroutine path_change_working_set
 
    !> The equation of the displacement that `*PATH, CONTROL=DISPLACEMENT` controls (0 under the other
    !> controls). Errors (error_analysis): a controlled DOF held by a support has no equation.
@@ -588,6 +634,9 @@ contains
                   ! O(Δl²) (a tip stopped by an obstacle moves far less than the free predictor said);
                   ! such a step is judged by the angle tests of its commit (off_branch) alone.
                   if (any(trial%active .neqv. state%active)) exit
+                  ! (or the committed state's own set was changed in place: its equilibrium was met with
+                  ! another set, and the corrector takes up that residual with the new set's stiffness)
+                  if (state%set_edited) exit
                   ! so does one whose yielding set changed (a spring at its bearing limit loses its stiffness)
                   if (allocated(state%yielding)) then
                      if (any(trial%yielding .neqv. state%yielding)) exit
@@ -710,6 +759,10 @@ contains
             ! Nor is a release step's jump (docs/theory.md §3.8): the next step's angle tests compare
             ! with the step before it.
             if (trial%release) state%last_increment = before%last_increment
+            ! Nor is the first step from a working set changed in place (path_change_working_set): its
+            ! increment takes up the residual the old set left, which the new set's stiffness makes a
+            ! motion of its own (the ends of a beam on a yielded bed pressed by the load's excess).
+            if (before%set_edited) state%last_increment = 0.0_dp
             call commit_tangent(model, state, system, .false., error)
             if (allocated(error)) then
                call move_alloc(system, state%system)
@@ -728,6 +781,11 @@ contains
                   else if (masked_dot(state%map, before%last_increment, state%tangent_displacement) > 0.0_dp) then
                      state%direction = 1
                   end if
+               else if (before%set_edited) then
+                  ! The first step from a working set changed in place (path_change_working_set) went
+                  ! the sense it set (|λ| growing); its increment also takes up the start's residual
+                  ! of the old set, no direction of the path: the sense is kept.
+                  continue
                else if (degenerate_tangent(state, state%tangent_displacement)) then
                   ! No displacement to take the angle with: forward is the way λ went (a load step).
                   state%direction = 1
@@ -758,14 +816,16 @@ contains
             ! With no increment yet (the start of a path or of an analysis step) forward is the sense of
             ! λ the first increment sets: a first step whose λ goes the other way reversed the load (a
             ! rigid plane 1e-9 under the loaded node, docs/theory.md §2.3).
-            if (options%control == control_arclength .and. .not. (trial%floating_slide .or. trial%release) .and. &
+            if (options%control == control_arclength .and. &
+                .not. (trial%floating_slide .or. trial%release .or. before%set_edited) .and. &
                 trial%dlambda*real(before%direction, dp) < 0.0_dp) then
                if (.not. masked_norm(state%map, before%last_increment) > 0.0_dp) &
                   jump = 'the first step goes against the sense of lambda its first increment sets'
             end if
             if (len(jump) > 0) then
                continue
-            else if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
+            else if (.not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release .or. &
+                            before%set_edited)) then
                ! At a corner the path may turn by more than a right angle (a contact closing where the
                ! smooth piece would have folded back): only the landing tangent is checked there.
                if (corner_passed) then
@@ -832,7 +892,10 @@ contains
             ! or one whose working set changed. Along one smooth piece the path turns back only through a
             ! limit point, whose far side may run within the sagitta of the near one at a sharp fold (ex. 3's
             ! long path with max_increment 20: step 138 past the limit 422.63 lies along steps 134–135).
-            if (len(jump) == 0 .and. (corner_passed .or. any(trial%active .neqv. before%active)) .and. &
+            ! (So may the first step from a working set changed in place, whose angle tests are skipped:
+            ! the retry of a failed step at a fold of the pipeline over its hump went back so.)
+            if (len(jump) == 0 .and. (corner_passed .or. before%set_edited .or. &
+                                      any(trial%active .neqv. before%active)) .and. &
                 .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                revisited = trace_retraced_step(trace, state%map, state%u, state%lambda, before%point%step, &
                                                trial%increment, trial%dlambda)
@@ -843,7 +906,9 @@ contains
                end if
             end if
             ! A release step (Δλ = 0) is a jump of the law, not a piece of the path to re-solve.
-            if (len(jump) == 0 .and. .not. trial%release) then
+            ! (Nor is the first step from a working set changed in place, whose start is a corner of
+            ! the path: its inertia is that of the new set at the old set's equilibrium.)
+            if (len(jump) == 0 .and. .not. (trial%release .or. before%set_edited)) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
                                            error, switching=state%bifurcations + 1 == options%switch_bifurcation)

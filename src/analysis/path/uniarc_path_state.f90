@@ -179,6 +179,10 @@ module uniarc_path_state
       !> (the slack of the candidates short of their limits) that restores equilibrium there.
       logical :: plateau_due = .false.
       real(dp) :: plateau_dlambda = 0.0_dp
+      !> The working set of the committed state was changed in place since its step converged
+      !> (path_change_working_set, uniarc_path_following): its equilibrium was met with another set, so
+      !> the next step is judged as a step whose working set changed (no distance test, §2.3)
+      logical :: set_edited = .false.
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.
@@ -632,6 +636,7 @@ contains
       state%lambda = state%lambda + trial%dlambda
       if (present(lambda)) state%lambda = lambda
       state%active = trial%active
+      state%set_edited = .false.
       call commit_tangential(model, state, error)
       if (allocated(error)) return
       call commit_plastic(model, state, trial%yielding, error)
