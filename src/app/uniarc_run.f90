@@ -22,7 +22,7 @@ module uniarc_run
                          finish_vtk_series
    use uniarc_result_directory, only: result_directory_t, claim_result_directory, commit_results, &
                                       abandon_results, stem_file
-   use uniarc_foreign, only: interrupt_signal, signal_name, same_file
+   use uniarc_foreign, only: interrupt_signal, signal_name, same_file, directory_entries, entry_name_t
    use uniarc_dof_map, only: dof_map_t, build_dof_map, bed_deflection
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, model_memory_estimate, &
@@ -794,22 +794,33 @@ contains
       end if
    end subroutine record_state
 
-   !> error_input when the deck itself is in OUTDIR under the name of one of its own result files
-   !> (a deck walker.path, whose stem is walker): the run would overwrite it with its path table, or
-   !> remove it as an earlier run's file (docs/contracts.md, "Result files").
+   !> error_input when the deck itself is in OUTDIR under the name of one of its own result files or
+   !> of its lock (a deck walker.path, whose stem is walker; or a link of that name to the deck, or the
+   !> deck a link to such a file): the run would overwrite it with its path table, or remove it as an
+   !> earlier run's file (docs/contracts.md, "Result files"). Every such name in OUTDIR is compared
+   !> with the deck as a file (same_file: device and inode, links followed).
    subroutine refuse_deck_among_results(model, options, error)
       type(model_t), intent(in) :: model
       type(run_options_t), intent(in) :: options
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: base
+      type(entry_name_t), allocatable :: names(:)
+      logical :: ok
+      integer :: i
       if (.not. allocated(model%deck_path)) return
-      base = model%deck_path(index(model%deck_path, '/', back=.true.) + 1:)
-      if (.not. stem_file(options%stem, base)) return
-      if (.not. same_file(model%deck_path, options%output_directory//'/'//base)) return
-      call make_error(error, model%deck_path//': expected a deck whose name is not one of its own result files: '// &
-                      'the results of '//options%stem//' in '//options%output_directory//' include '//base// &
-                      ', which would overwrite or remove the deck; rename the deck (e.g. '//options%stem// &
-                      '.inp) or write the results elsewhere (-o DIR)', error_input)
+      call directory_entries(options%output_directory, names, ok)
+      if (.not. ok) return
+      do i = 1, size(names)
+         associate (name => names(i)%name)
+            if (.not. (stem_file(options%stem, name) .or. name == options%stem//'.lock')) cycle
+            if (.not. same_file(model%deck_path, options%output_directory//'/'//name)) cycle
+            call make_error(error, model%deck_path//': expected a deck whose file is not one of its own result '// &
+                            'files: the results of '//options%stem//' in '//options%output_directory// &
+                            ' include '//name//', which is the deck and would overwrite or remove it; rename '// &
+                            'the deck (e.g. '//options%stem//'.inp) or write the results elsewhere (-o DIR)', &
+                            error_input)
+            return
+         end associate
+      end do
    end subroutine refuse_deck_among_results
 
    !> Which stop rule ended the path, with the limit that was met, for the closing message.

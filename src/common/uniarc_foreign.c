@@ -18,14 +18,14 @@ static volatile sig_atomic_t received_signal = 0;
 
 static void record_signal(int number) { received_signal = number; }
 
-static int catch_one(int number) {
+static int catch_one(int number, int once) {
     struct sigaction action, previous;
     if (sigaction(number, NULL, &previous) != 0) return -1;
     if (previous.sa_handler == SIG_IGN) return 0;
     memset(&action, 0, sizeof action);
     action.sa_handler = record_signal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESETHAND | SA_RESTART;
+    action.sa_flags = SA_RESTART | (once ? SA_RESETHAND : 0);
     return sigaction(number, &action, NULL);
 }
 
@@ -33,10 +33,13 @@ static int catch_one(int number) {
  * CPU time limit, `ulimit -t`, reached: the hard limit's SIGKILL follows later), which ask a run to
  * stop as well; 0 on success, -1 if the system refused. */
 int uniarc_catch_interrupts(void) {
-    int status = catch_one(SIGINT);
-    if (catch_one(SIGTERM) != 0) status = -1;
-    if (catch_one(SIGHUP) != 0) status = -1;
-    if (catch_one(SIGXCPU) != 0) status = -1;
+    int status = catch_one(SIGINT, 1);
+    if (catch_one(SIGTERM, 1) != 0) status = -1;
+    if (catch_one(SIGHUP, 1) != 0) status = -1;
+    /* the kernel sends SIGXCPU again every CPU-second past the soft limit: the handler stays, so that
+     * a wind-down longer than a second is not killed by the second one (the hard limit's SIGKILL
+     * still ends a run that goes on) */
+    if (catch_one(SIGXCPU, 0) != 0) status = -1;
     return status;
 }
 

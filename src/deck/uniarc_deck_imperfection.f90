@@ -29,6 +29,9 @@ module uniarc_deck_imperfection
    !> The initial coordinates of a node in the modes file and in the deck agree to this fraction of
    !> the model's size: the file writes 13 significant digits.
    real(dp), parameter :: coordinate_tolerance = 1.0e-10_dp
+   !> The largest magnitude of a coordinate or translation in a modes table (a deck's numbers are bounded
+   !> alike): the norm of a node's translation then stays finite.
+   real(dp), parameter :: largest_value = 1.0e100_dp
 
 contains
 
@@ -142,7 +145,7 @@ contains
                     integer_to_string(deck%model%node_label(missing))//' in '//path, error)
          return
       end if
-      ! (norm2 scales: no overflow for translations near the largest real)
+      ! (the translations are at most 1e100 in magnitude, read_mode: no overflow)
       largest = maxval(norm2(shift, dim=1))
       if (.not. largest > 0.0_dp) then
          call raise(source, card%line, path_field%column, 'expected a mode that moves some node, found a '// &
@@ -210,6 +213,21 @@ contains
                   if (.not. ieee_is_finite(values(j))) then
                      call raise(table, line, starts(columns(j)), 'expected a finite number in column '// &
                                 trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))//'''', error)
+                     return
+                  end if
+                  if (j <= 2) then
+                     ! the bifurcation's number and the node's label: whole numbers of an integer's range
+                     if (.not. (abs(values(j)) < 2.0e9_dp .and. values(j) == anint(values(j)))) then
+                        call raise(table, line, starts(columns(j)), 'expected a whole number in column '// &
+                                   trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))//'''', error)
+                        return
+                     end if
+                  else if (.not. abs(values(j)) <= largest_value) then
+                     ! coordinates and translations within the deck's own range of numbers, so that
+                     ! the mode's norm cannot overflow
+                     call raise(table, line, starts(columns(j)), 'expected a number of magnitude at most '// &
+                                '1e100 in column '//trim(wanted_names(j))//', found '''// &
+                                clip(trim(words(columns(j))))//'''', error)
                      return
                   end if
                end do

@@ -22,8 +22,8 @@
 
   io_check.py --uniarc EXE --deck DECK --out DIR --stems
       OUTDIR shared with other files of like names: (1) a copy of DECK named STEM.path, and one named
-      STEM.modes, in OUTDIR: refused with exit code 2 ("expected a deck whose name is not one of its
-      own result files"), the deck unchanged (a run replaced the first with its path table and removed
+      STEM.modes, in OUTDIR, and a deck walker.inp beside a link STEM.path to it: refused with exit code
+      2 ("expected a deck whose file is not one of its own result files"), the deck unchanged (a run replaced the first with its path table and removed
       the second as a stale result); (2) the VTK snapshots STEM_mode_NNNN.vtp of a deck STEM_mode beside
       a run of STEM: all kept (they were removed as modes of STEM); (3) a lock STEM.lock that names the
       run's own process id on this host (a container's PID namespace gives a killed run's id to the
@@ -143,8 +143,8 @@ def check_stems(args, stem, failures):
         print(result.stderr, end='')
         if result.returncode != 2:
             failures.append(f'deck {stem + suffix}: exit code {result.returncode}, expected 2')
-        expected = (f'error: {deck}: expected a deck whose name is not one of its own result files: the '
-                    f'results of {stem} in {out} include {stem + suffix}')
+        expected = (f'error: {deck}: expected a deck whose file is not one of its own result files: the '
+                    f'results of {stem} in {out} include {stem + suffix}, which is the deck')
         if expected not in result.stderr:
             failures.append(f'deck {stem + suffix}: stderr lacks "{expected}"')
         if not os.path.exists(deck) or open(deck).read() != text:
@@ -152,6 +152,20 @@ def check_stems(args, stem, failures):
         if sorted(os.listdir(out)) != [stem + suffix]:
             failures.append(f'deck {stem + suffix}: files written {sorted(os.listdir(out))}')
         os.remove(deck)
+
+    # the deck under its own name, and a link named as a result file pointing at it
+    deck = os.path.join(out, stem + '.inp')
+    with open(deck, 'w') as file:
+        file.write(text)
+    os.symlink(stem + '.inp', os.path.join(out, stem + '.crit'))
+    result = subprocess.run([args.uniarc, deck, '-o', out, '-q'], capture_output=True, text=True, timeout=600)
+    print(result.stderr, end='')
+    if result.returncode != 2 or f'include {stem}.crit, which is the deck' not in result.stderr:
+        failures.append(f'a link {stem}.crit to the deck: exit code {result.returncode}, {result.stderr!r}')
+    if open(deck).read() != text:
+        failures.append('a link to the deck: the deck was changed')
+    os.remove(os.path.join(out, stem + '.crit'))
+    os.remove(deck)
 
     others = [f'{stem}_mode_{k:04d}.vtp' for k in (0, 10, 1000)] + [f'{stem}_mode.pvd', f'{stem}_mode.path']
     for name in others:
