@@ -127,6 +127,15 @@ contains
       if (allocated(error)) return
       do offset = 0, int(bytes) - 1, chunk_bytes
          read (unit, iostat=status, iomsg=message) buffer(offset + 1:min(offset + chunk_bytes, int(bytes)))
+         if (is_iostat_end(status)) then
+            ! shorter than its reported size (a kernel file of /sys reports a page, 4096 bytes, for a
+            ! few bytes of text): read to its end as a file of unknown size
+            close (unit)
+            call read_unsized(path, buffer, error)
+            if (allocated(error)) return
+            call split_lines(buffer, limit, source, error)
+            return
+         end if
          if (status /= 0) then
             call make_error(error, path//': cannot read ('//trim(message)//')', error_input)
             close (unit)

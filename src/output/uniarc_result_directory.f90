@@ -249,7 +249,8 @@ contains
          ! STEM_mode_0000.vtp of the deck STEM_mode, are not taken for modes of STEM. A mode numbered
          ! 1000 or more would read as such a snapshot and is not removed.
          if (numbered(tail, '_', '.vtp', 4, 4) .or. numbered(tail, '_', '.vtk', 4, 4) .or. &
-             (numbered(tail, '_mode_', '.vtp', 2, 2) .and. len(tail) <= len('_mode_999.vtp'))) stem_file = .true.
+             (numbered(tail, '_mode_', '.vtp', 2, 2) .and. len(tail) <= len('_mode_999.vtp') .and. &
+              tail /= '_mode_00.vtp')) stem_file = .true.
       end associate
    end function stem_file
 
