@@ -808,7 +808,13 @@ contains
       integer :: i
       if (.not. allocated(model%deck_path)) return
       call directory_entries(options%output_directory, names, ok)
-      if (.not. ok) return
+      if (.not. ok) then
+         ! OUTDIR cannot be listed (searchable, not readable) or does not exist yet: the deck's own
+         ! name at least
+         if (allocated(names)) deallocate (names)
+         allocate (names(1))
+         names(1)%name = model%deck_path(index(model%deck_path, '/', back=.true.) + 1:)
+      end if
       do i = 1, size(names)
          associate (name => names(i)%name)
             if (.not. (stem_file(options%stem, name) .or. name == options%stem//'.lock')) cycle

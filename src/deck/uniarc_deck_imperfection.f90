@@ -145,8 +145,10 @@ contains
                     integer_to_string(deck%model%node_label(missing))//' in '//path, error)
          return
       end if
-      ! (the translations are at most 1e100 in magnitude, read_mode: no overflow)
-      largest = maxval(norm2(shift, dim=1))
+      ! (the translations are at most 1e100 in magnitude, read_mode: no overflow; scaled by the
+      ! largest component first, so that a mode of tiny numbers does not underflow to zero)
+      largest = maxval(abs(shift))
+      if (largest > 0.0_dp) largest = largest*maxval(norm2(shift/largest, dim=1))
       if (.not. largest > 0.0_dp) then
          call raise(source, card%line, path_field%column, 'expected a mode that moves some node, found a '// &
                     'zero translation in bifurcation '//integer_to_string(block)//' of '//path, error)
@@ -218,8 +220,9 @@ contains
                   if (j <= 2) then
                      ! the bifurcation's number and the node's label: whole numbers of an integer's range
                      if (.not. (abs(values(j)) < 2.0e9_dp .and. values(j) == anint(values(j)))) then
-                        call raise(table, line, starts(columns(j)), 'expected a whole number in column '// &
-                                   trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))//'''', error)
+                        call raise(table, line, starts(columns(j)), 'expected a whole number below 2e9 in '// &
+                                   'column '//trim(wanted_names(j))//', found '''//clip(trim(words(columns(j))))// &
+                                   '''', error)
                         return
                      end if
                   else if (.not. abs(values(j)) <= largest_value) then

@@ -6,6 +6,7 @@
 #                row of step 0 only, no lock or work directory left. Before: the step ran on for
 #                minutes, the signal unheeded until it ended.
 #   hangup       the same with SIGHUP: exit 129, "interrupted by SIGHUP after step 0", nothing left.
+#   cpu_limit    the same run under `ulimit -S -t 1`: exit 152, "interrupted by SIGXCPU", nothing left.
 #   check        SIGTERM 0.5 s into `uniarc --check` of a deck that takes seconds to read: exit 143
 #                and "interrupted by SIGTERM". Before: exit 0, "check passed".
 #   after_end    SIGTERM once the last row of a path that ends by its stop rule is written, while the
@@ -81,6 +82,18 @@ hangup)
    [ "$status" -eq 129 ] || fail "exit code $status, expected 129"
    grep -q 'interrupted by SIGHUP after step 0' "$work/err" || fail 'stderr lacks "interrupted by SIGHUP after step 0"'
    [ "$(rows "$out/long_contact_step.path")" -eq 1 ] || fail "long_contact_step.path does not hold row 0 alone"
+   ls -A "$out" | grep -q 'lock\|part' && fail "left behind: $(ls -A "$out")"
+   ;;
+cpu_limit)
+   # SIGXCPU of the soft CPU-time limit (`ulimit -S -t 1`) asks the run to stop; the kernel repeats it
+   # every CPU-second past the limit, and the handler stays (review of issue 14: the second one killed
+   # a run whose wind-down took more than a second)
+   out=$work/out
+   (ulimit -S -t 1; exec timeout -k 120 300 "$uniarc" "$decks/long_contact_step.inp" -o "$out" -q) 2> "$work/err"
+   status=$?
+   cat "$work/err"
+   [ "$status" -eq 152 ] || fail "exit code $status, expected 152"
+   grep -q 'interrupted by SIGXCPU' "$work/err" || fail 'stderr lacks "interrupted by SIGXCPU"'
    ls -A "$out" | grep -q 'lock\|part' && fail "left behind: $(ls -A "$out")"
    ;;
 check)
