@@ -190,7 +190,7 @@ contains
    !> the round-off of an angle's cosine, 6e-17 at 90°): the gap never changes, the reaction's row of the
    !> augmented system (docs/theory.md §3.2) would be zero and the matrix singular. Such a candidate
    !> can never move: it gets no equation and takes no part in the contact (the support along n holds
-   !> the node; uniarc_run warns of it). A rigid plane under a roller's held UY, for example.
+   !> the node; uniarc_run_checks warns of it). A rigid plane under a roller's held UY, for example.
    pure logical function candidate_held_normal(model, c)
       type(model_t), intent(in) :: model
       integer, intent(in) :: c

@@ -1,5 +1,5 @@
 !> The path driver: traces a model's equilibrium path step by step to one of its stop rules, for every
-!> caller alike (the program, `src/app/uniarc_run.f90`; the benchmarks, `bench/bench_path.f90`; the
+!> caller alike (the program, `src/app/uniarc_run_path.f90`; the benchmarks, `bench/bench_path.f90`; the
 !> tests). One call of `driver_step` is one converged step of `path_advance` (which sizes the step,
 !> cuts it back on failure and adapts the next length, uniarc_path_following) followed by what every
 !> caller needs of it: the nodal displacements and tracked values at the new point, the critical points

@@ -432,11 +432,7 @@ contains
                ! the branch point, or no step moves them together): the step is made again from its full
                ! length with the split allowed, leaving the branch there as the contact LCP chooses
                ! (a contact_branching row, docs/theory.md §2.3).
-               split_allowed = .true.
-               tie_split_cut = .false.
-               if (allocated(went_back)) deallocate (went_back)
-               length = state%step_length
-               halvings = 0
+               call restart_with_split()
                cycle steps
             end if
             if (.not. trial%converged) then
@@ -724,11 +720,7 @@ contains
             if (length < options%min_increment*state%first_length .and. tie_split_cut .and. &
                 .not. split_allowed) then
                ! as above: the tied contacts kept together lead nowhere but back
-               split_allowed = .true.
-               tie_split_cut = .false.
-               if (allocated(went_back)) deallocate (went_back)
-               length = state%step_length
-               halvings = 0
+               call restart_with_split()
                cycle steps
             end if
             if (length < options%min_increment*state%first_length) then
@@ -752,6 +744,19 @@ contains
          state%step_length = min(options%max_increment*state%first_length, &
                                  max(options%min_increment*state%first_length, length*factor))
       end associate
+
+   contains
+
+      !> TIES=KEEP: the step made again from its full length (no halving made yet) with the tied
+      !> contacts free to split, the rejection of an earlier attempt forgotten.
+      subroutine restart_with_split()
+         split_allowed = .true.
+         tie_split_cut = .false.
+         if (allocated(went_back)) deallocate (went_back)
+         length = state%step_length
+         halvings = 0
+      end subroutine restart_with_split
+
    end subroutine path_advance
 
    !> Whether the working set, the yielding set and the joints are those of `before` at `after`: the

@@ -8,7 +8,8 @@ program main
    use uniarc_model, only: model_t
    use uniarc_deck, only: read_deck
    use uniarc_cli, only: cli_options_t, parse_command_line, usage_text, version_text, deck_stem
-   use uniarc_run, only: run_options_t, run_model, check_deck
+   use uniarc_run, only: run_options_t, run_model
+   use uniarc_run_checks, only: check_deck
    use uniarc_provenance, only: make_provenance
    implicit none
    type(cli_options_t) :: cli

@@ -307,7 +307,7 @@ module uniarc_model
       !> REMOVE takes them away; docs/theory.md §2.10); unallocated: those of the model
       logical, allocatable :: fixed(:, :)
       !> Where the step's first *BOUNDARY, REMOVE card is (line, column of its REMOVE; 0: none) and
-      !> that line's text, for a message that points at it (a step left a mechanism, uniarc_run)
+      !> that line's text, for a message that points at it (a step left a mechanism, uniarc_run_checks)
       integer :: remove_line = 0, remove_column = 0
       character(len=:), allocatable :: remove_text
    end type analysis_step_t
