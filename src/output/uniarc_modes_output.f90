@@ -4,7 +4,8 @@
 !> Columns `bifurcation kind step lambda node x0 y0 ux uy rz`: the bifurcation's number (1, 2, ... in
 !> the order located), its kind as in STEM.crit (`bifurcation`, `unilateral_bifurcation`), where it
 !> lies (the fractional step of STEM.crit), its λ, and per node its label, initial coordinates and the
-!> mode (uniarc_path_branch, nodal_mode: largest nodal translation 1, largest component positive).
+!> mode (uniarc_path_branch, nodal_mode: largest nodal translation 1, first
+!> significant translation positive).
 !> Blocks are separated by two blank lines (gnuplot's `index`, as STEM.shape).
 !>
 !> With `*OUTPUT, VTK` each mode is also `STEM_mode_N.vtp` (N the bifurcation's number, two digits at

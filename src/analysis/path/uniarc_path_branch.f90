@@ -29,13 +29,13 @@ module uniarc_path_branch
    use uniarc_path_point, only: describe_point
    implicit none
    private
-   public :: switch_branch, nodal_mode
+   public :: switch_branch, nodal_mode, mode_orientation
 
 contains
 
    !> The buckling mode `mode` (n equations) as nodal displacements `nodal` (dofs_per_node, n_nodes),
    !> scaled so that the largest nodal translation sqrt(ux² + uy²) is 1 (a rotation-only mode: the
-   !> largest rotation is 1) and signed so that the largest component is positive. Dimensionless shape.
+   !> largest rotation is 1) and signed by mode_orientation. Dimensionless shape.
    !> Errors: `nodal` refused by the system (error_analysis, out of memory, uniarc_memory).
    !> With `keep_sign` true (a lift-off mode, on the admissible cone: its sign opens the contacts that
    !> touch without force, docs/theory.md §2.6) the sign is kept.
@@ -47,7 +47,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, intent(in), optional :: keep_sign
       real(dp) :: largest
-      integer :: where(2), status
+      integer :: status
       allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
       call allocation_failure(status, 'the nodal buckling mode', 8.0_dp*dofs_per_node*model%n_nodes, &
                               error_analysis, error)
@@ -56,8 +56,7 @@ contains
       largest = maxval(sqrt(nodal(1, :)**2 + nodal(2, :)**2))
       if (.not. largest > 0.0_dp) largest = maxval(abs(nodal))
       if (.not. largest > 0.0_dp) return
-      where = maxloc(abs(nodal))
-      if (nodal(where(1), where(2)) < 0.0_dp) largest = -largest
+      largest = largest*mode_orientation(nodal)
       if (present(keep_sign)) then
          if (keep_sign) largest = abs(largest)
       end if
@@ -66,7 +65,7 @@ contains
 
    !> One step from the bifurcation kept in state%bifurcation onto the secondary branch: predictor
    !> x_c + ξφ at λ_c (φ orthogonal to the primary tangent, unit in the displacement norm; at a lift-off
-   !> signed to open the contacts that touch without force, else its largest component positive; ξ the
+   !> signed to open the contacts that touch without force, else by mode_orientation; ξ the
    !> current step length; orthogonal to the primary path's chord over the step that passed the
    !> bifurcation), Riks' normal-plane corrections, the step halved on failure down to
    !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
@@ -220,7 +219,7 @@ contains
 
    !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that
    !> touch without force (a lift-off), the sign that opens them (Σ a_cᵀφ ≥ 0 over the working set:
-   !> the other sign presses into the medium, where it resists); else the largest component positive.
+   !> the other sign presses into the medium, where it resists); else by mode_orientation.
    !> Errors: the nodal displacements of the state or of φ refused by the system (error_analysis, out
    !> of memory).
    subroutine mode_sign(model, state, liftoff, phi, sign_of, error)
@@ -253,7 +252,45 @@ contains
          if (opening < 0.0_dp) sign_of = -1.0_dp
          return
       end if
-      if (phi(maxloc(abs(phi), 1)) < 0.0_dp) sign_of = -1.0_dp
+      allocate (shape(dofs_per_node, model%n_nodes), stat=status)
+      call allocation_failure(status, 'the nodal displacements of the buckling mode', &
+                              8.0_dp*dofs_per_node*model%n_nodes, error_analysis, error)
+      if (allocated(error)) return
+      call gather_nodal(state%map, phi, shape)
+      sign_of = mode_orientation(shape)
    end subroutine mode_sign
+
+   !> +1 or −1: the sign that makes a mode `nodal` (dofs_per_node, n_nodes) point the project's way —
+   !> its first significant translation, in the order of the nodes (ux before uy), positive; a
+   !> translation is significant when its magnitude is at least 1e-3 of the largest (a mode without
+   !> translations: the same with the rotations). Not "the largest component positive": the mode of a
+   !> bifurcation of a symmetric structure is antisymmetric or symmetric, its largest components come
+   !> in mirrored pairs of equal magnitude, and which of them round-off makes the larger would decide
+   !> the sign — and the side of the secondary branch followed — differently on another machine.
+   !> The 1e-3 margin is far above the mode's round-off (1e-10 of its norm at a bifurcation located to
+   !> 1e-7) and far below the components that describe its shape.
+   pure real(dp) function mode_orientation(nodal) result(sign_of)
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp) :: largest
+      integer :: node, d, first, last
+      first = 1
+      last = min(2, size(nodal, 1))
+      largest = maxval(abs(nodal(first:last, :)))
+      if (.not. largest > 0.0_dp) then
+         first = min(3, size(nodal, 1))
+         last = size(nodal, 1)
+         largest = maxval(abs(nodal(first:last, :)))
+      end if
+      sign_of = 1.0_dp
+      if (.not. largest > 0.0_dp) return
+      do node = 1, size(nodal, 2)
+         do d = first, last
+            if (abs(nodal(d, node)) >= 1.0e-3_dp*largest) then
+               if (nodal(d, node) < 0.0_dp) sign_of = -1.0_dp
+               return
+            end if
+         end do
+      end do
+   end function mode_orientation
 
 end module uniarc_path_branch
