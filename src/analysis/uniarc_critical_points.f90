@@ -5,10 +5,12 @@
 !> the located load is far more accurate than the nearest step). A bifurcation is a change of the
 !> number of negative pivots of K_T that no limit point explains, nor a change of the working set at
 !> which the locator found it (a contact that closes or opens: the least eigenvalue jumps there, the
-!> tangent is not singular); it is placed where the eigenvalue of least magnitude, interpolated
-!> linearly between the points, vanishes. Where the path following has
-!> located a point by re-solving the step (uniarc_path_locate, on a bracket of 1e-3 of the step with
-!> this same interpolation), the point record carries it and it is used instead.
+!> tangent is not singular). The path following locates it by re-solving the step (uniarc_path_locate,
+!> on a bracket of 1e-3 of the step, where the least eigenvalue, linear across it, vanishes), and the
+!> point record carries it. Where it was not located so (a step the locator does not re-solve, or
+!> whose bracket it could not narrow), the bifurcation is placed at the converged point where the
+!> count had changed — `after`, or the end of the locator's bracket so far — and the event says so
+!> (`located` false), never at an interpolated or middle place that may lie off the path.
 module uniarc_critical_points
    use uniarc_kinds, only: dp
    use uniarc_path_state, only: path_point_t
@@ -26,6 +28,9 @@ module uniarc_critical_points
       !> bifurcation: how many eigenvalues of K_T vanish there (2 for a double eigenvalue, the count of
       !> negative pivots changing by two across the locator's final bracket); 1 otherwise
       integer :: multiplicity = 1
+      !> false for a bifurcation that could not be bracketed by re-solving the step: it is placed at
+      !> the converged point where the count of negative pivots had changed (its λ that point's)
+      logical :: located = .true.
    end type critical_event_t
 
 contains
@@ -106,18 +111,24 @@ contains
             event%kind = 'bifurcation'
          end if
          if (after%bifurcation_fraction >= 0.0_dp) then
-            ! Located by re-solving the step (uniarc_path_locate).
+            ! Located by re-solving the step (uniarc_path_locate), or, when its bracket could not be
+            ! narrowed, placed at the converged end of the bracket so far where the count changed.
             event%fraction = after%bifurcation_fraction
             event%lambda = after%bifurcation_lambda
+            event%located = .not. after%bifurcation_unbracketed
             ! (Not at a lift-off, whose count is that of a piece of the cone test, docs/theory.md §2.2.)
             if (after%bifurcation_multiplicity > 1 .and. after%bifurcation_multiplicity == unexplained .and. &
                 event%kind == 'bifurcation') event%multiplicity = after%bifurcation_multiplicity
          else
-            event%fraction = 0.5_dp
-            if (opposite_signs(before%min_eigenvalue, after%min_eigenvalue)) then
-               event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
-            end if
-            event%lambda = hermite_lambda(before, after, event%fraction)
+            ! Not re-solved (a step the locator does not re-solve: a release step, the first step
+            ! from a working set changed in place, or one that also passed a limit point): at the
+            ! converged point where the count has changed, `after`, and said so. (The middle of the
+            ! interval, or λ interpolated there, may lie off the path: the pipeline over its hump,
+            ! steps_pipeline_hump_history.inp, had unilateral_bifurcation rows at steps 299.5 and
+            ! 631.5 with λ outside the range of both neighbours.)
+            event%fraction = 1.0_dp
+            event%lambda = after%lambda
+            event%located = .false.
          end if
          event%position = before%step + event%fraction
          events = [events, event]

@@ -136,7 +136,7 @@ contains
                if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
                   event_place(outcome%events(k)%position, record%step)//', lambda = '// &
                   short_number(outcome%events(k)%lambda)//multiplicity_note(outcome%events(k)%multiplicity)// &
-                  step_label(model, k_step)
+                  placement_note(outcome%events(k)%located)//step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
             if (.not. outcome%advanced) exit
@@ -393,6 +393,16 @@ contains
          text = 'between steps '//integer_to_string(step - 1)//' and '//integer_to_string(step)
       end if
    end function event_place
+
+   !> The note on a bifurcation that could not be bracketed by re-solving the step: it is placed at the
+   !> converged state where the count of negative pivots had changed (docs/contracts.md, STEM.crit).
+   function placement_note(located) result(text)
+      logical, intent(in) :: located
+      character(len=:), allocatable :: text
+      text = ''
+      if (.not. located) text = ' (not bracketed by re-solving the step: placed at the converged state '// &
+                                'where the count of negative pivots had changed)'
+   end function placement_note
 
    !> The note on a bifurcation at which several eigenvalues of the tangent vanish together (a double
    !> eigenvalue of a symmetric structure, docs/theory.md §2.3); empty for a simple one.

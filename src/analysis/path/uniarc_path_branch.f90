@@ -212,6 +212,7 @@ contains
       state%point%limit_fraction = -1.0_dp
       state%point%bifurcation_fraction = -1.0_dp
       state%point%bifurcation_multiplicity = 0
+      state%point%bifurcation_unbracketed = .false.
       state%point%stability_by_contact = .false.
       state%point%stability_fraction = -1.0_dp
       state%point%limit_by_contact = .false.

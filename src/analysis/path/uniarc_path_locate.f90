@@ -7,10 +7,16 @@
 !> of dλ/ds, for a bifurcation on whether the count of negative pivots has changed, the new h by the
 !> secant (regula falsi) on dλ/ds or on the least eigenvalue, safeguarded by bisection (Crisfield
 !> 1997, Non-linear Finite Element Analysis of Solids and Structures vol. 2, ch. 21: locating critical
-!> points). On the final bracket (below 1e-3 of the step) a limit point is placed by the cubic Hermite
+!> points). Every probe must lie on the piece of path between the bracket's ends (its λ between
+!> theirs where λ is monotone, beyond the lower end's towards a limit): a re-solution that converges
+!> elsewhere — at a state where the arc-length sphere meets another equilibrium, a contact set the
+!> path does not take — ends the narrowing as one that does not converge. On the final bracket
+!> (below 1e-3 of the step) a limit point is placed by the cubic Hermite
 !> interpolant of uniarc_critical_points, a bifurcation where the least eigenvalue vanishes, between
 !> two converged states that close together; a located limit is as high (a minimum as low) as every
-!> converged state around it. The probes never change the committed state; the system of equations
+!> converged state around it. A bifurcation whose bracket could not be narrowed is placed at the
+!> converged end of the bracket so far where the count had changed, and flagged, never interpolated
+!> across a wide bracket. The probes never change the committed state; the system of equations
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
@@ -69,6 +75,16 @@ module uniarc_path_locate
    !> 146.6) — contact events.
    real(dp), parameter :: jump_ratio = 10.0_dp
    real(dp), parameter :: regular_ratio = 2.0_dp
+   !> A probe is on the piece of path between the bracket's ends if its λ is within their range
+   !> widened by piece_slack of that range plus round_slack of |λ| (where λ is monotone; towards a
+   !> limit, on the far side of the lower end's λ). A state on the piece lies strictly inside: the
+   !> slack is for the probes' own equilibrium error in λ, far below both; the probes off the path
+   !> that this rejects lie whole steps away (Ex. 3 as a whole arch, arch_above_full.inp at k = 1e6:
+   !> a re-solution at 0.9375 of step 26 converged at λ = 55.13 on a contact set of 20 where the path,
+   !> between 56.67 and 56.31, has 22; the bracket then placed a bifurcation at 55.26, 2.4 % below a
+   !> fine trace's path at its w_crown).
+   real(dp), parameter :: piece_slack = 1.0e-3_dp
+   real(dp), parameter :: round_slack = 1.0e-9_dp
 
 contains
 
@@ -77,22 +93,26 @@ contains
    !> (a copy of the committed state at its start, system not allocated) to `after` (the committed
    !> state it reached with a step of length `length`, the units of state%step_length) passed.
    !> On return after%point%limit_fraction/limit_lambda or bifurcation_fraction/bifurcation_lambda
-   !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
-   !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
+   !> hold it (fraction of the interval in path length, λ). A probe that does not converge, or that
+   !> converges off the piece of path between the bracket's ends (on_piece), ends the narrowing (the
+   !> bracket so far is used; a bifurcation is then placed at its end where the count had changed,
+   !> after%point%bifurcation_unbracketed). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). A failure leaves the fields at −1; the only errors are
    !> out of memory (error_analysis, flagged out_of_memory: the run ends).
    !> A located bifurcation also sets after%point%bifurcation_multiplicity, the change of the count
    !> across the final bracket once it is narrowed to its tolerance (2 at a double eigenvalue; 0 if
-   !> a re-solution failed first), and after%bifurcation: the converged state at the located point (one
-   !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
-   !> magnitude) and its least eigenvector,
+   !> the bracket could not be narrowed), and after%bifurcation: the converged state at the located
+   !> point (one more re-solution; if it fails or lands off the bracket's piece, the end of the final
+   !> bracket whose least eigenvalue is of smaller magnitude; pb where unbracketed) and its least
+   !> eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
    !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
    !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
    !> step left the branch it followed (nothing is located; the caller rejects the step).
    !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
-   !> tolerance (the point is interpolated across the bracket so far; the caller may cut the step and
+   !> tolerance, or a re-solution of either kind of point converged off the piece of path between the
+   !> bracket's ends (the point is placed from the bracket so far; the caller may cut the step and
    !> locate it again).
    !> Errors: out of memory in a re-solution (error_analysis; the run ends).
    subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, error, &
@@ -124,6 +144,7 @@ contains
       after%point%limit_fraction = -1.0_dp
       after%point%bifurcation_fraction = -1.0_dp
       after%point%bifurcation_multiplicity = 0
+      after%point%bifurcation_unbracketed = .false.
       after%point%stability_by_contact = .false.
       after%point%stability_fraction = -1.0_dp
       after%point%limit_by_contact = .false.
@@ -187,6 +208,14 @@ contains
             exit
          end if
          probed = .true.
+         if (.not. on_piece(probe, pa, pb)) then
+            ! Converged off the piece of path between the bracket's ends: no bracket point. As a
+            ! probe that does not converge, it ends the narrowing; the step is cut and located again
+            ! in a shorter one if it may be (uniarc_path_following), else the point is placed from
+            ! the bracket so far (a bifurcation at its end where the count changed).
+            unresolved = width > tolerance*length
+            exit
+         end if
          fp = indicator(probe)
          if (limit) call keep_extreme(probe%lambda, h)
          if (passed(probe)) then
@@ -281,11 +310,12 @@ contains
          ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2); a `contact_stability` row, placed
-         ! in the middle of the final bracket. (Where μ passes through zero smoothly in a bracket that
+         ! at the converged end of the final bracket where the count has changed (a state of the path,
+         ! within 1e-3 of the step of the change). (Where μ passes through zero smoothly in a bracket that
          ! a contact event happens to share, jumps_at_contact is false: a bifurcation, below.)
          after%point%stability_by_contact = .true.
-         after%point%stability_fraction = min(1.0_dp, max(0.0_dp, 0.5_dp*(ha + hb)/length))
-         after%point%stability_lambda = 0.5_dp*(pa%lambda + pb%lambda)
+         after%point%stability_fraction = min(1.0_dp, max(0.0_dp, hb/length))
+         after%point%stability_lambda = pb%lambda
       else if (hb - ha <= tolerance*length .and. .not. in_lambda_alone() .and. &
                load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
@@ -295,6 +325,15 @@ contains
          ! imperfect structure (where its path turns sharply to a limit point) onto the
          ! complementary path (docs/theory.md §2.3): the caller rejects it and cuts the step.
          left_branch = .true.
+      else if (hb - ha > tolerance*length) then
+         ! The bracket could not be narrowed (a re-solution failed, or converged off the piece of path
+         ! between the bracket's ends): the bifurcation is placed at pb, the converged state where
+         ! the count had changed, and flagged — not interpolated across the bracket so far. Its state
+         ! and mode are pb's.
+         after%point%bifurcation_unbracketed = .true.
+         after%point%bifurcation_lambda = pb%lambda
+         after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, hb/length))
+         call keep_bifurcation(state_b)
       else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).
@@ -303,18 +342,21 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
-         ! How many eigenvalues vanish there: the change of the count across the final bracket, once
-         ! it is narrowed to its tolerance (a double eigenvalue changes it by two at one point; two
-         ! simple bifurcations inside the step leave a probe between them with the count changed by
-         ! one, and the bracket narrows onto the first).
-         if (hb - ha <= tolerance*length) &
-            after%point%bifurcation_multiplicity = abs(pb%neg_pivots - pa%neg_pivots)
+         ! How many eigenvalues vanish there: the change of the count across the final bracket (a
+         ! double eigenvalue changes it by two at one point; two simple bifurcations inside the step
+         ! leave a probe between them with the count changed by one, and the bracket narrows onto
+         ! the first).
+         after%point%bifurcation_multiplicity = abs(pb%neg_pivots - pa%neg_pivots)
          ! The state at the located point itself, re-solved, for its mode and branch switching
-         ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
+         ! (uniarc_path_branch); if it does not converge, or converges off the bracket's piece of
+         ! path, the end of the bracket nearer to it.
          call re_solve(ha + t*(hb - ha), probe, probe_state, converged)
          if (allocated(error)) return
          if (converged) then
             probed = .true.
+            converged = on_piece(probe, pa, pb)
+         end if
+         if (converged) then
             call keep_bifurcation(probe_state)
          else if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
             call keep_bifurcation(state_a)
@@ -327,6 +369,26 @@ contains
       if (probed) call restore_tangent(model, after, system, error)
 
    contains
+
+      !> Whether a converged probe lies on the piece of path between the bracket's ends `low_end` and
+      !> `high_end` (either order): for a bifurcation, where λ is monotone along the step (dλ/ds of one
+      !> sign at both ends), its λ within their range; towards a maximum of λ (a minimum) not below
+      !> the lower (above the higher) of theirs, which bounds λ on a piece with one extremum. Within
+      !> piece_slack of the range plus round_slack of |λ|.
+      pure logical function on_piece(point, low_end, high_end)
+         type(path_point_t), intent(in) :: point, low_end, high_end
+         real(dp) :: low, high, slack
+         low = min(low_end%lambda, high_end%lambda)
+         high = max(low_end%lambda, high_end%lambda)
+         slack = piece_slack*(high - low) + round_slack*max(abs(low), abs(high))
+         if (.not. limit) then
+            on_piece = point%lambda >= low - slack .and. point%lambda <= high + slack
+         else if (before%point%dlambda_ds > 0.0_dp) then
+            on_piece = point%lambda >= low - slack
+         else
+            on_piece = point%lambda <= high + slack
+         end if
+      end function on_piece
 
       !> Keep the λ of a converged probe (step parameter h) if it is the most extreme so far in the
       !> sense of the limit (highest towards a maximum, lowest towards a minimum).

@@ -61,6 +61,11 @@ module uniarc_path_state
       !> (a double eigenvalue of a symmetric structure, the whole ring's oval modes cos 2θ and sin 2θ);
       !> 0 when no bifurcation was located or its bracket could not be narrowed.
       integer :: bifurcation_multiplicity = 0
+      !> The change of the count could not be bracketed by re-solving the step (a re-solution did not
+      !> converge, or converged off the piece of path between the bracket's ends, before the bracket
+      !> was narrowed to its tolerance): the bifurcation is placed at the converged state where the
+      !> count had changed, the end of the bracket so far (uniarc_path_locate), not interpolated.
+      logical :: bifurcation_unbracketed = .false.
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
       !> makes the least eigenvalue jump across zero, the tangent is singular nowhere, and the change is
@@ -68,7 +73,8 @@ module uniarc_path_state
       !> `contact_stability` row.
       logical :: stability_by_contact = .false.
       !> When stability_by_contact: the fraction of the interval and λ of that contact event (the
-      !> middle of the locator's final bracket), a `contact_stability` row of STEM.crit.
+      !> converged end of the locator's final bracket where the count has changed, within 1e-3 of the
+      !> step of the change), a `contact_stability` row of STEM.crit.
       real(dp) :: stability_fraction = -1.0_dp, stability_lambda = 0.0_dp
       !> The sign change of dλ/ds since the previous point happens where the working set changes (a
       !> corner of the path, uniarc_path_locate): a contact event with λ at an extreme (`contact_corner`
