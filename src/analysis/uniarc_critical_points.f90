@@ -18,6 +18,14 @@ module uniarc_critical_points
    private
    public :: critical_event_t, find_critical_events, find_contact_events, sort_events, opposite_signs, same_signs
 
+   !> A sign change of dλ/ds is a limit point only if λ turns there by more than this fraction of |λ|
+   !> beyond both converged points (or the count of negative pivots changes across them, or the
+   !> working set does): the files carry 13 significant digits, and a smaller turn is the round-off of
+   !> the slope where the path is flat — the first steps of a secondary branch from a symmetric
+   !> bifurcation, where dλ/ds = 0 at the switch point (docs/input.md's strut_switch: a limit_min 8e-11
+   !> below the bifurcation, at the λ of the step itself, across which the count did not change).
+   real(dp), parameter :: roundoff_turn = 1.0e-12_dp
+
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
       !> limit_max, limit_min, contact_corner, bifurcation, unilateral_bifurcation or a contact event
@@ -88,8 +96,10 @@ contains
          ! event at which λ turns (docs/theory.md §2.12), not a limit point.
          if (after%limit_by_contact) event%kind = 'contact_corner'
          event%position = before%step + event%fraction
-         events = [events, event]
-         unexplained = max(0, unexplained - 1)
+         if (real_turn(event)) then
+            events = [events, event]
+            unexplained = max(0, unexplained - 1)
+         end if
       end if
       ! A change of the count located where the working set changes is a change of stability at a
       ! contact event (uniarc_path_locate), not a critical point: a row of its own, so that every
@@ -133,6 +143,27 @@ contains
          event%position = before%step + event%fraction
          events = [events, event]
       end if
+
+   contains
+
+      !> Whether the turn of λ at `turn` (a limit or corner between before and after) is a real
+      !> extremum: λ there beyond both points by more than roundoff_turn of |λ|, or the count of
+      !> negative pivots or the working set changing across the interval (which a turn explains).
+      pure logical function real_turn(turn)
+         type(critical_event_t), intent(in) :: turn
+         real(dp) :: beyond
+         if (turn%kind == 'limit_max') then
+            beyond = turn%lambda - max(before%lambda, after%lambda)
+         else if (turn%kind == 'limit_min') then
+            beyond = min(before%lambda, after%lambda) - turn%lambda
+         else
+            real_turn = .true.
+            return
+         end if
+         real_turn = beyond > roundoff_turn*max(abs(before%lambda), abs(after%lambda)) .or. &
+                     after%neg_pivots /= before%neg_pivots .or. contact_changes(before, after)
+      end function real_turn
+
    end subroutine find_critical_events
 
    !> The events of one interval in path order: by position, stable (events at the same position keep
