@@ -279,6 +279,7 @@ contains
       logical :: tie_split_cut, split_allowed
       integer :: revisited
       state%point%tie_kept = .false.
+      state%limit_under_load = .false.
       tie_split_cut = .false.
       split_allowed = .false.
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
@@ -464,6 +465,7 @@ contains
                   ! (add_mechanism_hint and the collapse test say what is known, docs/theory.md §3.9).
                   error%message = error%message//'; under load control this is where the load reaches a '// &
                                   'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
+                  state%limit_under_load = .true.
                end if
                call add_crest_hint(model, state, error)
                call add_mechanism_hint(model, state, error)

@@ -169,6 +169,25 @@ contains
             deallocate (error)
             driver%stop = stop_none
          end if
+         if (allocated(error) .and. .not. allocated(io_error)) then
+            ! Under load control the path cannot pass a limit point: the step past the last row failed
+            ! from a stable state down to the least increment (uniarc_path_following). That row, the
+            ! highest λ load control reaches, is the limit_max row (docs/contracts.md, STEM.crit).
+            if (driver%state%limit_under_load) then
+               if (allocated(model%steps)) then
+                  call write_crit_row(files, 'limit_max', real(record%step, dp), record%lambda, driver%tracked, &
+                                      io_error, analysis_step=k_step, step_name=model%steps(k_step)%name)
+               else
+                  call write_crit_row(files, 'limit_max', real(record%step, dp), record%lambda, driver%tracked, &
+                                      io_error)
+               end if
+               n_critical = n_critical + 1
+               if (.not. options%quiet) write (output_unit, '(a)') '  limit_max at step '// &
+                  integer_to_string(record%step)//', lambda = '//short_number(record%lambda)// &
+                  ' (under load control: the last converged state, no equilibrium found past it)'// &
+                  step_label(model, k_step)
+            end if
+         end if
          if (allocated(error)) call name_analysis_step(model, k_step, error)
          if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none .or. &
              interrupt_signal() /= 0) exit

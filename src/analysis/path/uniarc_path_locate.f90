@@ -76,14 +76,20 @@ module uniarc_path_locate
    real(dp), parameter :: jump_ratio = 10.0_dp
    real(dp), parameter :: regular_ratio = 2.0_dp
    !> A probe is on the piece of path between the bracket's ends if its λ is within their range
-   !> widened by piece_slack of that range plus round_slack of |λ| (where λ is monotone; towards a
-   !> limit, on the far side of the lower end's λ). A state on the piece lies strictly inside: the
-   !> slack is for the probes' own equilibrium error in λ, far below both; the probes off the path
-   !> that this rejects lie whole steps away (Ex. 3 as a whole arch, arch_above_full.inp at k = 1e6:
-   !> a re-solution at 0.9375 of step 26 converged at λ = 55.13 on a contact set of 20 where the path,
-   !> between 56.67 and 56.31, has 22; the bracket then placed a bifurcation at 55.26, 2.4 % below a
-   !> fine trace's path at its w_crown).
-   real(dp), parameter :: piece_slack = 1.0e-3_dp
+   !> (where λ is monotone; towards a limit, on the far side of the lower end's λ), widened by
+   !> piece_slack of the whole step's change of λ plus round_slack of |λ|. A state on the piece lies
+   !> inside; the slack is for the probes' own error, which near a bifurcation is more than the
+   !> equilibrium tolerance: there a re-solution may converge on the bifurcated branch, or along the
+   !> near-singular mode, a little off the primary path (Walker's whole arch at its bifurcation
+   !> 66.3952, Debug build: probes 1.6e-9 of λ outside brackets of 1e-7 of the step, and one 2.7e-4
+   !> outside a bracket in a step of Δλ = 0.03, 1 % of it). The probes off the path that this rejects
+   !> lie 10 % to 25 % of the step's change of λ and more outside the bracket: ex. 3 as a whole arch,
+   !> arch_above_full.inp at k = 1e6, re-solved 0.9375 of step 26 at λ = 55.13 on a contact set of 20,
+   !> 1.2 below the bracket's range (56.67 to 56.31; the step's Δλ 4.69) where the path has 22
+   !> contacts, and placed a bifurcation at 55.26, 2.4 % below a fine trace's path at its w_crown; the
+   !> pipeline over its hump (steps_pipeline_hump_history.inp) and the round liner in its host (eps =
+   !> 2e-3) wrote rows 10 % to 55 % of their step's Δλ outside their neighbours.
+   real(dp), parameter :: piece_slack = 5.0e-2_dp
    real(dp), parameter :: round_slack = 1.0e-9_dp
 
 contains
@@ -374,13 +380,13 @@ contains
       !> `high_end` (either order): for a bifurcation, where λ is monotone along the step (dλ/ds of one
       !> sign at both ends), its λ within their range; towards a maximum of λ (a minimum) not below
       !> the lower (above the higher) of theirs, which bounds λ on a piece with one extremum. Within
-      !> piece_slack of the range plus round_slack of |λ|.
+      !> piece_slack of the step's change of λ plus round_slack of |λ|.
       pure logical function on_piece(point, low_end, high_end)
          type(path_point_t), intent(in) :: point, low_end, high_end
          real(dp) :: low, high, slack
          low = min(low_end%lambda, high_end%lambda)
          high = max(low_end%lambda, high_end%lambda)
-         slack = piece_slack*(high - low) + round_slack*max(abs(low), abs(high))
+         slack = piece_slack*abs(after%point%lambda - before%point%lambda) + round_slack*max(abs(low), abs(high))
          if (.not. limit) then
             on_piece = point%lambda >= low - slack .and. point%lambda <= high + slack
          else if (before%point%dlambda_ds > 0.0_dp) then

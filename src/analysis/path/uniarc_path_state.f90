@@ -189,6 +189,11 @@ module uniarc_path_state
       !> (path_change_working_set, uniarc_path_following): its equilibrium was met with another set, so
       !> the next step is judged as a step whose working set changed (no distance test, §2.3)
       logical :: set_edited = .false.
+      !> The last step failed under load control from a stable state (no negative pivot), cut down to
+      !> the least increment: no equilibrium was found past the committed λ, where the load reaches a
+      !> limit point (or the path turns). The run reports the committed state as the `limit_max` row
+      !> of STEM.crit, the highest λ load control reaches (docs/contracts.md).
+      logical :: limit_under_load = .false.
    end type path_state_t
 
    !> One attempt at a step from the committed state: what it tried and where it got.
