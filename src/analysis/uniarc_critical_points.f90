@@ -8,9 +8,11 @@
 !> tangent is not singular). The path following locates it by re-solving the step (uniarc_path_locate,
 !> on a bracket of 1e-3 of the step, where the least eigenvalue, linear across it, vanishes), and the
 !> point record carries it. Where it was not located so (a step the locator does not re-solve, or
-!> whose bracket it could not narrow), the bifurcation is placed at the converged point where the
-!> count had changed — `after`, or the end of the locator's bracket so far — and the event says so
-!> (`located` false), never at an interpolated or middle place that may lie off the path.
+!> whose bracket it could not narrow), the bifurcation is placed at a converged point beside the
+!> change — the end of the interval, or of the locator's bracket so far, nearer to where the least
+!> eigenvalue, linear between them, vanishes (the end where the count is seen changed when it does
+!> not change sign) — and the event says so (`located` false), never at an interpolated or middle
+!> place that may lie off the path.
 module uniarc_critical_points
    use uniarc_kinds, only: dp
    use uniarc_path_state, only: path_point_t
@@ -37,7 +39,7 @@ module uniarc_critical_points
       !> negative pivots changing by two across the locator's final bracket); 1 otherwise
       integer :: multiplicity = 1
       !> false for a bifurcation that could not be bracketed by re-solving the step: it is placed at
-      !> the converged point where the count of negative pivots had changed (its λ that point's)
+      !> a converged point beside the change of the count of negative pivots (its λ that point's)
       logical :: located = .true.
    end type critical_event_t
 
@@ -131,13 +133,21 @@ contains
                 event%kind == 'bifurcation') event%multiplicity = after%bifurcation_multiplicity
          else
             ! Not re-solved (a step the locator does not re-solve: a release step, the first step
-            ! from a working set changed in place, or one that also passed a limit point): at the
-            ! converged point where the count has changed, `after`, and said so. (The middle of the
-            ! interval, or λ interpolated there, may lie off the path: the pipeline over its hump,
-            ! steps_pipeline_hump_history.inp, had unilateral_bifurcation rows at steps 299.5 and
-            ! 631.5 with λ outside the range of both neighbours.)
+            ! from a working set changed in place, or one that also passed a limit point): at one of
+            ! the two converged points, and said so — the one nearer to where the least eigenvalue,
+            ! linear between them, vanishes, or `after`, where the count is seen changed, when it
+            ! does not change sign. (The middle of the interval, or λ interpolated there, may lie off
+            ! the path: the pipeline over its hump, steps_pipeline_hump_history.inp, had
+            ! unilateral_bifurcation rows at steps 299.5 and 631.5 with λ outside the range of both
+            ! neighbours.)
             event%fraction = 1.0_dp
             event%lambda = after%lambda
+            if (opposite_signs(before%min_eigenvalue, after%min_eigenvalue)) then
+               if (before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue) < 0.5_dp) then
+                  event%fraction = 0.0_dp
+                  event%lambda = before%lambda
+               end if
+            end if
             event%located = .false.
          end if
          event%position = before%step + event%fraction

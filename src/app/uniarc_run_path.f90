@@ -413,14 +413,14 @@ contains
       end if
    end function event_place
 
-   !> The note on a bifurcation that could not be bracketed by re-solving the step: it is placed at the
-   !> converged state where the count of negative pivots had changed (docs/contracts.md, STEM.crit).
+   !> The note on a bifurcation that could not be bracketed by re-solving the step: it is placed at a
+   !> converged state beside the change of the count of negative pivots (docs/contracts.md, STEM.crit).
    function placement_note(located) result(text)
       logical, intent(in) :: located
       character(len=:), allocatable :: text
       text = ''
-      if (.not. located) text = ' (not bracketed by re-solving the step: placed at the converged state '// &
-                                'where the count of negative pivots had changed)'
+      if (.not. located) text = ' (not bracketed by re-solving the step: placed at a converged state '// &
+                                'beside the change of the count of negative pivots)'
    end function placement_note
 
    !> The note on a bifurcation at which several eigenvalues of the tangent vanish together (a double

@@ -14,9 +14,9 @@
 !> (below 1e-3 of the step) a limit point is placed by the cubic Hermite
 !> interpolant of uniarc_critical_points, a bifurcation where the least eigenvalue vanishes, between
 !> two converged states that close together; a located limit is as high (a minimum as low) as every
-!> converged state around it. A bifurcation whose bracket could not be narrowed is placed at the
-!> converged end of the bracket so far where the count had changed, and flagged, never interpolated
-!> across a wide bracket. The probes never change the committed state; the system of equations
+!> converged state around it. A bifurcation whose bracket could not be narrowed is placed at a
+!> converged end of the bracket so far (the one nearer to where the least eigenvalue, linear between
+!> them, vanishes), and flagged, never interpolated across a wide bracket. The probes never change the committed state; the system of equations
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
@@ -101,7 +101,7 @@ contains
    !> On return after%point%limit_fraction/limit_lambda or bifurcation_fraction/bifurcation_lambda
    !> hold it (fraction of the interval in path length, λ). A probe that does not converge, or that
    !> converges off the piece of path between the bracket's ends (on_piece), ends the narrowing (the
-   !> bracket so far is used; a bifurcation is then placed at its end where the count had changed,
+   !> bracket so far is used; a bifurcation is then placed at one of its converged ends,
    !> after%point%bifurcation_unbracketed). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). A failure leaves the fields at −1; the only errors are
    !> out of memory (error_analysis, flagged out_of_memory: the run ends).
@@ -109,7 +109,8 @@ contains
    !> across the final bracket once it is narrowed to its tolerance (2 at a double eigenvalue; 0 if
    !> the bracket could not be narrowed), and after%bifurcation: the converged state at the located
    !> point (one more re-solution; if it fails or lands off the bracket's piece, the end of the final
-   !> bracket whose least eigenvalue is of smaller magnitude; pb where unbracketed) and its least
+   !> bracket whose least eigenvalue is of smaller magnitude; the end it is placed at where
+   !> unbracketed) and its least
    !> eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
@@ -333,13 +334,24 @@ contains
          left_branch = .true.
       else if (hb - ha > tolerance*length) then
          ! The bracket could not be narrowed (a re-solution failed, or converged off the piece of path
-         ! between the bracket's ends): the bifurcation is placed at pb, the converged state where
-         ! the count had changed, and flagged — not interpolated across the bracket so far. Its state
-         ! and mode are pb's.
+         ! between the bracket's ends): the bifurcation is placed at one of its converged ends, and
+         ! flagged — not interpolated across the bracket so far: at pa if the least eigenvalue,
+         ! linear between them, vanishes nearer to it, else at pb, where the count is seen changed.
+         ! Its state and mode are that end's.
          after%point%bifurcation_unbracketed = .true.
-         after%point%bifurcation_lambda = pb%lambda
-         after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, hb/length))
-         call keep_bifurcation(state_b)
+         t = 1.0_dp
+         if (opposite_signs(pa%min_eigenvalue, pb%min_eigenvalue)) then
+            if (pa%min_eigenvalue/(pa%min_eigenvalue - pb%min_eigenvalue) < 0.5_dp) t = 0.0_dp
+         end if
+         if (t < 0.5_dp) then
+            after%point%bifurcation_lambda = pa%lambda
+            after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, ha/length))
+            call keep_bifurcation(state_a)
+         else
+            after%point%bifurcation_lambda = pb%lambda
+            after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, hb/length))
+            call keep_bifurcation(state_b)
+         end if
       else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).

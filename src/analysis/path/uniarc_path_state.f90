@@ -63,8 +63,8 @@ module uniarc_path_state
       integer :: bifurcation_multiplicity = 0
       !> The change of the count could not be bracketed by re-solving the step (a re-solution did not
       !> converge, or converged off the piece of path between the bracket's ends, before the bracket
-      !> was narrowed to its tolerance): the bifurcation is placed at the converged state where the
-      !> count had changed, the end of the bracket so far (uniarc_path_locate), not interpolated.
+      !> was narrowed to its tolerance): the bifurcation is placed at a converged end of the bracket so
+      !> far (uniarc_path_locate), not interpolated across it.
       logical :: bifurcation_unbracketed = .false.
       !> The change of neg_pivots since the previous point happens where the working set changes (the
       !> locator's final bracket has a different set at its ends): a contact that closes or opens
