@@ -8,7 +8,8 @@ module uniarc_check
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, analysis_linear, control_load, control_displacement, dofs_per_node, &
-                           element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak
+                           element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak, &
+                           element_timoshenko, contact_candidate_t
    use uniarc_contact_law, only: chain_nodes
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_held_normal
    use uniarc_element, only: element_stiffness_scale, element_coordinates
@@ -378,14 +379,25 @@ contains
       end do
       call line('nodes', integer_to_string(model%n_nodes))
       call line('elements', integer_to_string(model%n_elements)//' ('//integer_to_string(model%n_elements - n_truss)// &
-                ' beam-columns, '//integer_to_string(n_truss)//' trusses)')
+                ' beam-columns, '//integer_to_string(n_truss)//' trusses)'//timoshenko_text())
+      if (allocated(model%end_joints)) then
+         if (any(model%end_joints%hinge .or. model%end_joints%compliance > 0.0_dp)) &
+            call line('end releases', counted(count(model%end_joints%hinge), 'hinge')//', '// &
+                      counted(count(.not. model%end_joints%hinge .and. model%end_joints%compliance > 0.0_dp), &
+                              'rotational spring')//' (*RELEASE)')
+      end if
       call line('node sets', integer_to_string(count_sets_nodes())//';  element sets '// &
                 integer_to_string(count_sets_elements()))
       if (allocated(model%sections)) then
          call line('sections', integer_to_string(size(model%sections)))
          do i = 1, size(model%sections)
-            call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
-                      real_to_string(model%sections(i)%ei))
+            if (model%sections(i)%gas > 0.0_dp) then
+               call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
+                         real_to_string(model%sections(i)%ei)//', GAs = '//real_to_string(model%sections(i)%gas))
+            else
+               call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
+                         real_to_string(model%sections(i)%ei))
+            end if
          end do
       end if
       held_nodes = 0
@@ -418,11 +430,14 @@ contains
                    ' (fixed-direction; pressures act along the normals)')
       end if
       if (allocated(model%contact_groups)) then
+         ! a foundation's tangential springs (KT=) are candidates of its group but not contacts
+         ! (docs/input.md *FOUNDATION): counted apart, with the law they act by
          call line('contact groups', integer_to_string(size(model%contact_groups))//', '// &
-                   integer_to_string(size(model%contacts))//' candidates')
+                   counted(count(.not. model%contacts%tangential), 'candidate')//tangential_text(model%contacts))
          do i = 1, size(model%contact_groups)
             call line('', model%contact_groups(i)%name//': '// &
-                      integer_to_string(size(model%contact_groups(i)%candidates))//' candidates')
+                      counted(count(.not. model%contacts(model%contact_groups(i)%candidates)%tangential), &
+                              'candidate')//tangential_text(model%contacts(model%contact_groups(i)%candidates)))
          end do
       else
          call line('contact groups', '0')
@@ -441,6 +456,17 @@ contains
          call line('memory', 'about '//memory_text(model_memory_estimate(model, map))//' estimated')
       end if
    contains
+      !> ", N Timoshenko" when some of the beam-columns are shear-deformable (TYPE=TIMOSHENKO), else nothing.
+      function timoshenko_text() result(text)
+         character(len=:), allocatable :: text
+         integer :: e, n_timoshenko
+         n_timoshenko = 0
+         do e = 1, model%n_elements
+            if (element_kind_of(model, e) == element_timoshenko) n_timoshenko = n_timoshenko + 1
+         end do
+         text = ''
+         if (n_timoshenko > 0) text = ', '//integer_to_string(n_timoshenko)//' of them Timoshenko (shear-deformable)'
+      end function timoshenko_text
       subroutine line(label, text)
          character(len=*), intent(in) :: label, text
          character(len=16) :: padded
@@ -486,6 +512,19 @@ contains
       text = integer_to_string(n)//' '//noun
       if (n /= 1) text = text//'s'
    end function counted
+
+   !> ", with N tangential springs (in contact|bonded)" for the candidates `contacts` that have
+   !> tangential springs (*FOUNDATION, KT=), else nothing.
+   pure function tangential_text(contacts) result(text)
+      type(contact_candidate_t), intent(in) :: contacts(:)
+      character(len=:), allocatable :: text
+      integer :: n_contact, n_bonded
+      n_contact = count(contacts%tangential .and. contacts%partner > 0)
+      n_bonded = count(contacts%tangential .and. contacts%partner == 0)
+      text = ''
+      if (n_contact > 0) text = text//', with '//counted(n_contact, 'tangential spring')//' acting in contact'
+      if (n_bonded > 0) text = text//', with '//counted(n_bonded, 'tangential spring')//' bonded'
+   end function tangential_text
 
    !> "N nodes, M elements, K contact candidates; E equations, half bandwidth B".
    function counts_text(model, map) result(text)
