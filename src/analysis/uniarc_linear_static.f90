@@ -82,8 +82,8 @@ contains
       type(contact_selection_t) :: selection
       real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
       !> the floating motions (n, k, orthonormal in the metric) of a structure held only by its contacts
-      !> across a gap (unallocated: no approach), and those of them the working set leaves free (n, p)
-      real(dp), allocatable :: floating(:, :), unheld(:, :)
+      !> across a gap (unallocated: no approach)
+      real(dp), allocatable :: floating(:, :)
       logical, allocatable :: set(:), start_set(:)
       logical :: singular, settled
       real(dp) :: length_scale, worst, bytes
@@ -128,7 +128,12 @@ contains
       if (allocated(error)) return
       pivots = 0
       worst = 0.0_dp
-      start_set = set
+      ! the set of the unloaded state, where the search of a model with switching springs starts
+      allocate (start_set(size(set)), stat=status)
+      call allocation_failure(status, 'the first contact set of the linear analysis', 4.0_dp*size(set), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      start_set(:) = set
       settled = .false.
       do round = 1, max_rounds
          call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
@@ -240,9 +245,10 @@ contains
    !> rhs(:, 2) = K_S⁻¹ R (`reference`), x their sum without the unheld floating motions, refined
    !> (refine_solution), with its reactions r, linearised gaps g and complementarity violation `worst`.
    !> `assembled` holds the contact part of K_S on return (refine_solution's workspace), not K_S.
-   !> Errors: a singular K_S (the supports and contacts of the set do not hold the structure), memory.
+   !> Errors: a singular K_S (the supports and contacts of the set do not hold the structure; then
+   !> `singular`, if present, is true), memory.
    subroutine solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
-                        assembled, factors, rhs, x, r, g, worst, error)
+                        assembled, factors, rhs, x, r, g, worst, error, singular)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: zero_nodal(:, :)
@@ -254,8 +260,10 @@ contains
       real(dp), intent(inout) :: rhs(:, :)
       real(dp), intent(out) :: x(:), r(:), g(:), worst
       type(error_t), allocatable, intent(out) :: error
+      logical, intent(out), optional :: singular
       real(dp), allocatable :: unheld(:, :)
       integer :: status
+      if (present(singular)) singular = .false.
       worst = huge(1.0_dp)
       x = 0.0_dp
       r = 0.0_dp
@@ -266,6 +274,7 @@ contains
       if (allocated(error)) return
       call band_factorize(factors, error)
       if (allocated(error)) then
+         if (present(singular)) singular = .true.
          call add_context(error, 'linear static analysis (are the supports and contacts enough to hold '// &
                           'the structure?)')
          return
@@ -323,6 +332,7 @@ contains
       integer(i8) :: signature
       real(dp) :: r_unit, g_unit
       integer :: max_changes, k, c, status, n_unilateral
+      logical :: singular
       character(len=:), allocatable :: why, group
       n_unilateral = 0
       do c = 1, size(set)
@@ -339,8 +349,15 @@ contains
       why = ''
       do k = 1, max_changes
          call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
-                        assembled, factors, rhs, x, r, g, worst, error)
-         if (allocated(error)) return
+                        assembled, factors, rhs, x, r, g, worst, error, singular)
+         if (allocated(error)) then
+            ! a set too small to hold the structure is no answer: the search ends there
+            if (.not. singular) return
+            deallocate (error)
+            why = 'a search by single changes from the unloaded contact set reached a set that does not '// &
+                  'hold the structure after '//integer_to_string(k - 1)//' sets'
+            exit
+         end if
          if (worst <= complementarity_tolerance) then
             call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
             return
