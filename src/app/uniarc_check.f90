@@ -14,6 +14,7 @@ module uniarc_check
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
    use uniarc_model, only: control_arclength, thermal_load_t
+   use uniarc_builder_loads, only: thermal_excess
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_mechanism, only: closed_linear_stiffness, find_mechanism
@@ -125,39 +126,23 @@ contains
       end do
    end subroutine check_element_scales
 
-   !> The free thermal deformations of the elements (docs/theory.md §1.9): the axial strain α ΔT at most
-   !> 1 in magnitude, and the free rotation of the element's ends against each other, the curvature
-   !> α ΔT_d / h times its length L, at most π. The corotational element takes its natural deformation
-   !> as a small strain and a rotation against its chord; beyond these a deformation means nothing, and
-   !> its products with the stiffnesses (EA α ΔT, EI κ, κ L² in the displacements) overflowed double
-   !> precision (ΔT_d = 1e300 or h = 1e-100 in the reviewer's sweep: SIGFPE in Debug). The quotient
-   !> is compared through logarithms, so that the check itself cannot overflow. Errors (error_input,
-   !> exit code 2): the first element that fails, named with its values.
+   !> The free thermal deformations of the elements (uniarc_builder_loads, thermal_excess: the axial
+   !> strain α ΔT at most 1 in magnitude, the free rotation α ΔT_d L/h at most π). A deck's *TEMPERATURE
+   !> lines are checked as they are read (at their line and column); this guards a model built without
+   !> a deck. Errors (error_input, exit code 2): the first element that fails, named with its values.
    subroutine check_thermal_scales(model, loads, error)
       type(model_t), intent(in) :: model
       type(thermal_load_t), intent(in) :: loads(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), parameter :: pi = acos(-1.0_dp)
-      real(dp) :: x(2, 2), length
+      real(dp) :: x(2, 2)
       integer :: i, label
       character(len=:), allocatable :: what
+      logical :: axial
       do i = 1, size(loads)
          associate (load => loads(i))
-            what = ''
-            if (load%alpha /= 0.0_dp .and. load%delta_t /= 0.0_dp) then
-               if (log(abs(load%alpha)) + log(abs(load%delta_t)) > 0.0_dp) &
-                  what = 'a free thermal strain alpha dT beyond 1 in magnitude (alpha = '// &
-                         real_to_string(load%alpha)//', dT = '//real_to_string(load%delta_t)//')'
-            end if
-            if (len(what) == 0 .and. load%alpha /= 0.0_dp .and. load%difference /= 0.0_dp .and. &
-                load%depth > 0.0_dp) then
-               x = element_coordinates(model, load%element)
-               length = norm2(x(:, 2) - x(:, 1))
-               if (log(abs(load%alpha)) + log(abs(load%difference)) + log(length) - log(load%depth) > log(pi)) &
-                  what = 'a free thermal rotation alpha dT_d L/h beyond pi (alpha = '//real_to_string(load%alpha)// &
-                         ', dT_d = '//real_to_string(load%difference)//', h = '//real_to_string(load%depth)// &
-                         ', L = '//real_to_string(length)//')'
-            end if
+            x = element_coordinates(model, load%element)
+            call thermal_excess(load%alpha, load%delta_t, load%difference, load%depth, norm2(x(:, 2) - x(:, 1)), &
+                                what, axial)
             if (len(what) == 0) cycle
             label = load%element
             if (allocated(model%element_label)) label = model%element_label(load%element)

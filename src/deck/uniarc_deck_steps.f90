@@ -204,6 +204,11 @@ contains
             deallocate (deck%stop_track)
          end if
          step%analysis = deck%model%analysis
+         ! A *PATH step that removes a support ramps the support's force down to zero at λ = 1; past it
+         ! the force would come back reversed, which no construction stage means: lambda_max = 1 unless
+         ! the step gives its own (docs/input.md, *STEP).
+         if (released .and. step%analysis%kind /= analysis_linear .and. &
+             .not. (step%analysis%lambda_max < huge(1.0_dp))) step%analysis%lambda_max = 1.0_dp
          ! Supports change between nonlinear steps only: a linear static step solves all the loads so far
          ! on one structure (superposition), which a support added or removed on the way would break.
          if (step%analysis%kind == analysis_linear .and. any(deck%step_start_fixed .neqv. step%fixed)) then
