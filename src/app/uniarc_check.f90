@@ -13,7 +13,7 @@ module uniarc_check
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_held_normal
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
-   use uniarc_model, only: control_arclength, thermal_load_t
+   use uniarc_model, only: control_arclength, thermal_load_t, analysis_options_t, track_t
    use uniarc_builder_loads, only: thermal_excess
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
@@ -21,7 +21,7 @@ module uniarc_check
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
-   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning
+   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning, analysis_summary
 
    !> A linear response to the loads that moves a node by more than this many times the model's size
    !> is reported as a nearly singular model (nearly_mechanism_warning).
@@ -415,7 +415,11 @@ contains
       if (allocated(model%tracks)) then
          call line('tracks', integer_to_string(size(model%tracks)))
       end if
-      call line('analysis', analysis_text())
+      if (allocated(model%steps)) then
+         call line('analysis', 'in '//integer_to_string(size(model%steps))//' analysis steps (below)')
+      else
+         call line('analysis', analysis_summary(model%analysis, model%tracks))
+      end if
       call line('equations', integer_to_string(map%n_equations)//bed_text(map)//', half bandwidth '// &
                 integer_to_string(map%half_bandwidth))
       call available_memory(available, origin)
@@ -440,28 +444,34 @@ contains
          count_sets_elements = 0
          if (allocated(model%element_sets)) count_sets_elements = size(model%element_sets)
       end function count_sets_elements
-      function analysis_text() result(text)
-         character(len=:), allocatable :: text
-         if (model%analysis%kind == analysis_linear) then
-            text = 'linear static (one load case, lambda = 1)'
-            return
-         end if
-         select case (model%analysis%control)
-         case (control_load)
-            text = 'path, load control'
-         case (control_displacement)
-            text = 'path, displacement control'
-         case default
-            text = 'path, arc length'
-         end select
-         text = text//'; first increment '//real_to_string(model%analysis%first_increment)//'; stops at '// &
-                integer_to_string(model%analysis%max_steps)//' steps'
-         if (model%analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '// &
-                                                                real_to_string(model%analysis%lambda_max)
-         if (model%analysis%stop_track > 0) text = text//', |'//model%tracks(model%analysis%stop_track)%name// &
-                                                   '| >= '//real_to_string(model%analysis%stop_value)
-      end function analysis_text
    end subroutine print_model_summary
+
+   !> The analysis options `analysis` in words, for the --check summary: its kind, control, first
+   !> increment and stop rules (`tracks`: the model's, for the name of a stop track), e.g.
+   !> 'path, arc length; first increment 0.1; stops at 200 steps, |lambda| >= 1'.
+   pure function analysis_summary(analysis, tracks) result(text)
+      type(analysis_options_t), intent(in) :: analysis
+      type(track_t), allocatable, intent(in) :: tracks(:)   !< may be unallocated (no *TRACK)
+      character(len=:), allocatable :: text
+      if (analysis%kind == analysis_linear) then
+         text = 'linear static (one load case, lambda = 1)'
+         return
+      end if
+      select case (analysis%control)
+      case (control_load)
+         text = 'path, load control'
+      case (control_displacement)
+         text = 'path, displacement control'
+      case default
+         text = 'path, arc length'
+      end select
+      text = text//'; first increment '//real_to_string(analysis%first_increment)//'; stops at '// &
+             integer_to_string(analysis%max_steps)//' steps'
+      if (analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '//real_to_string(analysis%lambda_max)
+      if (.not. allocated(tracks)) return
+      if (analysis%stop_track > 0 .and. analysis%stop_track <= size(tracks)) &
+         text = text//', |'//tracks(analysis%stop_track)%name//'| >= '//real_to_string(analysis%stop_value)
+   end function analysis_summary
 
    !> "1 node", "2 nodes": a count and its noun.
    pure function counted(n, noun) result(text)
