@@ -133,6 +133,14 @@ contains
          return
       end if
       foundation%bilateral = option_index(card, 'BILATERAL') > 0
+      if (foundation%bilateral .and. foundation%gap /= 0.0_dp) then
+         ! bonded: the bed holds the node where it starts, so an initial gap would pull it down by g0
+         ! at the start (as with TU= above)
+         call raise(source, card%line, card%options(option_index(card, 'GAP'))%column, 'expected no GAP= ' // &
+                    'with BILATERAL (a bonded bed is attached to the nodes at the start), found GAP='// &
+                    real_to_string(foundation%gap), error)
+         return
+      end if
       if (direction_option > 0) then
          call option_real(source, card, deck, direction_option, 'an angle in degrees', angle, error)
          if (allocated(error)) return
