@@ -453,6 +453,18 @@ contains
             end do
          end if
 
+         ! The angle of a plane's normal or an ellipse's axis: at most one turn either way. The normal
+         ! comes from sin and cos of the angle reduced modulo 360 (sin_degrees), whose reduction of a
+         ! huge number is round-off (1e300: a direction that no angle of the deck gave, and a false
+         ! mechanism refusal); a turn and more says nothing a smaller angle does not.
+         if (kind == 'PLANE' .or. (kind == 'ELLIPSE' .and. size(fields) == 5)) then
+            i = merge(3, 5, kind == 'PLANE')
+            if (.not. abs(values(i)) <= 360.0_dp) then
+               call raise(source, line, fields(i)%column, 'expected an angle from -360 to 360 degrees, found '// &
+                          real_to_string(values(i)), error)
+               return
+            end if
+         end if
          ! The builder makes the candidates (uniarc_contact_law) and finds a node that starts inside; the
          ! message says it here with the position.
          angle = values(3)
