@@ -53,7 +53,7 @@ module uniarc_path_following
                                 trace_retraced_step, trace_set_origin, trace_remember_corner, &
                                 trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
-                                  add_concave_corner_hint
+                                  add_concave_corner_hint, add_convex_corner_hint
    use uniarc_path_start, only: size_first_step, find_floating, approach_first_contact
    implicit none
    private
@@ -456,8 +456,12 @@ contains
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
                end if
                call add_concave_corner_hint(model, state, error)
+               if (index(error%message, 'concave corner') == 0) &
+                  call add_convex_corner_hint(model, state, options%control == control_load, &
+                                              2.0_dp*length/state%first_length, error)
                if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
-                   index(error%message, 'concave corner') == 0 .and. .not. at_bearing_limit(state)) then
+                   index(error%message, 'concave corner') == 0 .and. index(error%message, 'convex corner') == 0 &
+                   .and. .not. at_bearing_limit(state)) then
                   ! Under load control the path cannot pass a limit point: past it there is no
                   ! equilibrium near the last one (docs/contracts.md, exit code 1). Not said where
                   ! contacts are at their bearing limit: arc length meets the same plateau there
