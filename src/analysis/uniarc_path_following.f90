@@ -446,8 +446,9 @@ contains
                   call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                   return
                end if
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                ! A step that converged but went back along the path (the piece past a corner folding
                ! back) is said: the path does not go on forward from here (docs/theory.md §2.3).
@@ -729,8 +730,9 @@ contains
             end if
             if (length < options%min_increment*state%first_length) then
                call move_alloc(system, state%system)
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &
