@@ -52,6 +52,23 @@ sys.path.insert(0, os.path.join(root, 'tests', 'regression'))
 from uniarc_check import read_table, read_events, find_event, value_where, split_event  # noqa: E402
 
 image_dir = os.path.join(os.path.dirname(output), 'img')
+
+
+def source_revision():
+    """The commit the report is made from, `-dirty` when a tracked file differs from it — other than
+    this script's own outputs (the report and its pictures, which a run rewrites before the report is
+    committed): read before anything is written."""
+    head = subprocess.run(['git', '-C', root, 'rev-parse', '--short', 'HEAD'], capture_output=True, text=True)
+    if head.returncode != 0:
+        return ''
+    outputs = [os.path.relpath(path, root) for path in (output, image_dir)]
+    changed = subprocess.run(['git', '-C', root, 'status', '--porcelain', '--untracked-files=no', '--', '.'] +
+                             [f':(exclude){path}' for path in outputs if not path.startswith('..')],
+                             capture_output=True, text=True).stdout.strip()
+    return head.stdout.strip() + ('-dirty' if changed else '')
+
+
+revision = source_revision()
 jobs = os.cpu_count() or 1
 
 
@@ -652,7 +669,6 @@ def err(x):
 
 lines = []
 out = lines.append
-revision = subprocess.run(['git', '-C', root, 'describe', '--always', '--dirty'], capture_output=True, text=True).stdout.strip()
 version = subprocess.run([uniarc, '--version'], capture_output=True, text=True).stdout.strip()
 total_numbers = sum(len(n) for n, _ in evaluated.values())
 total_checks = sum(len(c) for _, c in evaluated.values())
