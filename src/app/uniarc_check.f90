@@ -14,14 +14,15 @@ module uniarc_check
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_held_normal
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
-   use uniarc_model, only: control_arclength, thermal_load_t
+   use uniarc_model, only: control_arclength, thermal_load_t, analysis_options_t, track_t
+   use uniarc_builder_loads, only: thermal_excess
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_mechanism, only: closed_linear_stiffness, find_mechanism
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
-   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning
+   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning, analysis_summary
 
    !> A linear response to the loads that moves a node by more than this many times the model's size
    !> is reported as a nearly singular model (nearly_mechanism_warning).
@@ -126,39 +127,23 @@ contains
       end do
    end subroutine check_element_scales
 
-   !> The free thermal deformations of the elements (docs/theory.md §1.9): the axial strain α ΔT at most
-   !> 1 in magnitude, and the free rotation of the element's ends against each other, the curvature
-   !> α ΔT_d / h times its length L, at most π. The corotational element takes its natural deformation
-   !> as a small strain and a rotation against its chord; beyond these a deformation means nothing, and
-   !> its products with the stiffnesses (EA α ΔT, EI κ, κ L² in the displacements) overflowed double
-   !> precision (ΔT_d = 1e300 or h = 1e-100 in the reviewer's sweep: SIGFPE in Debug). The quotient
-   !> is compared through logarithms, so that the check itself cannot overflow. Errors (error_input,
-   !> exit code 2): the first element that fails, named with its values.
+   !> The free thermal deformations of the elements (uniarc_builder_loads, thermal_excess: the axial
+   !> strain α ΔT at most 1 in magnitude, the free rotation α ΔT_d L/h at most π). A deck's *TEMPERATURE
+   !> lines are checked as they are read (at their line and column); this guards a model built without
+   !> a deck. Errors (error_input, exit code 2): the first element that fails, named with its values.
    subroutine check_thermal_scales(model, loads, error)
       type(model_t), intent(in) :: model
       type(thermal_load_t), intent(in) :: loads(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), parameter :: pi = acos(-1.0_dp)
-      real(dp) :: x(2, 2), length
+      real(dp) :: x(2, 2)
       integer :: i, label
       character(len=:), allocatable :: what
+      logical :: axial
       do i = 1, size(loads)
          associate (load => loads(i))
-            what = ''
-            if (load%alpha /= 0.0_dp .and. load%delta_t /= 0.0_dp) then
-               if (log(abs(load%alpha)) + log(abs(load%delta_t)) > 0.0_dp) &
-                  what = 'a free thermal strain alpha dT beyond 1 in magnitude (alpha = '// &
-                         real_to_string(load%alpha)//', dT = '//real_to_string(load%delta_t)//')'
-            end if
-            if (len(what) == 0 .and. load%alpha /= 0.0_dp .and. load%difference /= 0.0_dp .and. &
-                load%depth > 0.0_dp) then
-               x = element_coordinates(model, load%element)
-               length = norm2(x(:, 2) - x(:, 1))
-               if (log(abs(load%alpha)) + log(abs(load%difference)) + log(length) - log(load%depth) > log(pi)) &
-                  what = 'a free thermal rotation alpha dT_d L/h beyond pi (alpha = '//real_to_string(load%alpha)// &
-                         ', dT_d = '//real_to_string(load%difference)//', h = '//real_to_string(load%depth)// &
-                         ', L = '//real_to_string(length)//')'
-            end if
+            x = element_coordinates(model, load%element)
+            call thermal_excess(load%alpha, load%delta_t, load%difference, load%depth, norm2(x(:, 2) - x(:, 1)), &
+                                what, axial)
             if (len(what) == 0) cycle
             label = load%element
             if (allocated(model%element_label)) label = model%element_label(load%element)
@@ -445,7 +430,11 @@ contains
       if (allocated(model%tracks)) then
          call line('tracks', integer_to_string(size(model%tracks)))
       end if
-      call line('analysis', analysis_text())
+      if (allocated(model%steps)) then
+         call line('analysis', 'in '//integer_to_string(size(model%steps))//' analysis steps (below)')
+      else
+         call line('analysis', analysis_summary(model%analysis, model%tracks))
+      end if
       call line('equations', integer_to_string(map%n_equations)//bed_text(map)//', half bandwidth '// &
                 integer_to_string(map%half_bandwidth))
       call available_memory(available, origin)
@@ -481,28 +470,34 @@ contains
          count_sets_elements = 0
          if (allocated(model%element_sets)) count_sets_elements = size(model%element_sets)
       end function count_sets_elements
-      function analysis_text() result(text)
-         character(len=:), allocatable :: text
-         if (model%analysis%kind == analysis_linear) then
-            text = 'linear static (one load case, lambda = 1)'
-            return
-         end if
-         select case (model%analysis%control)
-         case (control_load)
-            text = 'path, load control'
-         case (control_displacement)
-            text = 'path, displacement control'
-         case default
-            text = 'path, arc length'
-         end select
-         text = text//'; first increment '//real_to_string(model%analysis%first_increment)//'; stops at '// &
-                integer_to_string(model%analysis%max_steps)//' steps'
-         if (model%analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '// &
-                                                                real_to_string(model%analysis%lambda_max)
-         if (model%analysis%stop_track > 0) text = text//', |'//model%tracks(model%analysis%stop_track)%name// &
-                                                   '| >= '//real_to_string(model%analysis%stop_value)
-      end function analysis_text
    end subroutine print_model_summary
+
+   !> The analysis options `analysis` in words, for the --check summary: its kind, control, first
+   !> increment and stop rules (`tracks`: the model's, for the name of a stop track), e.g.
+   !> 'path, arc length; first increment 0.1; stops at 200 steps, |lambda| >= 1'.
+   pure function analysis_summary(analysis, tracks) result(text)
+      type(analysis_options_t), intent(in) :: analysis
+      type(track_t), allocatable, intent(in) :: tracks(:)   !< may be unallocated (no *TRACK)
+      character(len=:), allocatable :: text
+      if (analysis%kind == analysis_linear) then
+         text = 'linear static (one load case, lambda = 1)'
+         return
+      end if
+      select case (analysis%control)
+      case (control_load)
+         text = 'path, load control'
+      case (control_displacement)
+         text = 'path, displacement control'
+      case default
+         text = 'path, arc length'
+      end select
+      text = text//'; first increment '//real_to_string(analysis%first_increment)//'; stops at '// &
+             integer_to_string(analysis%max_steps)//' steps'
+      if (analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '//real_to_string(analysis%lambda_max)
+      if (.not. allocated(tracks)) return
+      if (analysis%stop_track > 0 .and. analysis%stop_track <= size(tracks)) &
+         text = text//', |'//tracks(analysis%stop_track)%name//'| >= '//real_to_string(analysis%stop_value)
+   end function analysis_summary
 
    !> "1 node", "2 nodes": a count and its noun.
    pure function counted(n, noun) result(text)
