@@ -23,7 +23,7 @@ module uniarc_path_rest
    use uniarc_path_state, only: path_state_t, path_system_t, equilibrium_at, masked_norm
    implicit none
    private
-   public :: rest_on_contacts
+   public :: rest_on_contacts, move_rigidly
 
    !> A candidate whose gap (with its slip) is at most this fraction of the model's size touches: the
    !> tolerance of the first working set (uniarc_path_contact_set, touching_candidates).
