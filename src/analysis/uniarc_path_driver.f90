@@ -82,6 +82,8 @@ module uniarc_path_driver
       real(dp) :: collapse_upper = 0.0_dp
       integer :: collapse_points = 0
       character(len=:), allocatable :: collapse_nodes
+      !> the joints at their moment limit that are hinges of the collapse mechanism ('' for a rigid one)
+      character(len=:), allocatable :: collapse_joints
       !> at stop_closed_loop: the step and λ of the state where the closed branch began
       integer :: loop_origin_step = 0
       real(dp) :: loop_origin_lambda = 0.0_dp
@@ -308,7 +310,8 @@ contains
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
          if (.not. error%out_of_memory) then
             call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
-                                  driver%collapse_points, driver%collapse_nodes, memory_error, finding)
+                                  driver%collapse_points, driver%collapse_nodes, memory_error, finding, &
+                                  joints=driver%collapse_joints)
             ! (an array of the certificate refused: the run ends out of memory, not as the failed step)
             if (allocated(memory_error)) call move_alloc(memory_error, error)
             ! No collapse, but perhaps a plateau: the yielded supports let the structure sink at constant
@@ -409,7 +412,7 @@ contains
       ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then
          call bearing_collapse(model, driver%state, .true., collapsed, driver%collapse_upper, &
-                               driver%collapse_points, driver%collapse_nodes, error)
+                               driver%collapse_points, driver%collapse_nodes, error, joints=driver%collapse_joints)
          if (allocated(error)) then
             driver%stop = stop_failure
             outcome%stop = stop_failure
