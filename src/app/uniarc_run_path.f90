@@ -371,6 +371,7 @@ contains
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(in) :: driver
       character(len=:), allocatable :: message
+      character(len=:), allocatable :: hinges
       select case (driver%stop)
       case (stop_load_limit)
          message = 'stopped by the load limit: |lambda| = '//short_number(abs(driver%state%lambda))// &
@@ -391,9 +392,15 @@ contains
                    short_number(driver%loop_origin_lambda)//') where this branch began; followed on, it '// &
                    'would go round the same loop again'
       case (stop_collapse)
+         hinges = ''
+         if (allocated(driver%collapse_joints)) then
+            if (len(driver%collapse_joints) > 0) hinges = ' and joint(s) at their moment limit MY as hinges ('// &
+                                                          driver%collapse_joints//')'
+         end if
          message = 'stopped by a bearing collapse: '//integer_to_string(driver%collapse_points)// &
                    ' contact point(s) of beds or springs at their limit QU or TU (nodes '//driver%collapse_nodes// &
-                   ') and nothing else holding the motion the load drives; no higher load may be carried '// &
+                   ')'//hinges//' and nothing else holding the motion the load drives; no higher load may be '// &
+                   'carried '// &
                    '(collapse load between lambda = '//short_number(driver%state%lambda)//' and '// &
                    short_number(driver%collapse_upper)//')'
       case default

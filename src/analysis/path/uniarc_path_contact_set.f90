@@ -295,6 +295,8 @@ contains
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
                             state%lambda)
+         ! a plastic medium's surface has sunk by its committed slip (zero on a path's unloaded state)
+         if (model%contacts(c)%plastic .and. allocated(state%slip)) gap = gap + slip_shift(model, c, state%slip)
          active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
          if (active(c) .and. .not. model%contacts(c)%bilateral) &
