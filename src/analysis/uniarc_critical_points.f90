@@ -5,16 +5,28 @@
 !> the located load is far more accurate than the nearest step). A bifurcation is a change of the
 !> number of negative pivots of K_T that no limit point explains, nor a change of the working set at
 !> which the locator found it (a contact that closes or opens: the least eigenvalue jumps there, the
-!> tangent is not singular); it is placed where the eigenvalue of least magnitude, interpolated
-!> linearly between the points, vanishes. Where the path following has
-!> located a point by re-solving the step (uniarc_path_locate, on a bracket of 1e-3 of the step with
-!> this same interpolation), the point record carries it and it is used instead.
+!> tangent is not singular). The path following locates it by re-solving the step (uniarc_path_locate,
+!> on a bracket of 1e-3 of the step, where the least eigenvalue, linear across it, vanishes), and the
+!> point record carries it. Where it was not located so (a step the locator does not re-solve, or
+!> whose bracket it could not narrow), the bifurcation is placed at a converged point beside the
+!> change — the end of the interval, or of the locator's bracket so far, nearer to where the least
+!> eigenvalue, linear between them, vanishes (the end where the count is seen changed when it does
+!> not change sign) — and the event says so (`located` false), never at an interpolated or middle
+!> place that may lie off the path.
 module uniarc_critical_points
    use uniarc_kinds, only: dp
    use uniarc_path_state, only: path_point_t
    implicit none
    private
    public :: critical_event_t, find_critical_events, find_contact_events, sort_events, opposite_signs, same_signs
+
+   !> A sign change of dλ/ds is a limit point only if λ turns there by more than this fraction of |λ|
+   !> beyond both converged points (or the count of negative pivots changes across them, or the
+   !> working set does): the files carry 13 significant digits, and a smaller turn is the round-off of
+   !> the slope where the path is flat — the first steps of a secondary branch from a symmetric
+   !> bifurcation, where dλ/ds = 0 at the switch point (docs/input.md's strut_switch: a limit_min 8e-11
+   !> below the bifurcation, at the λ of the step itself, across which the count did not change).
+   real(dp), parameter :: roundoff_turn = 1.0e-12_dp
 
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
@@ -26,6 +38,9 @@ module uniarc_critical_points
       !> bifurcation: how many eigenvalues of K_T vanish there (2 for a double eigenvalue, the count of
       !> negative pivots changing by two across the locator's final bracket); 1 otherwise
       integer :: multiplicity = 1
+      !> false for a bifurcation that could not be bracketed by re-solving the step: it is placed at
+      !> a converged point beside the change of the count of negative pivots (its λ that point's)
+      logical :: located = .true.
    end type critical_event_t
 
 contains
@@ -83,8 +98,10 @@ contains
          ! event at which λ turns (docs/theory.md §2.12), not a limit point.
          if (after%limit_by_contact) event%kind = 'contact_corner'
          event%position = before%step + event%fraction
-         events = [events, event]
-         unexplained = max(0, unexplained - 1)
+         if (real_turn(event)) then
+            events = [events, event]
+            unexplained = max(0, unexplained - 1)
+         end if
       end if
       ! A change of the count located where the working set changes is a change of stability at a
       ! contact event (uniarc_path_locate), not a critical point: a row of its own, so that every
@@ -106,22 +123,57 @@ contains
             event%kind = 'bifurcation'
          end if
          if (after%bifurcation_fraction >= 0.0_dp) then
-            ! Located by re-solving the step (uniarc_path_locate).
+            ! Located by re-solving the step (uniarc_path_locate), or, when its bracket could not be
+            ! narrowed, placed at the converged end of the bracket so far where the count changed.
             event%fraction = after%bifurcation_fraction
             event%lambda = after%bifurcation_lambda
+            event%located = .not. after%bifurcation_unbracketed
             ! (Not at a lift-off, whose count is that of a piece of the cone test, docs/theory.md §2.2.)
             if (after%bifurcation_multiplicity > 1 .and. after%bifurcation_multiplicity == unexplained .and. &
                 event%kind == 'bifurcation') event%multiplicity = after%bifurcation_multiplicity
          else
-            event%fraction = 0.5_dp
+            ! Not re-solved (a step the locator does not re-solve: a release step, the first step
+            ! from a working set changed in place, or one that also passed a limit point): at one of
+            ! the two converged points, and said so — the one nearer to where the least eigenvalue,
+            ! linear between them, vanishes, or `after`, where the count is seen changed, when it
+            ! does not change sign. (The middle of the interval, or λ interpolated there, may lie off
+            ! the path: the pipeline over its hump, steps_pipeline_hump_history.inp, had
+            ! unilateral_bifurcation rows at steps 299.5 and 631.5 with λ outside the range of both
+            ! neighbours.)
+            event%fraction = 1.0_dp
+            event%lambda = after%lambda
             if (opposite_signs(before%min_eigenvalue, after%min_eigenvalue)) then
-               event%fraction = before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue)
+               if (before%min_eigenvalue/(before%min_eigenvalue - after%min_eigenvalue) < 0.5_dp) then
+                  event%fraction = 0.0_dp
+                  event%lambda = before%lambda
+               end if
             end if
-            event%lambda = hermite_lambda(before, after, event%fraction)
+            event%located = .false.
          end if
          event%position = before%step + event%fraction
          events = [events, event]
       end if
+
+   contains
+
+      !> Whether the turn of λ at `turn` (a limit or corner between before and after) is a real
+      !> extremum: λ there beyond both points by more than roundoff_turn of |λ|, or the count of
+      !> negative pivots or the working set changing across the interval (which a turn explains).
+      pure logical function real_turn(turn)
+         type(critical_event_t), intent(in) :: turn
+         real(dp) :: beyond
+         if (turn%kind == 'limit_max') then
+            beyond = turn%lambda - max(before%lambda, after%lambda)
+         else if (turn%kind == 'limit_min') then
+            beyond = min(before%lambda, after%lambda) - turn%lambda
+         else
+            real_turn = .true.
+            return
+         end if
+         real_turn = beyond > roundoff_turn*max(abs(before%lambda), abs(after%lambda)) .or. &
+                     after%neg_pivots /= before%neg_pivots .or. contact_changes(before, after)
+      end function real_turn
+
    end subroutine find_critical_events
 
    !> The events of one interval in path order: by position, stable (events at the same position keep

@@ -35,6 +35,7 @@ module uniarc_path_driver
    use uniarc_memory, only: allocation_failure
    use uniarc_path_pace, only: pace_t, pace_start, pace_record
    use uniarc_path_trace, only: trace_closed_loop, trace_event_revisited, trace_remember_event
+   use uniarc_path_rest, only: rest_on_contacts
    implicit none
    private
    public :: path_driver_t, stop_rules_t, step_outcome_t, driver_start, driver_step
@@ -82,6 +83,8 @@ module uniarc_path_driver
       real(dp) :: collapse_upper = 0.0_dp
       integer :: collapse_points = 0
       character(len=:), allocatable :: collapse_nodes
+      !> the joints at their moment limit that are hinges of the collapse mechanism ('' for a rigid one)
+      character(len=:), allocatable :: collapse_joints
       !> at stop_closed_loop: the step and λ of the state where the closed branch began, or (when
       !> loop_repeated) of the earlier step past an event whose state the last step repeated
       integer :: loop_origin_step = 0
@@ -215,7 +218,8 @@ contains
       type(path_state_t), allocatable :: before
       real(dp) :: upper
       integer :: k, points, status, revisited
-      logical :: collapsed, near_collapse, short, past_event
+      logical :: collapsed, near_collapse, short, advanced, past_event
+      real(dp), allocatable :: u_before(:)
       type(error_t), allocatable :: memory_error
       if (.not. driver%started) then
          call make_error(error, 'driver_step: the path was not started (driver_start)', error_internal)
@@ -266,7 +270,19 @@ contains
             return
          end if
       end if
+      ! the displacements before the step: a structure whose working set lets go of it in the step is
+      ! brought to rest on its contacts from there (rest_after_step)
+      allocate (u_before(size(driver%state%u)), stat=status)
+      call allocation_failure(status, 'the displacements before the step', 8.0_dp*size(driver%state%u), &
+                              error_analysis, error)
+      if (allocated(error)) then
+         driver%stop = stop_failure
+         outcome%stop = stop_failure
+         return
+      end if
+      u_before(:) = driver%state%u
       call path_advance(model, driver%state, driver%trace, error, outcome%cuts)
+      advanced = .not. allocated(error)
       ! A SIGINT or SIGTERM during the step (its critical-point search included): the step is
       ! abandoned, not returned as converged, and no collapse or plateau is sought after it; the caller
       ! ends the path at the step before (docs/contracts.md, "Interrupts").
@@ -297,7 +313,8 @@ contains
          ! committed state is the collapse, a result and the end of the path (or of the analysis step).
          if (.not. error%out_of_memory) then
             call bearing_collapse(model, driver%state, .false., collapsed, driver%collapse_upper, &
-                                  driver%collapse_points, driver%collapse_nodes, memory_error, finding)
+                                  driver%collapse_points, driver%collapse_nodes, memory_error, finding, &
+                                  joints=driver%collapse_joints)
             ! (an array of the certificate refused: the run ends out of memory, not as the failed step)
             if (allocated(memory_error)) call move_alloc(memory_error, error)
             ! No collapse, but perhaps a plateau: the yielded supports let the structure sink at constant
@@ -326,6 +343,14 @@ contains
                return
             end if
          end if
+         if (allocated(error)) then
+            driver%stop = stop_failure
+            outcome%stop = stop_failure
+            return
+         end if
+      end if
+      if (advanced .and. .not. driver%state%point%switched) then
+         call rest_after_step(model, driver%state, u_before, driver%state%lambda - outcome%lambda, error)
          if (allocated(error)) then
             driver%stop = stop_failure
             outcome%stop = stop_failure
@@ -413,7 +438,7 @@ contains
       ! limits, docs/theory.md §3.9): the path ends there, whatever else it reached.
       if (allocated(driver%state%yielding) .and. allocated(driver%state%floating_motion)) then
          call bearing_collapse(model, driver%state, .true., collapsed, driver%collapse_upper, &
-                               driver%collapse_points, driver%collapse_nodes, error)
+                               driver%collapse_points, driver%collapse_nodes, error, joints=driver%collapse_joints)
          if (allocated(error)) then
             driver%stop = stop_failure
             outcome%stop = stop_failure
@@ -527,6 +552,40 @@ contains
       deallocate (error)
    end subroutine follow_plateau
 
+   !> A step whose working set let go of a structure held only by its contacts (docs/theory.md §2.8,
+   !> "A working set that lets go"): the committed state is replaced by the same state at rest on the
+   !> contacts the load pushed it against (uniarc_path_rest, rest_on_contacts), with the contacts that
+   !> touch there in its working set (path_change_working_set: its tangent and point record are those
+   !> of the state at rest). `before` (n_equations): the displacements before the step; `dlambda` its Δλ.
+   !> Untouched when there is nothing to rest (the set holds the structure, or no load pushed it).
+   !> Errors: rest_on_contacts' and path_change_working_set's (the state is then restored).
+   subroutine rest_after_step(model, state, before, dlambda, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), intent(in) :: before(:), dlambda
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: x(:), converged(:)
+      logical, allocatable :: active(:), old_active(:)
+      type(error_t), allocatable :: restore_error
+      logical :: rested
+      integer :: status
+      call rest_on_contacts(model, state, before, dlambda, x, active, rested, error)
+      if (allocated(error) .or. .not. rested) return
+      allocate (converged(size(state%u)), old_active(size(state%active)), stat=status)
+      call allocation_failure(status, 'the converged state before its rest on the contacts', &
+                              8.0_dp*size(state%u) + 4.0_dp*size(state%active), error_analysis, error)
+      if (allocated(error)) return
+      converged(:) = state%u
+      old_active(:) = state%active
+      state%u(:) = x
+      call path_change_working_set(model, state, active, error)
+      if (allocated(error)) then
+         ! back to the converged state as it was (its set and tangent)
+         state%u(:) = converged
+         call path_change_working_set(model, state, old_active, restore_error)
+      end if
+   end subroutine rest_after_step
+
    !> The committed state in the equations of `model`, whose supports differ from those it was numbered
    !> for (an analysis step that adds or removes supports, docs/theory.md §2.10): a new equation
    !> numbering; the unknowns of the free DOFs from the displacements at the committed state
@@ -615,11 +674,12 @@ contains
       integer, intent(in) :: step
       real(dp), intent(in) :: lambda, tracked(:)
       reason = stop_none
-      if (abs(lambda) >= rules%lambda_max) then
+      ! A step landed on a limit (docs/theory.md §2.11) reaches it to the round-off of λ + Δλ (or of
+      ! u + Δu): within 1e-12 of it, far below any tolerance of a step, it counts as reached — not a
+      ! further step of Δλ ≈ 1e-13 that would repeat the row at the same λ.
+      if (abs(lambda) >= rules%lambda_max*(1.0_dp - 1.0e-12_dp)) then
          reason = stop_load_limit
       else if (rules%track > 0) then
-         ! A step landed on the limit (docs/theory.md §2.11) reaches it to the round-off of u + Δu:
-         ! 1e-12 of it, far below any tolerance of a step, counts as reached.
          if (abs(tracked(rules%track)) >= rules%track_limit*(1.0_dp - 1.0e-12_dp)) reason = stop_track_limit
       end if
       if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit

@@ -23,12 +23,12 @@
 !> travel along the path through limit points, turning points and snap-back.
 module uniarc_path_following
    use uniarc_kinds, only: dp
-   use uniarc_error, only: error_t, make_error, error_analysis, error_internal
+   use uniarc_error, only: error_t, make_error, error_analysis, error_internal, error_input
    use uniarc_foreign, only: interrupt_signal
    use uniarc_memory, only: allocation_failure
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits
-   use uniarc_dof_map, only: build_dof_map
+   use uniarc_dof_map, only: build_dof_map, candidate_live
    use uniarc_band, only: band_allocate
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, &
@@ -53,7 +53,7 @@ module uniarc_path_following
                                 trace_retraced_step, trace_set_origin, trace_remember_corner, &
                                 trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
-                                  add_concave_corner_hint
+                                  add_concave_corner_hint, add_convex_corner_hint
    use uniarc_path_start, only: size_first_step, find_floating, approach_first_contact
    implicit none
    private
@@ -161,6 +161,7 @@ contains
       type(path_trace_t), intent(inout) :: trace   !< path_advance's memory: its kept states forgotten
       type(error_t), allocatable, intent(out) :: error
       type(path_system_t), allocatable :: system
+      real(dp), allocatable :: nodal(:, :)
       associate (options => model%analysis)
          state%lambda = 0.0_dp
          state%last_increment = 0.0_dp
@@ -172,6 +173,21 @@ contains
          if (allocated(error)) return
          call move_alloc(state%system, system)
          system%holds_converged = .false.
+         ! A structure held only by its contacts that ended the last step with none in its working set
+         ! (no load pushed it onto them) and that this step's load pushes along a free translation
+         ! meets its first contact before λ grows, as at the start of the path (docs/theory.md §2.8).
+         if (rests_on_nothing(model, state)) then
+            call nodal_displacements(model, state, nodal, error)
+            if (.not. allocated(error)) call approach_first_contact(model, state, system, nodal, error)
+            if (allocated(error)) then
+               ! the load pushes the structure off every contact: no equilibrium past λ = 0 (§3.12), a
+               ! failed analysis step, not bad input (the steps before have their results)
+               if (error%category == error_input) error%category = error_analysis
+               call move_alloc(system, state%system)
+               call add_where(error, 'start of the step', state)
+               return
+            end if
+         end if
          call commit_tangent(model, state, system, .false., error)
          call move_alloc(system, state%system)
          if (allocated(error)) then
@@ -185,6 +201,20 @@ contains
          call trace_set_origin(trace, state%u, 0.0_dp, state%point%step)
       end associate
    end subroutine path_restart
+
+   !> A structure held only by its contacts (it has floating motions) with no contact in its working
+   !> set: no live candidate of state%active but the tangential springs (which follow a radial partner).
+   pure logical function rests_on_nothing(model, state)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      integer :: c
+      rests_on_nothing = .false.
+      if (.not. allocated(state%floating_equation)) return
+      do c = 1, size(state%active)
+         if (state%active(c) .and. candidate_live(state%map, c) .and. .not. model%contacts(c)%tangential) return
+      end do
+      rests_on_nothing = .true.
+   end function rests_on_nothing
 
    !> The committed state's working set replaced by `active` (n_candidates) at the same displacements
    !> and λ: the driver's retry of a failed step with the contacts that touch out of the set
@@ -279,6 +309,7 @@ contains
       logical :: tie_split_cut, split_allowed, unexplained_limit
       integer :: revisited
       state%point%tie_kept = .false.
+      state%limit_under_load = .false.
       tie_split_cut = .false.
       split_allowed = .false.
       ! *PATH, SWITCH=n: the step after the n-th located bifurcation leaves along its mode.
@@ -446,8 +477,9 @@ contains
                   call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                   return
                end if
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                ! A step that converged but went back along the path (the piece past a corner folding
                ! back) is said: the path does not go on forward from here (docs/theory.md §2.3).
@@ -456,14 +488,19 @@ contains
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
                end if
                call add_concave_corner_hint(model, state, error)
+               if (index(error%message, 'concave corner') == 0) &
+                  call add_convex_corner_hint(model, state, options%control == control_load, &
+                                              2.0_dp*length/state%first_length, error)
                if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
-                   index(error%message, 'concave corner') == 0 .and. .not. at_bearing_limit(state)) then
+                   index(error%message, 'concave corner') == 0 .and. index(error%message, 'convex corner') == 0 &
+                   .and. .not. at_bearing_limit(state)) then
                   ! Under load control the path cannot pass a limit point: past it there is no
                   ! equilibrium near the last one (docs/contracts.md, exit code 1). Not said where
                   ! contacts are at their bearing limit: arc length meets the same plateau there
                   ! (add_mechanism_hint and the collapse test say what is known, docs/theory.md §3.9).
                   error%message = error%message//'; under load control this is where the load reaches a '// &
                                   'limit point (or the path turns): trace it with CONTROL=ARCLENGTH'
+                  state%limit_under_load = .true.
                end if
                call add_crest_hint(model, state, error)
                call add_mechanism_hint(model, state, error)
@@ -733,8 +770,9 @@ contains
             end if
             if (length < options%min_increment*state%first_length) then
                call move_alloc(system, state%system)
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &

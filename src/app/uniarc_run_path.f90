@@ -136,7 +136,7 @@ contains
                if (.not. options%quiet) write (output_unit, '(a)') '  '//outcome%events(k)%kind//' '// &
                   event_place(outcome%events(k)%position, record%step)//', lambda = '// &
                   short_number(outcome%events(k)%lambda)//multiplicity_note(outcome%events(k)%multiplicity)// &
-                  step_label(model, k_step)
+                  placement_note(outcome%events(k)%located)//step_label(model, k_step)
             end do
             if (allocated(io_error)) exit
             if (.not. outcome%advanced) exit
@@ -168,6 +168,25 @@ contains
             ! error; the path ends at the last written step, as between steps.
             deallocate (error)
             driver%stop = stop_none
+         end if
+         if (allocated(error) .and. .not. allocated(io_error)) then
+            ! Under load control the path cannot pass a limit point: the step past the last row failed
+            ! from a stable state down to the least increment (uniarc_path_following). That row, the
+            ! highest λ load control reaches, is the limit_max row (docs/contracts.md, STEM.crit).
+            if (driver%state%limit_under_load) then
+               if (allocated(model%steps)) then
+                  call write_crit_row(files, 'limit_max', real(record%step, dp), record%lambda, driver%tracked, &
+                                      io_error, analysis_step=k_step, step_name=model%steps(k_step)%name)
+               else
+                  call write_crit_row(files, 'limit_max', real(record%step, dp), record%lambda, driver%tracked, &
+                                      io_error)
+               end if
+               n_critical = n_critical + 1
+               if (.not. options%quiet) write (output_unit, '(a)') '  limit_max at step '// &
+                  integer_to_string(record%step)//', lambda = '//short_number(record%lambda)// &
+                  ' (under load control: the last converged state, no equilibrium found past it)'// &
+                  step_label(model, k_step)
+            end if
          end if
          if (allocated(error)) call name_analysis_step(model, k_step, error)
          if (allocated(error) .or. allocated(io_error) .or. k_step == n_steps .or. driver%stop == stop_none .or. &
@@ -352,6 +371,7 @@ contains
       type(model_t), intent(in) :: model
       type(path_driver_t), intent(in) :: driver
       character(len=:), allocatable :: message
+      character(len=:), allocatable :: hinges
       select case (driver%stop)
       case (stop_load_limit)
          message = 'stopped by the load limit: |lambda| = '//short_number(abs(driver%state%lambda))// &
@@ -379,9 +399,15 @@ contains
                       'would go round the same loop again'
          end if
       case (stop_collapse)
+         hinges = ''
+         if (allocated(driver%collapse_joints)) then
+            if (len(driver%collapse_joints) > 0) hinges = ' and joint(s) at their moment limit MY as hinges ('// &
+                                                          driver%collapse_joints//')'
+         end if
          message = 'stopped by a bearing collapse: '//integer_to_string(driver%collapse_points)// &
                    ' contact point(s) of beds or springs at their limit QU or TU (nodes '//driver%collapse_nodes// &
-                   ') and nothing else holding the motion the load drives; no higher load may be carried '// &
+                   ')'//hinges//' and nothing else holding the motion the load drives; no higher load may be '// &
+                   'carried '// &
                    '(collapse load between lambda = '//short_number(driver%state%lambda)//' and '// &
                    short_number(driver%collapse_upper)//')'
       case default
@@ -400,6 +426,16 @@ contains
          text = 'between steps '//integer_to_string(step - 1)//' and '//integer_to_string(step)
       end if
    end function event_place
+
+   !> The note on a bifurcation that could not be bracketed by re-solving the step: it is placed at a
+   !> converged state beside the change of the count of negative pivots (docs/contracts.md, STEM.crit).
+   function placement_note(located) result(text)
+      logical, intent(in) :: located
+      character(len=:), allocatable :: text
+      text = ''
+      if (.not. located) text = ' (not bracketed by re-solving the step: placed at a converged state '// &
+                                'beside the change of the count of negative pivots)'
+   end function placement_note
 
    !> The note on a bifurcation at which several eigenvalues of the tangent vanish together (a double
    !> eigenvalue of a symmetric structure, docs/theory.md §2.3); empty for a simple one.

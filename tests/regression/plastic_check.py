@@ -9,6 +9,7 @@ Usage (one CTest per call):
   plastic_check.py --uniarc BIN --out DIR --mode elastic --deck DECK
   plastic_check.py --uniarc BIN --out DIR --mode bilateral --deck DECK
   plastic_check.py --uniarc BIN --out DIR --mode plateau --deck DECK --rtol R [--load-node I]
+  plastic_check.py --uniarc BIN --out DIR --mode reload  --deck DECK --rtol R [--define NAME=VALUE]...
 
 block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic soil spring k, limit qu,
          pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
@@ -24,6 +25,16 @@ bed:     a beam on a tensionless plastic bed (decks/beam_plastic_bed.inp): the d
          solution: Hermite beam elements on a mesh 16 times finer (--refine), the bed lumped to its nodes, the
          piecewise-linear law solved increment by increment by an active-set loop (numpy).
 elastic: the bed deck with QU huge (1e300) against the same deck without QU=: the path files are equal.
+reload:  the bed deck loaded, unloaded to zero and loaded again in three *STEPs
+         (decks/plastic_bed_unload_reload.inp): the state at the end of each step against its closed
+         form, the plastic set being history (docs/theory.md §3.9). End of loading: the independent
+         solution of `bed` (deflections and slips to --rtol of w0, the same yielding candidates). End of
+         unloading: the slips unchanged and the beam straight where it started, w = 0 at every node to
+         the touch tolerance 1e-9 L of the contacts it rests on (the springs that did not yield are at
+         their unloaded length, the yielded ones open over the hollow of their slip). End of reloading:
+         the state of the end of loading (no spring reaches its limit again: each follows its elastic
+         branch back), deflections to 1e-8 of w0 and reactions to 1e-8 of the largest (both ends are
+         converged to Newton's tolerance 1e-8 of the force scale), the slips the same.
 bilateral: the bed deck with QU= and TU= both huge (1e300) against the same deck with BILATERAL in their
          place: the path files are equal.
 """
@@ -543,6 +554,72 @@ def check_plateau(args):
         fail('a yielded node of the reference moves back: the holonomic reference does not apply')
 
 
+def check_reload(args):
+    finished = run(args.uniarc, args.deck, args.out, args.define)
+    if finished.returncode != 0:
+        fail(f'exit code {finished.returncode}')
+    values = deck_parameters(args.deck, args.define)
+    stem = os.path.splitext(os.path.basename(args.deck))[0]
+    path = table(os.path.join(args.out, stem + '.path'))
+    shape = table(os.path.join(args.out, stem + '.shape'))
+    contact = table(os.path.join(args.out, stem + '.contact'))
+    ends = {}
+    for analysis_step in (1, 2, 3):
+        rows = path[path['analysis_step'] == analysis_step]
+        if len(rows) == 0:
+            fail(f'no row of analysis step {analysis_step}')
+        last = rows[-1]
+        if abs(last['lambda'] - 1.0) > 1e-12:
+            fail(f'analysis step {analysis_step} ended at lambda = {last["lambda"]!r}, not 1')
+        step = int(last['step'])
+        nodes = shape[(shape['step'] == step) & (np.abs(shape['lambda'] - 1.0) <= 1e-12)]
+        nodes = nodes[np.argsort(nodes['x0'])]
+        springs = contact[(contact['step'] == step) & (contact['analysis_step'] == analysis_step)]
+        springs = springs[np.argsort(springs['s'])]
+        if len(nodes) != int(values['n']) + 1 or len(springs) != int(values['n']) + 1:
+            fail(f'the shape or contact rows of step {step} (end of analysis step {analysis_step}) are missing')
+        ends[analysis_step] = (-nodes['uy'], springs['slip'], springs['yielding'], springs['reaction'])
+    refine = args.refine
+    w_ref, slip_ref, yielding_ref = plastic_bed_reference(values['L'], refine*int(values['n']), 1.0, values['k'],
+                                                          values['qu'], values['P'], 20)
+    w0 = np.max(np.abs(w_ref))
+    w_load, slip_load, yielding_load, reaction_load = ends[1]
+    deflection = np.max(np.abs(w_load - w_ref[::refine]))/w0
+    slip = np.max(np.abs(slip_load - slip_ref[::refine]))/w0
+    print(f'end of loading: w0 {w_load[len(w_load)//2]:.10e} against {w_ref[len(w_ref)//2]:.10e}; deflections '
+          f'{deflection:.2e} of w0, slips {slip:.2e}; {int(np.sum(yielding_load == 1))} yielding, reference '
+          f'{int(np.sum(yielding_ref[::refine] == 1))}')
+    if deflection > args.rtol or slip > args.rtol:
+        fail(f'end of loading: deflections or slips beyond {args.rtol} of w0')
+    if not np.array_equal(yielding_load, yielding_ref[::refine]):
+        fail('end of loading: the yielding candidates differ from the reference')
+    if not np.any(slip_load > 0.0):
+        fail('end of loading: no slip, nothing to unload from')
+    w_unload, slip_unload, yielding_unload, reaction_unload = ends[2]
+    touch = 1e-9*values['L']
+    print(f'end of unloading: largest |w| {np.max(np.abs(w_unload)):.3e} (touch tolerance {touch:.1e}), slips '
+          f'changed by {np.max(np.abs(slip_unload - slip_load)):.3e}, {int(np.sum(yielding_unload != 0))} yielding, '
+          f'largest reaction {np.max(np.abs(reaction_unload)):.3e}')
+    if np.max(np.abs(w_unload)) > touch:
+        fail('end of unloading: the beam is not back where it started')
+    if np.max(np.abs(slip_unload - slip_load)) > 1e-12*w0 or np.any(yielding_unload != 0):
+        fail('end of unloading: the slips changed or a spring still yields')
+    # no load: the springs it rests on carry at most their stiffness times the touch tolerance
+    if np.max(np.abs(reaction_unload)) > values['k']*values['L']/values['n']*touch:
+        fail('end of unloading: a spring carries a force with no load on the beam')
+    w_reload, slip_reload, yielding_reload, reaction_reload = ends[3]
+    again = np.max(np.abs(w_reload - w_load))/w0
+    # back on the elastic branch of every spring: the same reactions (those at the limit reach qu L_i
+    # again, whether the set then calls them yielding or elastic at their limit), no new slip
+    reaction_change = np.max(np.abs(reaction_reload - reaction_load))/np.max(np.abs(reaction_load))
+    print(f'end of reloading: w0 {w_reload[len(w_reload)//2]:.10e}, deflections {again:.2e} of w0 from the end '
+          f'of loading, reactions {reaction_change:.2e} of the largest, slips changed by '
+          f'{np.max(np.abs(slip_reload - slip_load)):.3e}; {int(np.sum(yielding_reload == 1))} yielding')
+    if again > 1e-8 or reaction_change > 1e-8:
+        fail('end of reloading: not the state of the end of loading')
+    if np.max(np.abs(slip_reload - slip_load)) > 1e-12*w0:
+        fail('end of reloading: the slips differ from the end of loading (a spring yielded again)')
+
 def check_elastic(args):
     """The deck with QU huge against the same deck without QU= (written next to the results): the
     plastic law must leave the elastic path untouched, row for row and digit for digit."""
@@ -602,7 +679,8 @@ def main():
     parser.add_argument('--uniarc', required=True)
     parser.add_argument('--deck', required=True)
     parser.add_argument('--out', required=True)
-    parser.add_argument('--mode', required=True, choices=['block', 'limit', 'bed', 'elastic', 'bilateral', 'plateau'])
+    parser.add_argument('--mode', required=True,
+                        choices=['block', 'limit', 'bed', 'elastic', 'bilateral', 'plateau', 'reload'])
     parser.add_argument('--limit', default='qu', choices=['qu', 'tu'],
                         help='limit mode: the parameter of the limit load per length (qu bearing, tu uplift)')
     parser.add_argument('--define', action='append', default=[])
@@ -618,7 +696,7 @@ def main():
                              'deflection tracked as w_load')
     args = parser.parse_args()
     {'block': check_block, 'limit': check_limit, 'bed': check_bed, 'elastic': check_elastic,
-     'bilateral': check_bilateral, 'plateau': check_plateau}[args.mode](args)
+     'bilateral': check_bilateral, 'plateau': check_plateau, 'reload': check_reload}[args.mode](args)
     print('ok')
 
 

@@ -690,23 +690,80 @@ def check_table_format(path, text, deck, defines):
 
 
 def check_limits_bracketed(path_file, crit_file):
-    """Every run: a limit_max is not below the converged steps around it, a limit_min not above them
-    (an extremum of lambda between two converged points bounds both). The files carry 13 significant
-    digits, so the comparison allows 1e-12 relative."""
+    """Every run: every critical row lies on the path between the converged steps around it
+    (docs/contracts.md, STEM.crit). A limit_max is not below those steps, a limit_min not above them
+    (an extremum of lambda between two converged points bounds both); a contact_corner, where lambda
+    turns at a corner, is not strictly between them either. Every other row (bifurcation,
+    unilateral_bifurcation, contact_stability, contact_branching, contact events, bearing_collapse)
+    has its lambda within the range of its two neighbours, widened to the lambda of a limit or corner
+    row of the same interval (the only place lambda can turn inside it), and each tracked column
+    within the range of the neighbours' values (the tracked values are those of a state between them).
+    A row at a whole step may end the interval before it or start the one after. Not a branch_switch
+    row, whose interval joins two branches, nor contact_start or contact_lost (contact events, read
+    along the tangent of the piece leading to them), nor a row whose neighbours lie in two analysis steps (*STEP), whose lambdas are not one
+    path's. The files carry 13 significant digits, so comparisons allow 1e-12 relative."""
     failures = []
     path_names, path_rows = read_table(path_file)
-    lam = {int(round(row[0])): row[path_names.index('lambda')] for row in path_rows}
+    by_step = {int(round(row[0])): row for row in path_rows}
     names, events = read_events(crit_file)
+    lam_path = path_names.index('lambda')
+    stage = path_names.index('analysis_step') if 'analysis_step' in path_names else None
+    columns = [(names.index(n), path_names.index(n)) for n in names
+               if n in path_names and n not in ('step', 'lambda', 'analysis_step', 'step_name')]
+    turning = ('limit_max', 'limit_min', 'contact_corner')
+    # contact_start and contact_lost are contact events, not critical points: their lambda is read
+    # along the tangent of the smooth piece that leads to them (docs/contracts.md), not re-solved
+    skipped = ('branch_switch', 'contact_start', 'contact_lost')
+
+    def slack(*values):
+        return 1e-12 * max([abs(v) for v in values] + [1e-300])
+
+    def neighbours(position):
+        # a row at a whole step may end the interval before it (fraction 1) or start the next (fraction 0)
+        steps = {math.floor(position), math.ceil(position)}
+        if math.floor(position) == math.ceil(position):
+            steps |= {int(position) - 1, int(position) + 1}
+        rows = [by_step[k] for k in sorted(steps) if k in by_step]
+        if stage is not None and len({row[stage] for row in rows}) > 1:
+            return []
+        return rows
+
+    turns = {}
     for kind, numbers in events:
-        if kind not in ('limit_max', 'limit_min'):
+        if kind in turning:
+            position = numbers[names.index('step')]
+            turns.setdefault(math.floor(position), []).append(numbers[names.index('lambda')])
+    for kind, numbers in events:
+        if kind in skipped:
             continue
         position, value = numbers[names.index('step')], numbers[names.index('lambda')]
-        around = [lam[k] for k in (math.floor(position), math.ceil(position)) if k in lam]
-        slack = 1e-12 * max([abs(value)] + [abs(x) for x in around] + [1e-300])
-        if kind == 'limit_max' and any(value < x - slack for x in around):
+        rows = neighbours(position)
+        if not rows:
+            continue
+        around = [row[lam_path] for row in rows]
+        tol = slack(value, *around)
+        if kind == 'limit_max' and any(value < x - tol for x in around):
             failures.append(f'limit_max at step {position:g}: lambda {value!r} below a converged neighbour {around}')
-        if kind == 'limit_min' and any(value > x + slack for x in around):
+        elif kind == 'limit_min' and any(value > x + tol for x in around):
             failures.append(f'limit_min at step {position:g}: lambda {value!r} above a converged neighbour {around}')
+        elif kind == 'contact_corner' and min(around) + tol < value < max(around) - tol:
+            failures.append(f'contact_corner at step {position:g}: lambda {value!r} strictly between its neighbours '
+                            f'{around}, where lambda does not turn')
+        elif kind not in turning:
+            low = min(around + turns.get(math.floor(position), []))
+            high = max(around + turns.get(math.floor(position), []))
+            if value < low - tol or value > high + tol:
+                failures.append(f'{kind} at step {position:g}: lambda {value!r} outside [{low!r}, {high!r}], the '
+                                f'range of its converged neighbours {around}: not a state of the path between them')
+        for crit_column, path_column in columns:
+            got = numbers[crit_column]
+            if not isinstance(got, float):
+                continue
+            values = [row[path_column] for row in rows]
+            tol = slack(got, *values)
+            if got < min(values) - tol or got > max(values) + tol:
+                failures.append(f'{kind} at step {position:g}: {names[crit_column]} {got!r} outside the range of '
+                                f'its converged neighbours {values}')
     return failures
 
 

@@ -18,6 +18,7 @@ module uniarc_path_approach
    use uniarc_model, only: model_t, gap_fixed_direction
    use uniarc_dof_map, only: dof_map_t, candidate_live
    use uniarc_contact_law, only: candidate_gap
+   use uniarc_contact_plastic, only: slip_shift
    implicit none
    private
    public :: rigid_approach
@@ -52,11 +53,15 @@ contains
    !> `motions` (n_equations, k ≤ 3): the floating motions; `reference` (n_equations) the reference
    !> load R; `length_scale` the model's size. `linearised`: the gaps are g + a·u, linearised at
    !> `nodal` (those of the linear analysis) instead of the exact ones (the path's: a translation is
-   !> exact in it). `contact` returns the candidate met (0: none).
+   !> exact in it). `contact` returns the candidate met (0: none). `slip` (optional, one per candidate):
+   !> the committed plastic slip, by which a plastic candidate's medium has sunk (its gap is g + s,
+   !> uniarc_contact_plastic): a later analysis step of a structure that floats over the hollow its
+   !> load left meets the medium where it now is.
    !> Errors (error_input): the load pushes the structure along a free translation on which no contact
    !> is ever met (a mechanism under its loads); (error_analysis, out of memory): the work copies of the
    !> motions' basis and of the uniform translations refused by the system.
-   subroutine rigid_approach(model, map, motions, reference, nodal, length_scale, linearised, shift, contact, error)
+   subroutine rigid_approach(model, map, motions, reference, nodal, length_scale, linearised, shift, contact, error, &
+                            slip)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: motions(:, :), reference(:), nodal(:, :), length_scale
@@ -64,7 +69,9 @@ contains
       real(dp), intent(out) :: shift(:)
       integer, intent(out) :: contact
       type(error_t), allocatable, intent(out) :: error
+      real(dp), intent(in), optional :: slip(:)
       real(dp) :: free(2, 2), force(2), push(2), e(2), total, s, s_best, gap, gradient(2), hessian(2, 2), slope
+      real(dp) :: offset
       character(len=:), allocatable :: deck
       integer :: n_free, c, i, node, status
       real(dp) :: bytes
@@ -96,6 +103,9 @@ contains
          if (.not. candidate_live(map, c) .or. model%contacts(c)%tangential) cycle
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian)
+         offset = 0.0_dp
+         if (model%contacts(c)%plastic) offset = slip_shift(model, c, slip)
+         gap = gap + offset
          slope = dot_product(gradient, e)
          if (model%contacts(c)%bilateral) then
             ! a bonded candidate (a spring with an uplift limit too) holds the translation it sees
@@ -114,7 +124,7 @@ contains
             end if
          else
             call march(model, c, nodal(1:2, node), e, gap, min(s_best, reach_factor*length_scale), &
-                       touch_fraction*length_scale, s)
+                       touch_fraction*length_scale, offset, s)
          end if
          if (s < s_best) then
             s_best = s
@@ -220,12 +230,14 @@ contains
    !> The distance s ≤ limit along the unit direction e at which the exact gap of candidate c, its
    !> node displaced by u, closes (to `tolerance`), marching by the gap itself (a signed distance to
    !> the obstacle, 1-Lipschitz in the position: a step never passes the surface; Hart 1996, sphere
-   !> tracing, The Visual Computer 12:527–545). `gap` is the gap at s = 0 (> tolerance).
+   !> tracing, The Visual Computer 12:527–545). `gap` is the gap at s = 0 (> tolerance), `offset`
+   !> included.
    !> s = huge when the surface is not met before `limit`.
-   subroutine march(model, c, u, e, gap, limit, tolerance, s)
+   subroutine march(model, c, u, e, gap, limit, tolerance, offset, s)
       type(model_t), intent(in) :: model
       integer, intent(in) :: c
       real(dp), intent(in) :: u(2), e(2), gap, limit, tolerance
+      real(dp), intent(in) :: offset   !< added to the obstacle's gap (a plastic slip; 0 otherwise)
       real(dp), intent(out) :: s
       real(dp) :: g, gradient(2), hessian(2, 2)
       integer :: k, node
@@ -236,6 +248,7 @@ contains
          s = s + g
          if (s > limit) exit
          call candidate_gap(model%contacts(c), model%coordinates(:, node), u + s*e, g, gradient, hessian)
+         g = g + offset
          if (g <= tolerance) return
       end do
       s = huge(1.0_dp)

@@ -23,9 +23,16 @@
 !> the linear-fractional Δλ over the polyhedral cone of admissible φ is on one of its extreme rays,
 !> found by enumeration (d ≤ 3: the rays orthogonal to one constraint row in 2-D, to two in 3-D). To
 !> first order in the structure's rotation (the floating motions are those of the initial geometry).
+!>
+!> With joints at their moment limit (`*RELEASE, MY=`) the mechanisms are those of the structure's
+!> parts cut at them (hinge_mechanisms, uniarc_path_hinges), each joint one more row (it turns the way
+!> its moment flows, sign(M) Δθ ≥ 0) and its slack MY − |M| times that turn one more term of Δλ(φ)
+!> (docs/theory.md §3.9, "Collapse with hinges").
 module uniarc_path_collapse
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, dofs_per_node
+   use uniarc_model, only: model_t, dofs_per_node, end_joint_t, end_joints_of, has_moment_limits
+   use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
+   use uniarc_path_hinges, only: hinge_parts_t, hinge_parts, motion_of, hinge_rotation
    use uniarc_dof_map, only: candidate_live
    use uniarc_contact, only: candidate_gap, in_set
    use uniarc_assembly, only: gather_nodal
@@ -52,6 +59,15 @@ module uniarc_path_collapse
    !> max_pairs constraint rows only: a mechanism missed so is a collapse not certified (the run then
    !> ends as a failed step), never a false one.
    integer, parameter :: max_pairs = 300
+   !> A joint with a moment limit counts as a hinge of the mechanism when its moment is within this
+   !> fraction of MY (strict: the test that names the joints at their limit in a failed step's message,
+   !> uniarc_path_state yielded_joints), or within near_yield of it (a state from which the next step
+   !> failed, as the candidates).
+   real(dp), parameter :: hinge_at_limit = 1.0e-6_dp
+   !> The parts the hinges may cut the structure into: each moves rigidly (3 unknowns), and the
+   !> mechanisms must be at most 3 (the enumeration of the cone's rays); more parts than this, and
+   !> the certificate keeps the rigid motions of the whole structure.
+   integer, parameter :: max_parts = 4
    !> A contact out of the working set whose gap is at most this fraction of the largest displacement
    !> touches (round-off of a plateau that closed it; the model's size, which the working set's
    !> touching test takes, can exceed the gaps of a lift-off on a fine mesh).
@@ -68,7 +84,8 @@ contains
    !> message (e.g. "no mechanism that the load drives is admissible", or the bracket it found).
    !> Errors (error_analysis, out of memory; collapsed = .false.): its arrays of the candidates' or the
    !> equations' length (candidate_kinds, the constraint rows, the load's work) refused by the system.
-   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, error, finding, bound_only)
+   subroutine bearing_collapse(model, state, strict, collapsed, upper, count, nodes, error, finding, bound_only, &
+                               joints)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       !> .true.: only the candidates of the yielding set count as yielding (a converged state that is
@@ -88,16 +105,22 @@ contains
       !> of the small-displacement problem from any statically admissible state; collapsed then says
       !> that the bracket [λ_n, upper] is within collapse_bracket
       logical, intent(in), optional :: bound_only
+      !> on .true., the joints at their moment limit that are hinges of the mechanism ('' when it is a
+      !> rigid motion of the whole structure), e.g. "element 40 end 2" (not with bound_only)
+      character(len=:), allocatable, intent(out), optional :: joints
       real(dp), allocatable :: nodal(:, :), rate(:, :), basis(:, :), hold(:, :)
-      real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), mode(:)
+      real(dp), allocatable :: constraint(:, :), slack(:), load(:), gap_now(:), mode(:), motions(:, :)
+      real(dp), allocatable :: hinge_rate(:, :), hinge_slack(:), wider(:, :)
       integer, allocatable :: kind(:)
+      character(len=:), allocatable :: hinge_names
       real(dp) :: best, y(3), margin
-      integer :: n_c, m, c, d, n_con, a, b, k, status
-      logical :: every
+      integer :: n_c, m, c, d, n_con, a, b, k, status, j
+      logical :: every, hinged
       collapsed = .false.
       upper = state%lambda
       count = 0
       nodes = ''
+      if (present(joints)) joints = ''
       if (present(finding)) finding = 'the structure has no rigid motion held only by its contacts'
       if (.not. (allocated(state%floating_motion) .and. allocated(state%yielding) .and. &
                  allocated(state%reactions) .and. allocated(state%reference))) return
@@ -111,7 +134,31 @@ contains
       if (every) margin = 1.0_dp
       if (present(finding)) finding = 'no contact point at or within 0.1 % of its limit'
       if (strict .and. .not. every .and. .not. any(state%yielding .and. state%active)) return
-      call candidate_kinds(model, state, margin, every .or. .not. strict, nodal, rate, kind, slack, gap_now, error)
+      ! Joints at their moment limit are hinges of the mechanisms (not for the bound before a step:
+      ! every joint with a limit a hinge would cut the structure into too many parts to enumerate)
+      hinged = .false.
+      if (.not. every .and. has_moment_limits(model)) then
+         call hinge_mechanisms(model, state, strict, motions, hinge_rate, hinge_slack, hinge_names, hinged, error)
+         if (allocated(error)) return
+      end if
+      if (.not. hinged) then
+         ! (the hinges' arrays, if hinge_mechanisms made them before it gave up, dropped)
+         if (allocated(motions)) deallocate (motions)
+         if (allocated(hinge_rate)) deallocate (hinge_rate)
+         if (allocated(hinge_slack)) deallocate (hinge_slack)
+         allocate (motions(size(state%floating_motion, 1), m), stat=status)
+         call allocation_failure(status, 'the rigid motions of the collapse certificate', &
+                                 8.0_dp*size(state%floating_motion), error_analysis, error)
+         if (allocated(error)) return
+         motions(:, :) = state%floating_motion
+         allocate (hinge_rate(0, m), hinge_slack(0), stat=status)
+         call allocation_failure(status, 'the hinges of the collapse certificate', 0.0_dp, error_analysis, error)
+         if (allocated(error)) return
+         hinge_names = ''
+      end if
+      m = size(motions, 2)
+      call candidate_kinds(model, state, motions, margin, every .or. .not. strict, nodal, rate, kind, slack, gap_now, &
+                           error)
       if (allocated(error)) return
       if (.not. any(kind == 2 .or. kind == 3)) return
       ! The null space of the holders' rows (m ≤ 3 columns): the mechanisms they do not resist.
@@ -125,18 +172,32 @@ contains
       ! candidate that the subspace moves), oriented so that an admissible φ = basis·y has row·y ≥ 0:
       ! bearing a·φ ≤ 0 (the penetration grows), uplift and open a·φ ≥ 0 (an open one not closed).
       ! (the motion of each basis vector in a work vector allocated with stat=, not a temporary)
-      allocate (load(d), mode(size(state%floating_motion, 1)), stat=status)
+      allocate (load(d), mode(size(motions, 1)), stat=status)
       call allocation_failure(status, 'the load''s work on the rigid motions of the collapse certificate', &
-                              8.0_dp*(d + size(state%floating_motion, 1)), error_analysis, error)
+                              8.0_dp*(d + size(motions, 1)), error_analysis, error)
       if (allocated(error)) return
       do k = 1, d
-         mode(:) = matmul(state%floating_motion, basis(:, k))
+         mode(:) = matmul(motions, basis(:, k))
          load(k) = dot_product(state%reference, mode)
       end do
       if (present(finding)) finding = 'the load does no work on the rigid motions the elastic contacts leave free'
       if (maxval(abs(load)) <= 0.0_dp) return
       call constraint_rows(rate, kind, basis, .true., constraint, n_con, error)
       if (allocated(error)) return
+      if (size(hinge_slack) > 0) then
+         ! a joint at its limit turns the way its moment flows (sign(M) Δθ ≥ 0, §1.11), else it unloads
+         ! elastically and holds: one more row each, oriented as the candidates' (hinge_rate is signed)
+         allocate (wider(d, n_con + size(hinge_slack)), stat=status)
+         call allocation_failure(status, 'the hinges'' rows of the collapse certificate', &
+                                 8.0_dp*d*(n_con + size(hinge_slack)), error_analysis, error)
+         if (allocated(error)) return
+         wider(:, 1:n_con) = constraint(:, 1:n_con)
+         do j = 1, size(hinge_slack)
+            wider(:, n_con + j) = matmul(hinge_rate(j, :), basis)
+         end do
+         n_con = n_con + size(hinge_slack)
+         call move_alloc(wider, constraint)
+      end if
       ! Extreme rays of {y : constraintᵀy ≥ 0}: in 1-D ±1; in 2-D the normals to one row; in 3-D the
       ! cross products of two rows; with fewer rows than needed, the load's own direction too.
       best = huge(1.0_dp)
@@ -174,6 +235,7 @@ contains
                                         real_to_string(upper, '(es12.5)')//', not within 0.1 % of lambda = '//real_to_string(state%lambda, '(es12.5)')
       end if
       if (.not. collapsed) return
+      if (present(joints)) joints = hinge_names
       ! the candidates at their limits (for the message)
       do c = 1, n_c
          if (kind(c) /= 2 .and. kind(c) /= 3) cycle
@@ -204,6 +266,10 @@ contains
          do i = 1, n_c
             if (kind(i) == 2 .or. kind(i) == 3 .or. kind(i) == 5) &
                dissipation = dissipation + slack(i)*(-dot_product(matmul(rate(i, :), basis), direction))/norm
+         end do
+         ! the hinges: their moment's slack MY − |M| times their turn the way they flow
+         do i = 1, size(hinge_slack)
+            dissipation = dissipation + hinge_slack(i)*dot_product(matmul(hinge_rate(i, :), basis), direction)/norm
          end do
          best = min(best, max(0.0_dp, dissipation)/work_load)
       end subroutine try
@@ -264,7 +330,8 @@ contains
       if (m == 0 .or. n_c == 0) return
       ! the candidates' kinds as the certificate's with strict = .false. (1 holder, 2 bearing, 3 uplift,
       ! 4 open, 5 lifting)
-      call candidate_kinds(model, state, near_yield, .true., nodal, rate, kind, slack, gap_now, error)
+      call candidate_kinds(model, state, state%floating_motion, near_yield, .true., nodal, rate, kind, slack, &
+                           gap_now, error)
       if (allocated(error)) return
       touch_gap = touch_tolerance*maxval(abs(nodal(1:2, :)))
       do c = 1, n_c
@@ -428,9 +495,100 @@ contains
 
    end subroutine plastic_plateau
 
+   !> The mechanisms of the committed `state` with its joints at their moment limit as hinges
+   !> (uniarc_path_hinges; docs/theory.md §3.9, "Collapse with hinges"): `motions` (n_equations, m ≤ 3)
+   !> the motions of the parts that agree at the hinges and the supports, `hinge_rate` (hinges, m) each
+   !> joint's turn along them oriented the way its moment flows (sign(M) Δθ, §1.11), `hinge_slack`
+   !> MY − |M| of each, `names` the joints ("element E end i", the first ones). found = .false. (the
+   !> rigid motions of the whole structure are then the certificate's) when no joint is at its limit,
+   !> the hinges cut the structure into more than max_parts parts or leave more than 3 mechanisms or
+   !> none, or a hinge's node is rigid to no part (its turn is not fixed by the parts).
+   !> Errors (error_analysis, out of memory): the arrays of the joints, the parts and the motions.
+   subroutine hinge_mechanisms(model, state, strict, motions, hinge_rate, hinge_slack, names, found, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: strict
+      real(dp), allocatable, intent(out) :: motions(:, :), hinge_rate(:, :), hinge_slack(:)
+      character(len=:), allocatable, intent(out) :: names
+      logical, intent(out) :: found
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), z(:, :), moment(:, :)
+      logical, allocatable :: hinge(:, :), at_limit(:, :)
+      type(end_joint_t) :: ends(2)
+      type(element_response_t) :: response
+      type(hinge_parts_t) :: parts
+      real(dp) :: tolerance, turn
+      integer :: e, i, k, j, status
+      logical :: known
+      found = .false.
+      names = ''
+      if (.not. allocated(state%joint_plastic)) return
+      tolerance = near_yield
+      if (strict) tolerance = hinge_at_limit
+      allocate (nodal(dofs_per_node, model%n_nodes), hinge(2, model%n_elements), at_limit(2, model%n_elements), &
+                moment(2, model%n_elements), stat=status)
+      call allocation_failure(status, 'the joints of the collapse certificate', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 3*model%n_elements), error_analysis, error)
+      if (allocated(error)) return
+      call gather_nodal(state%map, state%u, nodal)
+      hinge = .false.
+      at_limit = .false.
+      moment = 0.0_dp
+      do e = 1, model%n_elements
+         ends = end_joints_of(model, e)
+         hinge(:, e) = ends%hinge
+         if (.not. any(ends%moment_limit > 0.0_dp)) cycle
+         call element_response(model, e, element_displacements(model, e, nodal), transformation_corotational, &
+                               response, state%joint_plastic(:, e))
+         do i = 1, 2
+            if (.not. ends(i)%moment_limit > 0.0_dp) cycle
+            if (abs(response%basic_force(1 + i)) < (1.0_dp - tolerance)*ends(i)%moment_limit) cycle
+            at_limit(i, e) = .true.
+            hinge(i, e) = .true.
+            moment(i, e) = response%basic_force(1 + i)
+         end do
+      end do
+      if (.not. any(at_limit)) return
+      call hinge_parts(model, state%map, hinge, max_parts, parts, status)
+      call allocation_failure(status, 'the parts of the structure cut at its hinges', &
+                              8.0_dp*(model%n_elements + 2*model%n_nodes), error_analysis, error)
+      if (allocated(error)) return
+      if (parts%n_parts > max_parts) return
+      call null_space(parts%rows, z)
+      if (size(z, 2) == 0 .or. size(z, 2) > 3) return
+      allocate (motions(state%map%n_equations, size(z, 2)), hinge_rate(count(at_limit), size(z, 2)), &
+                hinge_slack(count(at_limit)), stat=status)
+      call allocation_failure(status, 'the mechanisms with hinges of the collapse certificate', &
+                              8.0_dp*(state%map%n_equations + count(at_limit) + 1)*size(z, 2), error_analysis, error)
+      if (allocated(error)) return
+      do k = 1, size(z, 2)
+         call motion_of(model, state%map, parts, z(:, k), motions(:, k))
+      end do
+      j = 0
+      do e = 1, model%n_elements
+         ends = end_joints_of(model, e)
+         do i = 1, 2
+            if (.not. at_limit(i, e)) cycle
+            j = j + 1
+            do k = 1, size(z, 2)
+               call hinge_rotation(model, parts, e, i, z(:, k), turn, known)
+               if (.not. known) return
+               hinge_rate(j, k) = sign(1.0_dp, moment(i, e))*turn
+            end do
+            hinge_slack(j) = max(0.0_dp, ends(i)%moment_limit - abs(moment(i, e)))
+            if (len(names) > 60) cycle
+            if (len(names) > 0) names = names//', '
+            names = names//'element '//int_text(model%element_label(e))//' end '//int_text(i)
+            if (len(names) > 60) names = names//', ...'
+         end do
+      end do
+      found = .true.
+   end subroutine hinge_mechanisms
+
    !> The candidates of the committed `state` as the certificate and the plateau see them (one
    !> procedure for both): `rate` (n_c, m) = a_c·v_j, the first-order gap change of candidate c along
-   !> floating motion j (0 within row_tolerance of |a_c| max|v_j|); `kind` (n_c): 0 none (dead or
+   !> the motion v_j of `motions` (the floating motions, or the certificate's mechanisms with hinges)
+   !> (0 within row_tolerance of |a_c| max|v_j|); `kind` (n_c): 0 none (dead or
    !> bonded out of the set), 1 holder, 2 bearing yield, 3 uplift yield, 4 open unilateral, 5 in the set
    !> touching with at most `margin` of its release scale (its bearing limit, else the set's largest
    !> reaction); `slack` (n_c) the force r_lim − r to the limit of kinds 2, 3 and 5 (r_lim = 0 for 5);
@@ -438,9 +596,10 @@ contains
    !> the slip of a tangential spring. A candidate of the set counts as yielding when it is in
    !> state%yielding or, with `widened`, when its reaction is within `margin` of its limit.
    !> Errors (error_analysis, out of memory): an array refused by the system (each allocated with stat=).
-   subroutine candidate_kinds(model, state, margin, widened, nodal, rate, kind, slack, gap_now, error)
+   subroutine candidate_kinds(model, state, motions, margin, widened, nodal, rate, kind, slack, gap_now, error)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: motions(:, :)   !< (n_equations, m) the mechanisms (floating motions, or with hinges)
       real(dp), intent(in) :: margin
       logical, intent(in) :: widened
       real(dp), allocatable, intent(out) :: nodal(:, :), rate(:, :), slack(:), gap_now(:)
@@ -450,7 +609,7 @@ contains
       real(dp) :: gap, gradient(2), hessian(2, 2), limit, reaction, scale, force_scale
       integer :: n_c, m, c, j, node, status
       n_c = size(state%active)
-      m = size(state%floating_motion, 2)
+      m = size(motions, 2)
       allocate (nodal(dofs_per_node, model%n_nodes), motion_nodal(dofs_per_node, model%n_nodes), rate(n_c, m), &
                 kind(n_c), slack(n_c), gap_now(n_c), stat=status)
       call allocation_failure(status, 'the kinds and rates of the contacts for the collapse certificate', &
@@ -462,7 +621,7 @@ contains
       gap_now(:) = 0.0_dp
       call gather_nodal(state%map, state%u, nodal)
       do j = 1, m
-         call gather_nodal(state%map, state%floating_motion(:, j), motion_nodal)
+         call gather_nodal(state%map, motions(:, j), motion_nodal)
          scale = maxval(abs(motion_nodal(1:2, :)))
          do c = 1, n_c
             if (.not. candidate_live(state%map, c)) cycle
@@ -654,3 +813,4 @@ contains
    end function int_text
 
 end module uniarc_path_collapse
+

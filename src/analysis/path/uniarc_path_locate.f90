@@ -7,10 +7,16 @@
 !> of dλ/ds, for a bifurcation on whether the count of negative pivots has changed, the new h by the
 !> secant (regula falsi) on dλ/ds or on the least eigenvalue, safeguarded by bisection (Crisfield
 !> 1997, Non-linear Finite Element Analysis of Solids and Structures vol. 2, ch. 21: locating critical
-!> points). On the final bracket (below 1e-3 of the step) a limit point is placed by the cubic Hermite
+!> points). Every probe must lie on the piece of path between the bracket's ends (its λ between
+!> theirs where λ is monotone, beyond the lower end's towards a limit): a re-solution that converges
+!> elsewhere — at a state where the arc-length sphere meets another equilibrium, a contact set the
+!> path does not take — ends the narrowing as one that does not converge. On the final bracket
+!> (below 1e-3 of the step) a limit point is placed by the cubic Hermite
 !> interpolant of uniarc_critical_points, a bifurcation where the least eigenvalue vanishes, between
 !> two converged states that close together; a located limit is as high (a minimum as low) as every
-!> converged state around it. The probes never change the committed state; the system of equations
+!> converged state around it. A bifurcation whose bracket could not be narrowed is placed at a
+!> converged end of the bracket so far (the one nearer to where the least eigenvalue, linear between
+!> them, vanishes), and flagged, never interpolated across a wide bracket. The probes never change the committed state; the system of equations
 !> is returned holding the committed tangent.
 module uniarc_path_locate
    use uniarc_kinds, only: dp
@@ -69,6 +75,22 @@ module uniarc_path_locate
    !> 146.6) — contact events.
    real(dp), parameter :: jump_ratio = 10.0_dp
    real(dp), parameter :: regular_ratio = 2.0_dp
+   !> A probe is on the piece of path between the bracket's ends if its λ is within their range
+   !> (where λ is monotone; towards a limit, on the far side of the lower end's λ), widened by
+   !> piece_slack of the whole step's change of λ plus round_slack of |λ|. A state on the piece lies
+   !> inside; the slack is for the probes' own error, which near a bifurcation is more than the
+   !> equilibrium tolerance: there a re-solution may converge on the bifurcated branch, or along the
+   !> near-singular mode, a little off the primary path (Walker's whole arch at its bifurcation
+   !> 66.3952, Debug build: probes 1.6e-9 of λ outside brackets of 1e-7 of the step, and one 2.7e-4
+   !> outside a bracket in a step of Δλ = 0.03, 1 % of it). The probes off the path that this rejects
+   !> lie 10 % to 25 % of the step's change of λ and more outside the bracket: ex. 3 as a whole arch,
+   !> arch_above_full.inp at k = 1e6, re-solved 0.9375 of step 26 at λ = 55.13 on a contact set of 20,
+   !> 1.2 below the bracket's range (56.67 to 56.31; the step's Δλ 4.69) where the path has 22
+   !> contacts, and placed a bifurcation at 55.26, 2.4 % below a fine trace's path at its w_crown; the
+   !> pipeline over its hump (steps_pipeline_hump_history.inp) and the round liner in its host (eps =
+   !> 2e-3) wrote rows 10 % to 55 % of their step's Δλ outside their neighbours.
+   real(dp), parameter :: piece_slack = 5.0e-2_dp
+   real(dp), parameter :: round_slack = 1.0e-9_dp
 
 contains
 
@@ -77,24 +99,29 @@ contains
    !> (a copy of the committed state at its start, system not allocated) to `after` (the committed
    !> state it reached with a step of length `length`, the units of state%step_length) passed.
    !> On return after%point%limit_fraction/limit_lambda or bifurcation_fraction/bifurcation_lambda
-   !> hold it (fraction of the interval in path length, λ). A probe that does not converge ends the
-   !> narrowing (the bracket so far is used). `system` holds after's committed tangent on entry and on
+   !> hold it (fraction of the interval in path length, λ). A probe that does not converge, or that
+   !> converges off the piece of path between the bracket's ends (on_piece), ends the narrowing (the
+   !> bracket so far is used; a bifurcation is then placed at one of its converged ends,
+   !> after%point%bifurcation_unbracketed). `system` holds after's committed tangent on entry and on
    !> return (re-assembled if a probe used it). A failure leaves the fields at −1; the only errors are
    !> out of memory (error_analysis, flagged out_of_memory: the run ends).
    !> A located bifurcation also sets after%point%bifurcation_multiplicity, the change of the count
    !> across the final bracket once it is narrowed to its tolerance (2 at a double eigenvalue; 0 if
-   !> a re-solution failed first), and after%bifurcation: the converged state at the located point (one
-   !> more re-solution; if it fails, the end of the final bracket whose least eigenvalue is of smaller
-   !> magnitude) and its least eigenvector,
+   !> the bracket could not be narrowed), and after%bifurcation: the converged state at the located
+   !> point (one more re-solution; if it fails or lands off the bracket's piece, the end of the final
+   !> bracket whose least eigenvalue is of smaller magnitude; the end it is placed at where
+   !> unbracketed) and its least
+   !> eigenvector,
    !> the buckling mode (of K_T, or of the tangent with the touching contacts released at a lift-off).
    !> `left_branch`: the count changed across a final bracket whose two converged ends are more than
    !> gap_ratio times farther apart than the bracket's share of the step's chord, and where the load
    !> sees the least eigenvector at both ends (a limit point, φᵀR ≠ 0, that λ did not turn at) — the
    !> step left the branch it followed (nothing is located; the caller rejects the step).
    !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
-   !> tolerance (the point is interpolated across the bracket so far; the caller may cut the step and
-   !> locate it again); or before the bracket of a bifurcation was, where the load sees the least
-   !> eigenvector at both of its ends (a near-bifurcation that the gap test cannot judge).
+   !> tolerance, or a re-solution of either kind of point converged off the piece of path between the
+   !> bracket's ends (the point is placed from the bracket so far; the caller may cut the step and
+   !> locate it again); or one failed before the bracket of a bifurcation was narrowed, where the load
+   !> sees the least eigenvector at both of its ends (a near-bifurcation that the gap test cannot judge).
    !> `unexplained_limit`: λ turns (a limit point, located as usual) while the count of negative pivots
    !> at the step's end is that of its start, with one working set across the final bracket and the
    !> load seeing the least eigenvector at both of its ends (φᵀR ≠ 0: a limit point, where one eigenvalue
@@ -133,6 +160,7 @@ contains
       after%point%limit_fraction = -1.0_dp
       after%point%bifurcation_fraction = -1.0_dp
       after%point%bifurcation_multiplicity = 0
+      after%point%bifurcation_unbracketed = .false.
       after%point%stability_by_contact = .false.
       after%point%stability_fraction = -1.0_dp
       after%point%limit_by_contact = .false.
@@ -198,6 +226,14 @@ contains
             exit
          end if
          probed = .true.
+         if (.not. on_piece(probe, pa, pb)) then
+            ! Converged off the piece of path between the bracket's ends: no bracket point. As a
+            ! probe that does not converge, it ends the narrowing; the step is cut and located again
+            ! in a shorter one if it may be (uniarc_path_following), else the point is placed from
+            ! the bracket so far (a bifurcation at its end where the count changed).
+            unresolved = width > tolerance*length
+            exit
+         end if
          fp = indicator(probe)
          if (limit) call keep_extreme(probe%lambda, h)
          if (passed(probe)) then
@@ -307,11 +343,12 @@ contains
          ! (ex. 2 as a whole arch at k = 5e4: from -4.3e-6 to +9.1e-6 where a pair of nodes touches the
          ! bed) without the tangent being singular on either side. Not a bifurcation: no branch
          ! crosses, and no mode to switch to (docs/theory.md §2.2); a `contact_stability` row, placed
-         ! in the middle of the final bracket. (Where μ passes through zero smoothly in a bracket that
+         ! at the converged end of the final bracket where the count has changed (a state of the path,
+         ! within 1e-3 of the step of the change). (Where μ passes through zero smoothly in a bracket that
          ! a contact event happens to share, jumps_at_contact is false: a bifurcation, below.)
          after%point%stability_by_contact = .true.
-         after%point%stability_fraction = min(1.0_dp, max(0.0_dp, 0.5_dp*(ha + hb)/length))
-         after%point%stability_lambda = 0.5_dp*(pa%lambda + pb%lambda)
+         after%point%stability_fraction = min(1.0_dp, max(0.0_dp, hb/length))
+         after%point%stability_lambda = pb%lambda
       else if (hb - ha <= tolerance*length .and. .not. in_lambda_alone() .and. &
                load_sees_mode(state_a) .and. load_sees_mode(state_b) .and. &
                masked_norm(after%map, state_b%u - state_a%u)*length > &
@@ -321,19 +358,39 @@ contains
          ! imperfect structure (where its path turns sharply to a limit point) onto the
          ! complementary path (docs/theory.md §2.3): the caller rejects it and cuts the step.
          left_branch = .true.
-      else
-         ! A bracket that a failed re-solution left wide, across which the load sees the least
-         ! eigenvector at both ends: a limit point (φᵀR ≠ 0) that λ did not turn at, as at the
-         ! near-bifurcation of an imperfect structure, whose step may have gone past it onto the
-         ! complementary path — the gap test above needs the narrowed bracket to tell. Walker's whole
-         ! arch with an antisymmetric imperfection of amplitude 1e-6: a probe failed on a bracket of
-         ! 0.018 of the step, |φᵀR|/(|φ||R|) 5.1e-4 and 1.8e-3 at its ends, and the step had landed
-         ! on the complementary path (the crown's sideways displacement from +2.8e-5 to −1.4e-5; a
+      else if (hb - ha > tolerance*length) then
+         ! The bracket could not be narrowed (a re-solution failed, or converged off the piece of path
+         ! between the bracket's ends): the bifurcation is placed at one of its converged ends, and
+         ! flagged — not interpolated across the bracket so far: at pa if the least eigenvalue,
+         ! linear between them, vanishes nearer to it, else at pb, where the count is seen changed.
+         ! Its state and mode are that end's.
+         after%point%bifurcation_unbracketed = .true.
+         ! Where the load sees the least eigenvector at both ends of that wide bracket, the count
+         ! changed at a limit point (φᵀR ≠ 0) that λ did not turn at, as at the near-bifurcation of
+         ! an imperfect structure, whose step may have gone past it onto the complementary path —
+         ! the gap test above needs the narrowed bracket to tell. Walker's whole arch with an
+         ! antisymmetric imperfection of amplitude 1e-6: a probe failed on a bracket of 0.018 of the
+         ! step, |φᵀR|/(|φ||R|) 5.1e-4 and 1.8e-3 at its ends, and the step had landed on the
+         ! complementary path (the crown's sideways displacement from +2.8e-5 to −1.4e-5; a
          ! `bifurcation` at 66.39 and the perfect arch's limit 76.43 followed). Located like a limit
          ! point that could not be bracketed: the caller cuts the step while it can (docs/theory.md
-         ! §2.3); at the smallest step the bifurcation placed below is kept.
-         if (hb - ha > tolerance*length .and. .not. in_lambda_alone()) &
-            unresolved = load_sees_mode(state_a) .and. load_sees_mode(state_b)
+         ! §2.3); at the smallest step the bifurcation placed here is kept.
+         if (.not. in_lambda_alone()) &
+            unresolved = unresolved .or. (load_sees_mode(state_a) .and. load_sees_mode(state_b))
+         t = 1.0_dp
+         if (opposite_signs(pa%min_eigenvalue, pb%min_eigenvalue)) then
+            if (pa%min_eigenvalue/(pa%min_eigenvalue - pb%min_eigenvalue) < 0.5_dp) t = 0.0_dp
+         end if
+         if (t < 0.5_dp) then
+            after%point%bifurcation_lambda = pa%lambda
+            after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, ha/length))
+            call keep_bifurcation(state_a)
+         else
+            after%point%bifurcation_lambda = pb%lambda
+            after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, hb/length))
+            call keep_bifurcation(state_b)
+         end if
+      else
          ! Linear in the least eigenvalue, clamped to the bracket: at pa it may be a round-off zero
          ! of either sign (pa within 1e-11 of the point).
          if (pa%min_eigenvalue /= pb%min_eigenvalue) then
@@ -341,18 +398,21 @@ contains
          end if
          after%point%bifurcation_lambda = pa%lambda + t*(pb%lambda - pa%lambda)
          after%point%bifurcation_fraction = min(1.0_dp, max(0.0_dp, (ha + t*(hb - ha))/length))
-         ! How many eigenvalues vanish there: the change of the count across the final bracket, once
-         ! it is narrowed to its tolerance (a double eigenvalue changes it by two at one point; two
-         ! simple bifurcations inside the step leave a probe between them with the count changed by
-         ! one, and the bracket narrows onto the first).
-         if (hb - ha <= tolerance*length) &
-            after%point%bifurcation_multiplicity = abs(pb%neg_pivots - pa%neg_pivots)
+         ! How many eigenvalues vanish there: the change of the count across the final bracket (a
+         ! double eigenvalue changes it by two at one point; two simple bifurcations inside the step
+         ! leave a probe between them with the count changed by one, and the bracket narrows onto
+         ! the first).
+         after%point%bifurcation_multiplicity = abs(pb%neg_pivots - pa%neg_pivots)
          ! The state at the located point itself, re-solved, for its mode and branch switching
-         ! (uniarc_path_branch); if it does not converge, the end of the bracket nearer to it.
+         ! (uniarc_path_branch); if it does not converge, or converges off the bracket's piece of
+         ! path, the end of the bracket nearer to it.
          call re_solve(ha + t*(hb - ha), probe, probe_state, converged)
          if (allocated(error)) return
          if (converged) then
             probed = .true.
+            converged = on_piece(probe, pa, pb)
+         end if
+         if (converged) then
             call keep_bifurcation(probe_state)
          else if (abs(pa%min_eigenvalue) <= abs(pb%min_eigenvalue)) then
             call keep_bifurcation(state_a)
@@ -365,6 +425,26 @@ contains
       if (probed) call restore_tangent(model, after, system, error)
 
    contains
+
+      !> Whether a converged probe lies on the piece of path between the bracket's ends `low_end` and
+      !> `high_end` (either order): for a bifurcation, where λ is monotone along the step (dλ/ds of one
+      !> sign at both ends), its λ within their range; towards a maximum of λ (a minimum) not below
+      !> the lower (above the higher) of theirs, which bounds λ on a piece with one extremum. Within
+      !> piece_slack of the step's change of λ plus round_slack of |λ|.
+      pure logical function on_piece(point, low_end, high_end)
+         type(path_point_t), intent(in) :: point, low_end, high_end
+         real(dp) :: low, high, slack
+         low = min(low_end%lambda, high_end%lambda)
+         high = max(low_end%lambda, high_end%lambda)
+         slack = piece_slack*abs(after%point%lambda - before%point%lambda) + round_slack*max(abs(low), abs(high))
+         if (.not. limit) then
+            on_piece = point%lambda >= low - slack .and. point%lambda <= high + slack
+         else if (before%point%dlambda_ds > 0.0_dp) then
+            on_piece = point%lambda >= low - slack
+         else
+            on_piece = point%lambda <= high + slack
+         end if
+      end function on_piece
 
       !> Keep the λ of a converged probe (step parameter h) if it is the most extreme so far in the
       !> sense of the limit (highest towards a maximum, lowest towards a minimum).

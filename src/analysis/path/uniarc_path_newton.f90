@@ -79,12 +79,21 @@ contains
    !> of the solve, cond(K)·ε·|Δu|, which on a fine ill-conditioned mesh stays above the displacement
    !> tolerance however long Newton goes on: two iterations in a row at that floor, the second without
    !> halving the residual, are converged to working precision.
-   subroutine check_equilibrium(test, map, iterations, lin, force_scale, in_equilibrium)
+   !>
+   !> `load_scale`: the loads' own scale (the path's load norm, |λR|). A state whose element forces
+   !> exceed it by more than 1/ε has loads below the round-off of its element forces: its residual and
+   !> resultant cannot tell whether the loads are balanced (the loads vanish from both sums: 1e25 +
+   !> 1e-4 − 1e25 = 0), so beyond 1e3/ε (a margin for a load norm that is a length, that of a moving
+   !> obstacle's gap rate) it is not taken as in equilibrium — a runaway iterate, not a state of the
+   !> path (a beam on a yielding bed flung to 1e33 by a step past its fold, element forces 3.7e30 times
+   !> the load, passed the test with its bed carrying 1.7 times the load, and was then certified a
+   !> collapse, in the Release build; review of issue 16).
+   subroutine check_equilibrium(test, map, iterations, lin, force_scale, load_scale, in_equilibrium)
       type(newton_test_t), intent(inout) :: test
       type(dof_map_t), intent(in) :: map
       integer, intent(in) :: iterations
       type(linearization_t), intent(in) :: lin
-      real(dp), intent(in) :: force_scale
+      real(dp), intent(in) :: force_scale, load_scale
       logical, intent(out) :: in_equilibrium
       real(dp) :: residual_norm
       logical :: at_floor
@@ -97,6 +106,7 @@ contains
                        floating_resultant(map, lin%rhs(:, 1)) <= test%force_tolerance*force_scale .and. &
                        constraint_residual(map, lin%rhs(:, 1)) <= test%displacement_tolerance* &
                        max(maxval(abs(map%metric*lin%x)), 1.0e-12_dp*test%length_scale)
+      if (load_scale > 0.0_dp .and. lin%element_scale*epsilon(1.0_dp) > 1.0e3_dp*load_scale) in_equilibrium = .false.
    end subroutine check_equilibrium
 
    !> The resultant of the residual in the global directions (x, y) in which no DOF of any node is
@@ -259,7 +269,8 @@ contains
                trial%reason = 'the residual is not finite'
                exit
             end if
-            call check_equilibrium(test, state%map, trial%iterations, lin, force_scale, in_equilibrium)
+            call check_equilibrium(test, state%map, trial%iterations, lin, force_scale, &
+                                   max(state%load_norm, norm2(lambda*lin%reference)), in_equilibrium)
             update_set = .false.
             if (in_equilibrium) then
                ! A step must go forward: a correction that lands behind the predictor (possible with

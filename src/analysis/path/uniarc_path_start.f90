@@ -129,9 +129,12 @@ contains
 
    !> A structure that floats across a gap and that the reference load pushes along a free rigid
    !> translation starts where that translation brings it to its first contact (docs/theory.md §2.8,
-   !> uniarc_path_approach): state%u is translated, `nodal` updated and the first working set is that
-   !> of the translated state. Untouched when there is no such translation (no floating motion, a
-   !> self-equilibrated load, a contact holding it already). `system` is work space.
+   !> uniarc_path_approach), at the start of the path and of every later analysis step (a step that
+   !> ended with nothing pushing the structure onto its contacts, followed by one that does): state%u
+   !> is translated, `nodal` updated and the working set is that of the translated state. The gaps of
+   !> plastic media are those of their sunk surfaces (state%slip, §3.9). Untouched when there is no
+   !> such translation (no floating motion, a self-equilibrated load, a contact holding it already).
+   !> `system` is work space.
    !> Errors (error_input): no contact is ever met along the translation (rigid_approach).
    subroutine approach_first_contact(model, state, system, nodal, error)
       type(model_t), intent(in) :: model
@@ -152,12 +155,14 @@ contains
                           element_scale, error)
       if (allocated(error)) return
       call rigid_approach(model, state%map, state%floating_motion, reference, nodal, state%length_scale, .false., &
-                          shift, contact, error)
+                          shift, contact, error, state%slip)
       if (allocated(error) .or. contact == 0) return
       state%u = state%u + shift
       call nodal_displacements(model, state, nodal, error)
       if (allocated(error)) return
       call touching_candidates(model, state, nodal, state%active)
+      ! (nothing of the set held the structure: none of the new set is at its limit)
+      if (allocated(state%yielding)) state%yielding = state%yielding .and. state%active
    end subroutine approach_first_contact
 
    !> ψ (state%lambda_scale), the displacement norm a unit of λ moves at the unloaded state: ||K⁻¹R||;
