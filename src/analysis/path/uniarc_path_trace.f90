@@ -286,14 +286,11 @@ contains
       type(path_trace_t), intent(inout) :: trace   !< its corners unchanged (work vector used)
       real(dp), intent(in) :: u(:)
       integer :: k, c
-      real(dp) :: size_u
       step = 0
       if (trace%n /= size(u)) return
-      size_u = norm2(u)
       do k = 1, trace%corners
          c = column(k, trace%corners, trace%corner_newest, corners_kept)
-         trace%offset(:) = u - trace%corner_u(:, c)
-         if (norm2(trace%offset) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
+         if (same_displacements(trace, u, trace%corner_u(:, c))) then
             step = trace%corner_step(c)
             return
          end if
@@ -328,19 +325,25 @@ contains
       type(path_trace_t), intent(inout) :: trace   !< its event states unchanged (work vector used)
       real(dp), intent(in) :: u(:), lambda
       integer :: k, c
-      real(dp) :: size_u
       step = 0
       if (trace%n /= size(u)) return
-      size_u = norm2(u)
       do k = 1, trace%events
          c = column(k, trace%events, trace%event_newest, events_kept)
          if (abs(lambda - trace%event_lambda(c)) > 1.0e-9_dp*max(abs(lambda), abs(trace%event_lambda(c)))) cycle
-         trace%offset(:) = u - trace%event_u(:, c)
-         if (norm2(trace%offset) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
+         if (same_displacements(trace, u, trace%event_u(:, c))) then
             step = trace%event_step(c)
             return
          end if
       end do
    end function trace_event_revisited
+
+   !> The displacements u (n) are those of a kept state `kept` (n) to 1e-9 of the size of u: the
+   !> round-off of a converged state (trace_corner_revisited, trace_event_revisited).
+   logical function same_displacements(trace, u, kept)
+      type(path_trace_t), intent(inout) :: trace   !< work vector used
+      real(dp), intent(in) :: u(:), kept(:)
+      trace%offset(:) = u - kept
+      same_displacements = norm2(trace%offset) <= 1.0e-9_dp*max(norm2(u), tiny(1.0_dp))
+   end function same_displacements
 
 end module uniarc_path_trace
