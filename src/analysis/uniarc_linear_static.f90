@@ -36,8 +36,14 @@ module uniarc_linear_static
    public :: solve_linear_static, explain_static_imbalance
 
    !> Rounds of LCP and solve: the LCP of a linear problem is solved in one; a second round only
-   !> confirms a set that round-off of the first left in doubt.
+   !> confirms a set that round-off of the first left in doubt (each LCP is posed at the refined
+   !> solution of the last set, linearize_at_solution).
    integer, parameter :: max_rounds = 4
+   !> Block exchanges of the refined solution before the LCP (block_exchange, Kostreva 1978; Júdice &
+   !> Pires 1994): at most this many, stopped when the count of violations has not fallen for
+   !> `block_backup` of them, or when at most `block_threshold` are left (the LCP's own values,
+   !> uniarc_lcp_implicit).
+   integer, parameter :: max_block_steps = 50, block_backup = 3, block_threshold = 4
    !> Complementarity accepted within this fraction of the force and gap units (the LCP solver's own
    !> acceptance tolerance, uniarc_lcp_implicit, with a decade of room for the final solve's round-off).
    real(dp), parameter :: complementarity_tolerance = 1.0e-8_dp
@@ -82,10 +88,10 @@ contains
       !> the floating motions (n, k, orthonormal in the metric) of a structure held only by its contacts
       !> across a gap (unallocated: no approach), and those of them the working set leaves free (n, p)
       real(dp), allocatable :: floating(:, :), unheld(:, :)
-      logical, allocatable :: set(:)
-      logical :: singular
-      real(dp) :: length_scale, worst, bytes
-      integer :: n, round, pivots, c, status
+      logical, allocatable :: set(:), previous(:), flip(:)
+      logical :: singular, block
+      real(dp) :: length_scale, worst
+      integer :: n, round, pivots, c, status, block_steps, fewest, stalled
 
       call build_dof_map(model, map, error, error_analysis)
       if (allocated(error)) return
@@ -93,9 +99,9 @@ contains
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
       allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), applied(n), x(n), &
                 set(size(map%candidate_equation)), r(size(map%candidate_equation)), g(size(map%candidate_equation)), &
-                stat=status)
+                previous(size(map%candidate_equation)), flip(size(map%candidate_equation)), stat=status)
       call allocation_failure(status, 'the load and residual vectors of the linear analysis', &
-                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n) + 20.0_dp*size(map%candidate_equation), &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n) + 28.0_dp*size(map%candidate_equation), &
                               error_analysis, error)
       if (allocated(error)) return
       zero_nodal = 0.0_dp
@@ -126,12 +132,24 @@ contains
       if (allocated(error)) return
       pivots = 0
       worst = 0.0_dp
-      do round = 1, max_rounds
+      block = .true.
+      block_steps = 0
+      fewest = huge(1)
+      stalled = 0
+      round = 0
+      do
          call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
          if (allocated(error)) return
          call band_copy(assembled, factors, error)
          if (allocated(error)) return
          call band_factorize(factors, error)
+         if (allocated(error) .and. block_steps > 0 .and. block) then
+            ! a block exchange that left the structure unheld: back to its set, the LCP goes on from it
+            deallocate (error)
+            set = previous
+            block = .false.
+            cycle
+         end if
          if (allocated(error)) then
             call add_context(error, 'linear static analysis (are the supports and contacts enough to hold '// &
                              'the structure?)')
@@ -165,36 +183,35 @@ contains
          end if
          deallocate (unheld)
          if (worst <= complementarity_tolerance) exit
-         ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
-         if (allocated(error)) return
-         if (round == max_rounds) then
+         if (block) then
+            call block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+            if (count(flip) < fewest) then
+               fewest = count(flip)
+               stalled = 0
+            else
+               stalled = stalled + 1
+            end if
+            block = count(flip) > block_threshold .and. stalled < block_backup .and. block_steps < max_block_steps
+            if (block) then
+               previous = set
+               set = set .neqv. flip
+               block_steps = block_steps + 1
+               cycle
+            end if
+         end if
+         round = round + 1
+         if (round > max_rounds) then
             call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
                             error_analysis)
             return
          end if
-         ! The LCP of one load step δλ = 1 from the unloaded state: x = 0, λ = 0, residual = −F_aug(0).
-         ! its vectors allocated with stat= first: the assignments below then allocate nothing
-         bytes = 0.0_dp
-         call reserve(lin%x, n, status, bytes)
-         if (status == 0) call reserve(lin%nodal, dofs_per_node, model%n_nodes, status, bytes)
-         if (status == 0) call reserve(lin%residual, n, status, bytes)
-         if (status == 0) call reserve(lin%reference, n, status, bytes)
-         if (status == 0) call reserve(lin%du_residual, n, status, bytes)
-         if (status == 0) call reserve(lin%du_tangent, n, status, bytes)
-         call allocation_failure(status, 'a vector of the contact LCP of the linear analysis', bytes, error_analysis, &
-                                 error)
+         ! The LCP posed at the refined solution x of the set (its residual from the elements' forces),
+         ! not at u = 0; `assembled` is its work space, then the set's K_S again.
+         call linearize_at_solution(model, map, set, applied, factors, zero_nodal, length_scale, x, rhs(:, 2), &
+                                    assembled, lin, error)
          if (allocated(error)) return
-         lin%x = 0.0_dp
-         lin%nodal = zero_nodal
-         lin%residual = residual
-         lin%reference = reference
-         lin%du_residual = rhs(:, 1)
-         lin%du_tangent = rhs(:, 2)
-         lin%constraint%kind = constraint_load
-         lin%constraint%target = 1.0_dp
-         lin%units%force = max(norm2(reference), tiny(1.0_dp))
-         lin%units%gap = max(maxval(abs(map%metric*x)), 1.0e-6_dp*length_scale)
+         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
+         if (allocated(error)) return
          call select_contact_set(model, map, lin, set, assembled, factors, selection, error)
          pivots = pivots + selection%report%pivots
          if (allocated(error)) then
@@ -505,6 +522,66 @@ contains
       call make_error(error, text, error_analysis)
    end subroutine lift_off_error
 
+   !> The contact LCP of the linear problem posed at the solution x of the working set `set` (refined,
+   !> refine_solution) rather than at u = 0: the state x, its residual ρ = R − F_aug(x) from the
+   !> elements' forces (linear_residual) and K_S⁻¹ρ (`factors`, the band LU of the set's K_S), the
+   !> load held (δλ = 0). For the linear gaps the LCP is the same, but its q, the reactions and gaps at
+   !> x, are as accurate as the refined x: posed at u = 0 they were K_S⁻¹(R − F_aug(0)) of one solve,
+   !> whose error κε|u| (a long span lifted off a bed, |u| ~ 10³ where the gaps at a lift-off point are
+   !> ~10⁻⁴) decided the edge of a contact region against the refined solution, and the rounds never
+   !> settled. Each frame the LCP refactorises is refined by products K_S v of its increments, which
+   !> are small near the solution: their round-off is that of the increment, not of u.
+   !> `du_tangent`: K_S⁻¹R; `matrix`: work space (the contact part of K_S is assembled in it).
+   !> Errors (error_analysis): a vector refused by the system (out of memory).
+   subroutine linearize_at_solution(model, map, set, applied, factors, zero_nodal, length_scale, x, du_tangent, &
+                                    matrix, lin, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      logical, intent(in) :: set(:)
+      real(dp), intent(in) :: applied(:)          !< R without the settlements' load (they move the elements)
+      type(band_matrix_t), intent(in) :: factors
+      real(dp), intent(in) :: zero_nodal(:, :), length_scale, x(:), du_tangent(:)
+      type(band_matrix_t), intent(inout) :: matrix
+      type(contact_linearization_t), intent(inout) :: lin
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: contact_force(:), zero_r(:), correction(:, :)
+      real(dp) :: bytes
+      integer :: n, status
+      n = size(x)
+      ! its vectors allocated with stat= first: the assignments below then allocate nothing
+      bytes = 0.0_dp
+      call reserve(lin%x, n, status, bytes)
+      if (status == 0) call reserve(lin%nodal, dofs_per_node, model%n_nodes, status, bytes)
+      if (status == 0) call reserve(lin%residual, n, status, bytes)
+      if (status == 0) call reserve(lin%reference, n, status, bytes)
+      if (status == 0) call reserve(lin%du_residual, n, status, bytes)
+      if (status == 0) call reserve(lin%du_tangent, n, status, bytes)
+      if (status == 0) allocate (contact_force(n), zero_r(size(set)), correction(n, 1), stat=status)
+      call allocation_failure(status, 'a vector of the contact LCP of the linear analysis', &
+                              bytes + 16.0_dp*n + 8.0_dp*size(set), error_analysis, error)
+      if (allocated(error)) return
+      zero_r(:) = 0.0_dp
+      contact_force(:) = 0.0_dp
+      call band_zero(matrix)
+      if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, zero_r, set, matrix, &
+                                                                 contact_force)
+      call linear_residual(model, map, applied, contact_force, matrix, x, lin%nodal, lin%residual)
+      correction(:, 1) = lin%residual
+      call band_solve(factors, correction, error)
+      if (allocated(error)) return
+      lin%x = x
+      ! the nodal displacements of x without the settlements, as the gaps of linear_contact_state
+      call gather_nodal(map, x, lin%nodal)
+      lin%reference = applied
+      if (allocated(model%prescribed)) call add_settlement_load(model, map, lin%reference)
+      lin%du_residual = correction(:, 1)
+      lin%du_tangent = du_tangent
+      lin%constraint%kind = constraint_load
+      lin%constraint%target = 0.0_dp
+      lin%units%force = max(norm2(lin%reference), tiny(1.0_dp))
+      lin%units%gap = max(maxval(abs(map%metric*x)), 1.0e-6_dp*length_scale)
+   end subroutine linearize_at_solution
+
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
    !> With `floating` (n, k, orthonormal in the metric), the floating motions of a structure held only by
@@ -744,6 +821,35 @@ contains
    end function resultant_imbalance
 
    !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.
+
+   !> The candidates whose membership of `set` the refined solution x contradicts, to be exchanged at
+   !> once (block principal pivoting, Kostreva 1978; Júdice & Pires 1994): in the set and pulling
+   !> (r < 0), or out of it and penetrating (w = g + t r < 0), beyond complementarity_tolerance of the
+   !> units of complementarity_violation. The solve after such an exchange is refined like any other,
+   !> so the block phase sees the contact edges with the accuracy of the final check, which the LCP's
+   !> frames (each refined by one product K_S v of a possibly large v) do not always reach.
+   pure subroutine block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: length_scale, x(:), reference(:), r(:), g(:)
+      logical, intent(in) :: set(:)
+      logical, intent(out) :: flip(:)   !< (candidates) true: to leave or join the set
+      real(dp) :: r_unit, g_unit, w
+      integer :: c
+      flip = .false.
+      if (size(set) == 0) return
+      r_unit = max(maxval(abs(r)), norm2(reference), tiny(1.0_dp))
+      g_unit = max(maxval(abs(map%metric*x)), 1.0e-12_dp*length_scale, tiny(1.0_dp))
+      do c = 1, size(set)
+         if (.not. candidate_live(map, c) .or. model%contacts(c)%bilateral) cycle
+         w = g(c) + model%contacts(c)%flexibility*r(c)
+         if (set(c)) then
+            flip(c) = -r(c)/r_unit > complementarity_tolerance
+         else
+            flip(c) = -w/g_unit > complementarity_tolerance
+         end if
+      end do
+   end subroutine block_exchange
 
    !> Largest relative violation of complementarity of the unilateral candidates: −r/r_unit for a
    !> pulling contact, −w/g_unit for a penetrating free one (w = g + t r), |r w|/(r_unit g_unit); the
