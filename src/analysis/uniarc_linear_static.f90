@@ -17,8 +17,8 @@ module uniarc_linear_static
    use uniarc_error, only: error_t, add_context, make_error, error_analysis, error_input
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: reserve
-   use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside
-   use uniarc_strings, only: integer_to_string
+   use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside, gap_fixed_direction
+   use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
                           band_product, band_zero, band_add, band_get
@@ -55,8 +55,131 @@ module uniarc_linear_static
    integer, parameter :: max_refinements = 4
    !> The resultant of the residual a well-conditioned solve leaves: a few ε times the forces summed.
    real(dp), parameter :: balance_target = 1.0e-12_dp
+   !> Re-linearisations of the gaps of curved and polyline obstacles (solve_linear_static, a sequential
+   !> LCP): a smooth obstacle converges linearly with the ratio of its curvature's effect to the
+   !> structure's stiffness, and a polyline's feature settles in one or two; more means no settling.
+   integer, parameter :: max_relinearisations = 30
 
 contains
+
+   !> Solve the linear problem with its contacts, the gaps of curved and polyline obstacles exact.
+   !> solve_linearised solves the structure with every gap linear, g_c(u) = g_c(b) + a_c(b)·(u − b), at
+   !> the linearisation point b (b = 0 first); for planes (beds, springs, flat surfaces) that is the
+   !> gap itself and one solve is the answer. A curved or polyline obstacle's gap is not linear: its
+   !> plane at u = 0 faces the nearest feature there (a trench's corner, not its floor), and the
+   !> solution may stop short of the obstacle or pass through it. So, as a sequential LCP, the true
+   !> gaps (uniarc_obstacle_shapes) are evaluated at the solution u and re-linearised there (b = u),
+   !> and the linear problem is solved again, until each candidate's linearised gap at its solution
+   !> is its true gap within complementarity_tolerance of the largest displacement (the working set
+   !> and each contact's feature then settle; the reactions act along the normals at u), at most
+   !> max_relinearisations times. Out and errors: those of solve_linearised, and (error_analysis) the
+   !> re-linearisations not settling (no state that penetrates an obstacle is returned).
+   subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                                  lcp_residual, deflections)
+      type(model_t), intent(in) :: model
+      real(dp), allocatable, intent(out) :: displacement(:, :)
+      integer, intent(out) :: negative_pivots
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable, intent(out), optional :: reactions(:)
+      logical, allocatable, intent(out), optional :: active(:)
+      integer, intent(out), optional :: lcp_pivots
+      real(dp), intent(out), optional :: lcp_residual
+      real(dp), allocatable, intent(out), optional :: deflections(:)
+      type(model_t) :: planar
+      real(dp), allocatable :: base(:, :), r(:), d(:)
+      logical, allocatable :: set(:), curved(:)
+      real(dp) :: residual, mismatch, unit, length_scale
+      integer :: round, pivots, total, c, status
+      logical :: any_curved
+      any_curved = .false.
+      if (allocated(model%contacts)) any_curved = any(model%contacts%gap_kind /= gap_fixed_direction)
+      if (.not. any_curved) then
+         call solve_linearised(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                               lcp_residual, deflections)
+         return
+      end if
+      call centre_on_node(model, error)
+      if (allocated(error)) return
+      allocate (base(dofs_per_node, model%n_nodes), curved(size(model%contacts)), stat=status)
+      call allocation_failure(status, 'the linearisation point of the curved obstacles', &
+                              8.0_dp*dofs_per_node*model%n_nodes + 4.0_dp*size(model%contacts), error_analysis, error)
+      if (allocated(error)) return
+      curved(:) = model%contacts%gap_kind /= gap_fixed_direction
+      length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
+      planar = model
+      base(:, :) = 0.0_dp
+      total = 0
+      do round = 1, max_relinearisations
+         call tangent_planes(model, curved, base, planar)
+         call solve_linearised(planar, displacement, negative_pivots, error, r, set, pivots, residual, d)
+         if (allocated(error)) return
+         total = total + pivots
+         base(:, :) = displacement
+         if (allocated(model%prescribed)) base = base - model%prescribed
+         unit = max(maxval(abs(base(1:2, :))), 1.0e-12_dp*length_scale)
+         mismatch = plane_mismatch(model, planar, curved, base, set, r)
+         if (mismatch <= complementarity_tolerance*unit) exit
+         if (round == max_relinearisations) then
+            call make_error(error, 'linear static analysis: the contacts with curved or polyline obstacles did '// &
+                            'not settle after '//integer_to_string(max_relinearisations)//' re-linearisations of '// &
+                            'their gaps at the solution (largest difference of a linearised and a true gap: '// &
+                            trim(adjustl(real_to_string(mismatch, '(es10.3)')))//'); no result written', error_analysis)
+            deallocate (displacement)
+            return
+         end if
+      end do
+      if (present(reactions)) call move_alloc(r, reactions)
+      if (present(active)) call move_alloc(set, active)
+      if (present(deflections)) call move_alloc(d, deflections)
+      if (present(lcp_pivots)) lcp_pivots = total
+      if (present(lcp_residual)) lcp_residual = residual
+   end subroutine solve_linear_static
+
+   !> `planar`'s candidates on curved or polyline obstacles (`curved`) become the planes tangent to
+   !> their gap at the nodal displacements `base`: g(u) = g(b) + a(b)·(u − b), a fixed-direction gap
+   !> with direction a(b) and offset g(b) − a(b)·b (uniarc_model: g = offset + n·u). The others are
+   !> the model's own.
+   subroutine tangent_planes(model, curved, base, planar)
+      type(model_t), intent(in) :: model
+      logical, intent(in) :: curved(:)
+      real(dp), intent(in) :: base(:, :)
+      type(model_t), intent(inout) :: planar
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      do c = 1, size(curved)
+         if (.not. curved(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), base(1:2, node), gap, gradient, hessian)
+         planar%contacts(c)%gap_kind = gap_fixed_direction
+         planar%contacts(c)%direction = gradient
+         planar%contacts(c)%offset = gap - dot_product(gradient, base(1:2, node))
+      end do
+   end subroutine tangent_planes
+
+   !> How far the solution `displacement` (the free DOFs' part, without settlements) of the tangent
+   !> planes `planar` is from the true obstacles, as a length: the largest |g_true(u) − g_plane(u)| of
+   !> the curved candidates, and for those in contact (set, r > 0) the turn of the normal
+   !> |a_true(u) − a_plane| times the largest displacement (a reaction along a stale normal: a
+   !> polyline's feature that changed while the gap still matches, at a corner).
+   real(dp) function plane_mismatch(model, planar, curved, displacement, set, r) result(mismatch)
+      type(model_t), intent(in) :: model, planar
+      logical, intent(in) :: curved(:), set(:)
+      real(dp), intent(in) :: displacement(:, :), r(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), plane, unit
+      integer :: c, node
+      mismatch = 0.0_dp
+      unit = maxval(abs(displacement(1:2, :)))
+      do c = 1, size(curved)
+         if (.not. curved(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, gradient, &
+                            hessian)
+         plane = planar%contacts(c)%offset + dot_product(planar%contacts(c)%direction, displacement(1:2, node))
+         mismatch = max(mismatch, abs(gap - plane))
+         if (set(c) .and. r(c) > 0.0_dp) &
+            mismatch = max(mismatch, norm2(gradient - planar%contacts(c)%direction)*unit)
+      end do
+   end function plane_mismatch
 
    !> Solve the linear problem with its contacts.
    !> Out: `displacement` (3, n_nodes) nodal displacements; `negative_pivots`, the negative pivots of
@@ -68,8 +191,8 @@ contains
    !> Errors: a mechanism (input: the model moves as a rigid body with every contact closed,
    !> uniarc_path_mechanism); a singular matrix (analysis: the supports and the contacts of the set do not hold the
    !> structure); a contact LCP that is not solved (analysis).
-   subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
-                                  lcp_residual, deflections)
+   subroutine solve_linearised(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                               lcp_residual, deflections)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(out) :: displacement(:, :)
       integer, intent(out) :: negative_pivots
@@ -266,7 +389,7 @@ contains
             deflections(c) = bed_deflection(map, c, x)
          end do
       end if
-   end subroutine solve_linear_static
+   end subroutine solve_linearised
 
    !> A structure held only by its contacts across a gap, that the reference load `reference` pushes
    !> along a rigid translation its supports leave free (docs/theory.md §2.8, uniarc_path_approach):
