@@ -3,8 +3,10 @@
 
 A verification peer of the tangential springs of `*FOUNDATION` (docs/theory.md §3.8), not a test
 dependency: it needs openseespy (PyPI; `pip install openseespy`). The ring of
-bench/segmental_lining_peer.py (Timoshenko elements, five rotational-spring joints and a hinge) is
-bedded in the ground, without supports:
+bench/segmental_lining_peer.py (48 Timoshenko elements, five rotational-spring joints and a hinge), with
+the realistic lining and ground of the field deck input/segmental_lining_bedded.inp (0.35 m concrete
+segments on R = 3 m, Janssen joints, E_s = 60 MPa, H = 15 m, K0 = 0.5), is bedded in the ground, without
+supports:
 
 - radial springs of modulus K_R on the outer side, acting in compression only, and tangential springs
   of modulus K_T acting only where the radial one is in contact (`TANGENTIAL=CONTACT`, the default),
@@ -52,18 +54,27 @@ import subprocess
 import sys
 import tempfile
 
-# The ring of segmental_lining_peer.py (radius, section, joints and hinge), bedded here.
-from segmental_lining_peer import R, EA, EI, GAS, K_JOINT, N_ELEMENTS, JOINT_NODES, HINGE_NODE  # noqa: E402
-K_R = 2.0e3          # radial subgrade modulus (force per length per length)
+# The ring of segmental_lining_peer.py (its 48 elements, joints and hinge), bedded here with the
+# values of the field deck input/segmental_lining_bedded.inp (kN, m; its header gives their sources):
+# 0.35 m concrete segments (E = 30 GPa, nu = 0.2) on R = 3 m, Janssen joints over l_t = 0.2 m.
+from segmental_lining_peer import N_ELEMENTS, JOINT_NODES, HINGE_NODE  # noqa: E402
+R = 3.0
+E = 3e7
+NU = 0.2
+THICKNESS = 0.35
+EA = E * THICKNESS
+EI = E * THICKNESS ** 3 / 12
+GAS = E / (2 * (1 + NU)) * 5 / 6 * THICKNESS
+K_JOINT = E * 0.2 ** 2 / 12   # Janssen: E b l_t^2 / 12
+K_R = 6e4 / R        # radial subgrade modulus E_s/R (force per length per length)
 K_T = K_R / 3.0      # tangential subgrade modulus
 GAMMA = 20.0
-H = 10.0             # depth of the ring's centre below the surface (y = H at the surface)
+H = 15.0             # depth of the ring's centre below the surface (y = H at the surface)
 K0 = 0.5
 TOLERANCE = 1e-9
 # --dload: the same loads in both programs (midpoint values) and the same bed's share on the spans
-# (bed_share_forces), so round-off: measured 9.2e-14, 2.9e-13, 1.4e-12 of the largest N, V, M (without
-# the share on OpenSees' side 6.95e-4, 0.303, 0.089; before the released fixed-end forces, 0.24 of M):
-# 1e-9 as for the displacements.
+# (bed_share_forces), so round-off: measured 1.6e-13, 6.8e-13, 4.0e-13 of the largest N, V, M (without
+# the share on OpenSees' side 5.29e-4, 0.141, 7.59e-3): 1e-9 as for the displacements.
 FORCE_TOLERANCE = 1e-9
 # the deck file against the generated deck: the same numbers and expressions, so the same arithmetic;
 # 1e-12 of the largest of each force leaves only the 13 digits of the forces file.

@@ -11,7 +11,10 @@
 # decks, -D overrides, references and tolerances) is run again and listed with its reference, the
 # reference's source, uniarc's value and the relative error; a mesh-convergence study of the main cases,
 # the k sweep of ex. 1 (the paper's Fig. 6) and the plots are added. Nothing in the report is typed by
-# hand except the prose and the literature references, which carry their sources.
+# hand except the prose and the literature references, which carry their sources. The tests of the
+# foundations and soil springs (Pasternak bed, tangential springs, plastic springs and beds) that run
+# through checker scripts of their own (pasternak_check.py, agree_check.py, plastic_check.py, ...) are
+# run as CTest runs them, and their printed values are listed with their section.
 # Exit status: 0 when every check passes, 1 when some fail (the report is written in both cases).
 set -euo pipefail
 
@@ -49,6 +52,23 @@ sys.path.insert(0, os.path.join(root, 'tests', 'regression'))
 from uniarc_check import read_table, read_events, find_event, value_where, split_event  # noqa: E402
 
 image_dir = os.path.join(os.path.dirname(output), 'img')
+
+
+def source_revision():
+    """The commit the report is made from, `-dirty` when a tracked file differs from it — other than
+    this script's own outputs (the report and its pictures, which a run rewrites before the report is
+    committed): read before anything is written."""
+    head = subprocess.run(['git', '-C', root, 'rev-parse', '--short', 'HEAD'], capture_output=True, text=True)
+    if head.returncode != 0:
+        return ''
+    outputs = [os.path.relpath(path, root) for path in (output, image_dir)]
+    changed = subprocess.run(['git', '-C', root, 'status', '--porcelain', '--untracked-files=no', '--', '.'] +
+                             [f':(exclude){path}' for path in outputs if not path.startswith('..')],
+                             capture_output=True, text=True).stdout.strip()
+    return head.stdout.strip() + ('-dirty' if changed else '')
+
+
+revision = source_revision()
 jobs = os.cpu_count() or 1
 
 
@@ -94,8 +114,23 @@ def expand_foreach(text):
     """The CMake loops `foreach(var a b ...) BODY endforeach()` (not nested) written out: BODY once per
     value with ${var} replaced, so that every test of a loop is read like the others."""
     loop = re.compile(r'^foreach\((\w+)((?:\s+[^)\s]+)+)\)\n(.*?)^endforeach\(\)\n', re.S | re.M)
-    return loop.sub(lambda m: ''.join(m.group(3).replace('${' + m.group(1) + '}', value)
-                                      for value in m.group(2).split()), text)
+    pick = re.compile(r'^\s*list\(GET\s+(\w+)\s+(\d+)\s+(\w+)\)\n', re.M)
+
+    def body(template, variable, value):
+        """One pass of a loop: `list(GET variable i name)` lines (a value "a;b" read as a list) set
+        ${name}; then ${variable} and those names are replaced."""
+        value = value.strip('"')
+        names = {}
+        for source, index, name in pick.findall(template):
+            if source == variable:
+                names[name] = value.split(';')[int(index)]
+        text = pick.sub('', template).replace('${' + variable + '}', value)
+        for name, item in names.items():
+            text = text.replace('${' + name + '}', item)
+        return text
+
+    return loop.sub(lambda m: ''.join(body(m.group(3), m.group(1), value)
+                                      for value in shlex.split(m.group(2))), text)
 
 
 cmake_text = expand_foreach(open(os.path.join(root, 'tests', 'regression', 'CMakeLists.txt')).read())
@@ -116,6 +151,68 @@ for words in cmake_calls(cmake_text, 'add_test'):
         conv.add_argument(option, type=float)
     parsed, _ = conv.parse_known_args(rest)
     convergence_tests.append({'name': words[words.index('NAME') + 1], 'args': parsed})
+
+
+# Tests run by a checker script of their own (pasternak_check.py, agree_check.py, plastic_check.py,
+# ...): add_test calls and the wrappers uniarc_forces_test / uniarc_plastic_test, with the CMake
+# variables of the file (set(NAME value)) substituted. They are run as CTest runs them, and pass when
+# the script exits 0; their output (the values and references they print) goes into the report. Only
+# those of the report's sections are collected (SCRIPT_PREFIXES, from SECTIONS below).
+WRAPPERS = {'uniarc_forces_test': '${UNIARC_TABLES_PYTHON} ${UNIARC_FORCES_CHECK}',
+            'uniarc_plastic_test': '${UNIARC_PLASTIC_PYTHON} ${UNIARC_PLASTIC_CHECK}'}
+cmake_variables = {
+    'CMAKE_CURRENT_SOURCE_DIR': os.path.join(root, 'tests', 'regression'),
+    'PROJECT_SOURCE_DIR': root,
+    'OUT': os.path.join(work, 'scripts'),
+}
+
+
+def script_python():
+    """The first of python3 and /usr/bin/python3 that imports numpy, scipy and pandas (the checkers'
+    modules, as the CMake file looks for them); python3 if none does (the tests then fail, visibly)."""
+    for candidate in ('python3', '/usr/bin/python3'):
+        found = shutil.which(candidate)
+        if found and subprocess.run([found, '-c', 'import numpy, scipy.optimize, pandas'],
+                                    capture_output=True).returncode == 0:
+            return found
+    return shutil.which('python3') or sys.executable
+
+
+for name in ('Python3_EXECUTABLE', 'UNIARC_TABLES_PYTHON', 'UNIARC_PLASTIC_PYTHON', 'UNIARC_VTK_PYTHON'):
+    cmake_variables[name] = script_python()
+for words in cmake_calls(cmake_text, 'set'):
+    if len(words) == 2 and words[0] not in cmake_variables and words[1].startswith('${CMAKE_CURRENT_SOURCE_DIR}'):
+        cmake_variables[words[0]] = words[1].replace('${CMAKE_CURRENT_SOURCE_DIR}',
+                                                     cmake_variables['CMAKE_CURRENT_SOURCE_DIR'])
+
+
+def expand(word):
+    word = substitute(word).replace('$<TARGET_FILE:uniarc>', uniarc)
+    for name, value in cmake_variables.items():
+        word = word.replace('${' + name + '}', value)
+    return word
+
+
+def collect_script_tests(prefixes):
+    found = []
+    for words in cmake_calls(cmake_text, 'add_test'):
+        if 'COMMAND' not in words or '${UNIARC_CHECK}' in words or '${UNIARC_CONVERGENCE}' in words:
+            continue
+        name = words[words.index('NAME') + 1]
+        if name.startswith(prefixes):
+            found.append({'name': name, 'command': words[words.index('COMMAND') + 1:]})
+    for wrapper, head in WRAPPERS.items():
+        for words in cmake_calls(cmake_text, wrapper):
+            if words[0].startswith(prefixes):
+                found.append({'name': words[0], 'command': head.split() + [
+                    '--uniarc', '$<TARGET_FILE:uniarc>', '--deck', words[1], '--out', '${OUT}/' + words[0]] + words[2:]})
+    for test in found:
+        test['command'] = [expand(word) for word in test['command']]
+        test['unresolved'] = [w for w in test['command'] if '${' in w or '$<' in w]
+        test['checker'] = next((os.path.basename(w) for w in test['command'] if w.endswith('.py')), '?')
+        deck = test['command'][test['command'].index('--deck') + 1] if '--deck' in test['command'] else None
+        test['deck'] = os.path.relpath(deck, root) if deck else None
+    return found
 
 
 # --- running uniarc ------------------------------------------------------------------------------------
@@ -191,6 +288,11 @@ SOURCES = [
     ('members_joint_moment_limit', '', 'closed form in the deck (cantilever halves, joint at MY)'),
     ('members_spring_joint', '', 'closed form: w = PL³/3EI + Pb²/k, θ = PL²/2EI + Pb/k'),
     ('obstacle_column_against_step', '', 'hand solution in the deck (propped cantilever)'),
+    ('pasternak_bonded_infinite_beam_kerr', '', 'infinite beam on a bonded Pasternak bed (theory.md §3.10): w(0) ='),
+    ('pasternak_half_beam_symmetry_plane_kerr', '', 'the same closed form, half beam (theory.md §3.10): w(0) ='),
+    ('pasternak_strut_bifurcation', '', 'min_m (m²π²EI/L² + G_p + KL²/(m²π²)) (theory.md §3.10)'),
+    ('pasternak_bed_above', '', 'the bed below\'s values (the problem upside down)'),
+    ('contact_tangential_bonded_bar', '', 'P coth(βL)/(EA β), β² = K_t/EA (theory.md §3.8)'),
     ('obstacle_cantilever_on_ellipse', '', 'hand solution in the deck (reaction along the normal)'),
 ]
 
@@ -392,6 +494,22 @@ SECTIONS = [
          '`static_heavy_beam_bonded_winkler.inp`, `ring_hydrostatic.inp`; each deck\'s comment gives its '
          'closed form.', []),
     ]),
+    ('Foundations and soil springs (issue 16)', [
+        ('The Pasternak (two-parameter) bed', ('pasternak_', 'static_stiff_footing_'),
+         'docs/theory.md §3.10. The infinite beam on a bonded bed (Kerr 1964) and on a tensionless bed '
+         '(the closed form derived in §3.10: contact half-length a from U\'(a) = 0, no concentrated reaction '
+         'at the contact edge), the strut\'s bifurcation on a bonded bed, an independent finite-difference '
+         'solution of the tensionless beam, G_p = 0 against Winkler\'s bed file for file, the rigid footing\'s '
+         'closed forms. Tests run by their own scripts are listed with what those scripts print.', []),
+        ('Tangential springs of a foundation', ('contact_tangential_', 'lining_bedded_'),
+         'docs/theory.md §3.8: a bar on a bonded tangential bed (P coth(βL)/(EA β)), springs only where the '
+         'radial contact is closed, their release along a path, *STATIC against *PATH, and the field deck '
+         'of a bedded segmental lining.', []),
+        ('Elastic–plastic soil springs and beds', ('plastic_',),
+         'docs/theory.md §3.9: springs and beds with a bearing limit QU and an uplift limit TU, against the '
+         'closed forms of their load histories, limit loads (q_u × contact length) and an independent '
+         'active-set solution of a beam on a yielding bed (plastic_check.py).', []),
+    ]),
     ('Members and obstacles', [
         ('Timoshenko beams, hinges and rotational-spring joints', 'members_',
          'Decks `tests/regression/decks/{timo_cantilever,hinge_gerber,spring_joint,timoshenko_column,'
@@ -447,6 +565,23 @@ for number, (title, deck, defines, parameter, meshes, *_ ) in enumerate(CONVERGE
         job_list.append((('convergence', number, n), os.path.join(root, deck),
                          os.path.join(work, f'convergence_{number}_{parameter}{n}'), defines + [f'{parameter}={n}']))
 results = run_all(job_list)
+# the script tests of the parts whose checks are mostly scripts' (the media of issue 16)
+SCRIPT_PARTS = ('Foundations and soil springs (issue 16)',)
+script_tests = collect_script_tests(tuple(p for part, cases in SECTIONS if part in SCRIPT_PARTS
+                                          for _, prefix, *_ in cases
+                                          for p in ((prefix,) if isinstance(prefix, str) else prefix)))
+
+
+def run_script(test):
+    if test['unresolved']:
+        return {'code': None, 'output': f'not run: unresolved {" ".join(test["unresolved"])}'}
+    done = subprocess.run(test['command'], capture_output=True, text=True, cwd=os.path.join(root, 'tests', 'regression'))
+    return {'code': done.returncode, 'output': (done.stdout + done.stderr).strip()}
+
+
+log(f'{len(script_tests)} tests run by their own scripts')
+with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+    script_results = dict(zip([t['name'] for t in script_tests], pool.map(run_script, script_tests)))
 sweep_dir = os.path.join(work, 'sweep')
 shutil.rmtree(sweep_dir, ignore_errors=True)
 subprocess.run(['bash', os.path.join(root, 'scripts', 'sweep.sh'), os.path.join(root, 'input', 'ring_rigid_cavity.inp'),
@@ -534,12 +669,14 @@ def err(x):
 
 lines = []
 out = lines.append
-revision = subprocess.run(['git', '-C', root, 'describe', '--always', '--dirty'], capture_output=True, text=True).stdout.strip()
 version = subprocess.run([uniarc, '--version'], capture_output=True, text=True).stdout.strip()
 total_numbers = sum(len(n) for n, _ in evaluated.values())
 total_checks = sum(len(c) for _, c in evaluated.values())
 failed_numbers = [(r['test'], r['label']) for n, _ in evaluated.values() for r in n if not r['ok']]
 failed_checks = [(name, text) for name, (_, c) in evaluated.items() for text, ok in c if not ok]
+failed_checks += [(t['name'], f'{t["checker"]} exited {script_results[t["name"]]["code"]}')
+                  for t in script_tests if script_results[t['name']]['code'] != 0]
+total_checks += len(script_tests)
 
 out('# uniarc — verification report')
 out('')
@@ -559,7 +696,8 @@ out('Every check of the regression tests (`tests/regression/CMakeLists.txt`: the
 out('')
 out(f'**Result: {total_numbers - len(failed_numbers)} of {total_numbers} reference values and '
     f'{total_checks - len(failed_checks)} of {total_checks} other checks pass** '
-    f'({len(tests)} regression tests, {len(convergence_tests)} convergence test).')
+    f'({len(tests)} regression tests, {len(convergence_tests)} convergence tests, {len(script_tests)} '
+    f'tests run by their own scripts, each one check).')
 if failed_numbers or failed_checks:
     out('')
     out('Failing:')
@@ -611,9 +749,10 @@ for part, cases in SECTIONS:
                 r = results[(c['name'], n)]
                 names_, rows_ = read_table(r['path']) if r['code'] == 0 else ([], [])
                 values.append(rows_[-1][names_.index(a.column)] if rows_ else None)
-            out(f'Curved member: `{c["name"]}` (deck `{os.path.relpath(a.deck, root)}`, '
-                f'{source_of(c["name"], "")} {a.exact:.12g}). Straight elements converge at a rate, so the '
-                f'test checks the observed order and the Richardson value:')
+            out(f'Mesh convergence: `{c["name"]}` (deck `{os.path.relpath(a.deck, root)}`, '
+                f'{source_of(c["name"], "")} {a.exact:.12g}). The discretisation (straight elements of a '
+                f'curved member, a lumped bed) converges at a rate, so the test checks the observed order '
+                f'and the Richardson value:')
             out('')
             out(f'| {a.parameter} | ' + ' | '.join(str(n) for n in a.meshes) + ' | Richardson |')
             out('|---|' + '---|' * (len(a.meshes) + 1))
@@ -631,6 +770,26 @@ for part, cases in SECTIONS:
                     f'{error:.1e} from the closed form (test: {a.rtol:g}) — {"ok" if ok else "**FAIL**"}.')
             else:
                 out('| — | a run failed |')
+            out('')
+        scripted = [t for t in script_tests if t['name'].startswith(prefix)]
+        if scripted:
+            out('Checks by their own scripts (the test passes when its script exits 0; below, what the '
+                'script prints: uniarc\'s values, the references and the tolerances):')
+            out('')
+            for t in scripted:
+                r = script_results[t['name']]
+                status = 'ok' if r['code'] == 0 else f'**FAIL** (exit {r["code"]})'
+                out(f'- `{t["name"]}` — `{t["checker"]}`' + (f' on `{t["deck"]}`' if t['deck'] else '') +
+                    f' — {status}')
+                shown = [line.replace(root + os.sep, '') for line in r['output'].splitlines() if line.strip()]
+                if len(shown) > 40:
+                    shown = shown[:39] + [f'... ({len(shown) - 39} more lines)']
+                if shown:
+                    out('')
+                    out('  ```')
+                    for line in shown:
+                        out('  ' + line.rstrip())
+                    out('  ```')
             out('')
         for image in images:
             if image in made:

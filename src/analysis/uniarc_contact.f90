@@ -23,12 +23,23 @@
 !> g_c + d_c, so the row in the set reads −a_cᵀδu − δd_c = g_c + d_c, and the bed's row is its
 !> equilibrium Σ_j K_b(c, j) d_j − r_c = 0 (F_aug = K_b d − r there, tangent K_b and −1 at r_c).
 !>
+!> A rigid candidate whose gap gradient a_c has no component on its node's free translations at the
+!> state (`held_by_support`: the normal of a curved obstacle along a held DOF — the vertex of an ellipse
+!> beside a node held in x, a polyline's face parallel to the line a roller lets its node move on) has a
+!> row −a_cᵀ = 0 and a column −a_c = 0: in the set the augmented matrix would be singular, though the
+!> structure is not a mechanism. Its gap does not change with the free DOFs (to first order) and its
+!> reaction would act on the support alone, which carries it: the candidate keeps the row of a free
+!> one (r_c = 0) wherever the working set puts it, the LCP leaves it out and the path's sign rule takes
+!> it out of the set (docs/theory.md §3.1). A rigid plane with such a normal never has a row at all
+!> (uniarc_dof_map: candidate_held_normal); a curved obstacle's normal turns with the node, so the
+!> test is made at every state.
+!>
 !> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
 !> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
 module uniarc_contact
    use uniarc_kinds, only: dp
-   use uniarc_model, only: model_t, contact_candidate_t, analysis_linear
+   use uniarc_model, only: model_t, contact_candidate_t, analysis_linear, gap_fixed_direction
    use uniarc_contact_law, only: candidate_gap
    use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force
    use uniarc_dof_map, only: dof_map_t
@@ -38,7 +49,14 @@ module uniarc_contact
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
-   public :: in_set
+   public :: in_set, held_by_support, carried_by_support
+
+   !> A gap gradient whose components on the node's free translations are at most this fraction of its
+   !> length moves only along held DOFs (held_by_support): the round-off of a unit normal's component
+   !> across an axis (cos 90° = 6e-17) is far below, and a component this small makes the reaction's row
+   !> of K_S a pivot of 1e-12 of its neighbours, a reaction a million million times the load it carries.
+   !> The tolerance of the rigid planes' candidate_held_normal (uniarc_dof_map), the same test.
+   real(dp), parameter :: held_gradient_tolerance = 1.0e-12_dp
 
 contains
 
@@ -73,7 +91,7 @@ contains
       real(dp), intent(inout), optional :: reference(:)
       real(dp) :: gap, gradient(2), hessian(2, 2), rate, at, swing(2)
       integer :: c, i, j, row, node, eq(2), bed
-      logical :: yields, curved
+      logical :: yields, curved, carried
       ! no copy of `deflections` (a hot path): read where present, 0 otherwise (add_bed_row, d_c below)
       at = 0.0_dp
       if (present(lambda)) at = lambda
@@ -98,6 +116,7 @@ contains
             call candidate_gap(candidate, model%coordinates(:, node), displacement(1:2, node), gap, &
                                gradient, hessian, at, rate)
             curved = any(candidate%motion /= 0.0_dp)
+            carried = held_by_support(row, eq, gradient, candidate%flexibility, bed)
             if (shifts_gap(model, c, present(slip))) gap = gap + slip_shift(model, c, slip)
             if (present(deflections)) then
                gap = gap + deflections(c)
@@ -124,7 +143,7 @@ contains
                ! at the bearing limit: r = q (or at the uplift limit, r = −t: limit_force)
                internal(row) = reactions(c) - limit_force(candidate, reactions(c))
                call band_add(tangent, row, row, 1.0_dp)
-            else if (in_set(model, active, c)) then
+            else if (in_set(model, active, c) .and. .not. carried) then
                internal(row) = -(gap + candidate%flexibility*reactions(c))
                do i = 1, 2
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
@@ -138,6 +157,7 @@ contains
                   internal(row) = internal(row) + at*rate
                end if
             else
+               ! out of the set, or carried by its node's support (module header): r = 0
                internal(row) = reactions(c)
                call band_add(tangent, row, row, 1.0_dp)
             end if
@@ -185,8 +205,9 @@ contains
          call set_membership(row, map%equation(1:2, node), gap, gradient, hessian, model%contacts(c)%flexibility, &
                              reactions(c), entering, tangent, residual, map%bed_equation(c))
          ! ∂g/∂λ: a plane's gap_rate, a curved obstacle's −a·d at the state (candidate_gap)
-         if (rate /= 0.0_dp .and. present(reference) .and. row > 0) &
-            reference(row) = merge(rate, 0.0_dp, entering)
+         if (rate /= 0.0_dp .and. present(reference) .and. row > 0) reference(row) = &
+            merge(rate, 0.0_dp, entering .and. .not. held_by_support(row, map%equation(1:2, node), gradient, &
+                                                                     model%contacts(c)%flexibility, map%bed_equation(c)))
       end do
 
    contains
@@ -229,6 +250,8 @@ contains
    !>   identity row with residual −r (r = 0 enforced).
    !> - a Pasternak bed point (`bed` > 0, its deflection's equation; `gap` then g + d): the row has −1
    !>   at d in the set, 0 out of it.
+   !> - a rigid candidate whose gradient moves only along held DOFs (held_by_support) gets the identity
+   !>   row entering too: the support carries its reaction (module header).
    subroutine set_membership(row, eq, gap, gradient, hessian, flexibility, reaction, entering, tangent, residual, bed)
       integer, intent(in) :: row, eq(2)
       real(dp), intent(in) :: gap, gradient(2), hessian(2, 2), flexibility, reaction
@@ -237,7 +260,9 @@ contains
       real(dp), intent(inout) :: residual(:)
       integer, intent(in), optional :: bed
       real(dp) :: sign, spring_reaction
-      integer :: i, j
+      integer :: i, j, bed_row
+      bed_row = 0
+      if (present(bed)) bed_row = bed
       if (row == 0) then
          sign = -1.0_dp
          if (entering) sign = 1.0_dp
@@ -250,7 +275,7 @@ contains
                                             sign*(gradient(i)*gradient(j)/flexibility - spring_reaction*hessian(i, j)))
             end do
          end do
-      else if (entering) then
+      else if (entering .and. .not. held_by_support(row, eq, gradient, flexibility, bed_row)) then
          do i = 1, 2
             if (eq(i) > 0) call band_set(tangent, row, eq(i), -gradient(i))
          end do
@@ -270,6 +295,48 @@ contains
          residual(row) = -reaction
       end if
    end subroutine set_membership
+
+   !> Whether a candidate with reaction equation `row` (0: none), node equations eq (2, 0 where held),
+   !> gap gradient a = `gradient` (2), flexibility t and Pasternak deflection equation `bed` (0: none)
+   !> is carried by its node's support at this state (module header): rigid (t = 0, no bed) with an
+   !> augmented row, and no component of a on a free translation above held_gradient_tolerance of |a|.
+   pure logical function held_by_support(row, eq, gradient, flexibility, bed) result(held)
+      integer, intent(in) :: row, eq(2), bed
+      real(dp), intent(in) :: gradient(2), flexibility
+      real(dp) :: length
+      integer :: k
+      held = .false.
+      if (row == 0 .or. flexibility /= 0.0_dp .or. bed /= 0) return
+      length = norm2(gradient)
+      do k = 1, 2
+         if (eq(k) > 0 .and. abs(gradient(k)) > held_gradient_tolerance*length) return
+      end do
+      held = .true.
+   end function held_by_support
+
+   !> held_by_support for candidate c of `model` at nodal displacements `nodal` (3, n_nodes) and load
+   !> factor `lambda` (a moving obstacle's position; default 0), its gradient from the contact law.
+   pure logical function carried_by_support(model, map, c, nodal, lambda) result(held)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: c
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp), intent(in), optional :: lambda
+      real(dp) :: gap, gradient(2), hessian(2, 2), at
+      integer :: node
+      held = .false.
+      if (map%candidate_equation(c) == 0) return
+      if (model%contacts(c)%flexibility /= 0.0_dp .or. map%bed_equation(c) /= 0) return
+      ! a fixed direction never turns: one along held DOFs has no row (uniarc_dof_map,
+      ! candidate_held_normal, the same test), so a plane with a row is never carried
+      if (model%contacts(c)%gap_kind == gap_fixed_direction) return
+      at = 0.0_dp
+      if (present(lambda)) at = lambda
+      node = model%contacts(c)%node
+      call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, at)
+      held = held_by_support(map%candidate_equation(c), map%equation(1:2, node), gradient, &
+                             model%contacts(c)%flexibility, map%bed_equation(c))
+   end function carried_by_support
 
    !> The row of Pasternak bed point c (module header): F_aug = Σ_j K_b(c, j) d_j − r_c on its deflection's
    !> equation, the tangent K_b(c, ·) on the deflections of c and its neighbours and −1 at its reaction.

@@ -23,7 +23,7 @@ module uniarc_contact_lcp
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
                           band_move, band_product
-   use uniarc_contact, only: candidate_gap, set_membership, in_set
+   use uniarc_contact, only: candidate_gap, set_membership, in_set, carried_by_support
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
    use uniarc_lemke, only: lemke_solved, lemke_ray_termination
@@ -172,7 +172,16 @@ contains
       if (allocated(error)) return
       selection%active(:) = active
       selection%kept = .false.
-      ! The unilateral candidates: live, not bilateral, not yielding.
+      ! A rigid candidate whose gap moves only along held DOFs at this state is carried by its node's
+      ! support (uniarc_contact, held_by_support): its column of M is zero, it is no variable of the LCP
+      ! and leaves the set (its row of K_S is the identity, r = 0, in or out of it).
+      do c = 1, size(map%candidate_equation)
+         if (selection%active(c) .and. .not. model%contacts(c)%bilateral) then
+            if (carried_by_support(model, map, c, linearization%nodal, linearization%lambda)) &
+               selection%active(c) = .false.
+         end if
+      end do
+      ! The unilateral candidates: live, not bilateral, not yielding, not carried by a support.
       m = 0
       do c = 1, size(map%candidate_equation)
          if (unilateral_candidate(c)) m = m + 1
@@ -301,6 +310,8 @@ contains
          unilateral_candidate = candidate_live(map, c) .and. .not. model%contacts(c)%bilateral
          if (unilateral_candidate .and. allocated(linearization%yielding)) &
             unilateral_candidate = .not. linearization%yielding(c)
+         if (unilateral_candidate) unilateral_candidate = &
+            .not. carried_by_support(model, map, c, linearization%nodal, linearization%lambda)
       end function unilateral_candidate
    end subroutine select_contact_set
 

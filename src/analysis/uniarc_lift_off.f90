@@ -172,7 +172,8 @@ contains
       real(dp) :: gap, gradient(2), hessian(2, 2)
       real(dp), allocatable :: c_motion(:)
       real(dp) :: work(size(motions, 2))
-      logical :: lifts
+      logical :: lifts, opening
+      real(dp) :: travel
       logical, allocatable :: unilateral(:)
       integer, allocatable :: which(:)
       integer :: c, j, i, node, d, largest, label, k, m, status
@@ -214,6 +215,20 @@ contains
       if (status /= 0 .or. .not. lifts) return
       motion(:) = matmul(motions, c_motion)
       largest = maxloc(abs(map%metric*motion), 1)
+      ! Along the motion no gap closes. Where some open it lifts the structure off; where none opens
+      ! (to 1e-6 of the motion's largest translation at a candidate: round-off of the rates) it slides
+      ! along every contact — a ring spun in a circular cavity — which frictionless contacts cannot resist.
+      opening = .false.
+      travel = 0.0_dp
+      do i = 1, size(which)
+         node = model%contacts(which(i))%node
+         do d = 1, 2
+            if (map%equation(d, node) > 0) travel = max(travel, abs(motion(map%equation(d, node))))
+         end do
+      end do
+      do i = 1, size(which)
+         if (dot_product(rates(:, i), c_motion) > 1.0e-6_dp*travel) opening = .true.
+      end do
       label = 0
       d = 0
       do node = 1, size(map%equation, 2)
@@ -224,11 +239,19 @@ contains
             exit
          end if
       end do
-      message = 'no equilibrium exists: the load lifts the structure off every contact that could hold it '// &
-                '(the supports leave it free to move as a rigid body, largest at node '//integer_to_string(label)// &
-                ', '//trim(names(max(d, 1)))//', and along that motion every gap opens while the load does work on it: '// &
-                'the contact problem has no solution); hold the structure with supports (*BOUNDARY) or '// &
-                'reverse the load'
+      if (opening) then
+         message = 'no equilibrium exists: the load lifts the structure off every contact that could hold it '// &
+                   '(the supports leave it free to move as a rigid body, largest at node '//integer_to_string(label)// &
+                   ', '//trim(names(max(d, 1)))//', and along that motion no gap closes while the load does work '// &
+                   'on it: the contact problem has no solution); hold the structure with supports (*BOUNDARY) or '// &
+                   'reverse the load'
+      else
+         message = 'no equilibrium exists: the load drives the structure along a rigid motion that slides along '// &
+                   'every contact it touches (largest at node '//integer_to_string(label)//', '// &
+                   trim(names(max(d, 1)))//'; no gap opens or closes along it, and frictionless contacts take no '// &
+                   'force along their surface: the contact problem has no solution); hold the structure with '// &
+                   'supports (*BOUNDARY) against that motion, or give the load no component along it'
+      end if
    end subroutine describe_lift_off
 
 end module uniarc_lift_off

@@ -31,6 +31,8 @@ module uniarc_linear_static
    use uniarc_floating_subspace, only: orthonormal_motions, unheld_motions, spring_equations, remove_unheld
    use uniarc_contact_lcp, only: contact_linearization_t, contact_selection_t, select_contact_set, &
                                  constraint_load
+   use uniarc_static_set_search, only: largest_violation, set_signature, switching_springs, switching_group
+   use uniarc_kinds, only: i8
    implicit none
    private
    public :: solve_linear_static, explain_static_imbalance
@@ -124,6 +126,9 @@ contains
                             'not settle after '//integer_to_string(max_relinearisations)//' re-linearisations of '// &
                             'their gaps at the solution (largest difference of a linearised and a true gap: '// &
                             trim(adjustl(real_to_string(mismatch, '(es10.3)')))//'); no result written', error_analysis)
+            ! a load that drives the structure along a rigid motion its contacts cannot hold (a ring
+            ! spun in a frictionless cavity) has no equilibrium: said so rather than that the gaps moved
+            call explain_static_imbalance(model, error)
             deallocate (displacement)
             return
          end if
@@ -209,10 +214,10 @@ contains
       type(contact_selection_t) :: selection
       real(dp), allocatable :: residual(:), reference(:), rhs(:, :), x(:), r(:), g(:), zero_nodal(:, :), applied(:)
       !> the floating motions (n, k, orthonormal in the metric) of a structure held only by its contacts
-      !> across a gap (unallocated: no approach), and those of them the working set leaves free (n, p)
-      real(dp), allocatable :: floating(:, :), unheld(:, :)
-      logical, allocatable :: set(:), previous(:), flip(:)
-      logical :: singular, block
+      !> across a gap (unallocated: no approach)
+      real(dp), allocatable :: floating(:, :)
+      logical, allocatable :: set(:), start_set(:), previous(:), flip(:)
+      logical :: singular, settled, block, unheld_set
       real(dp) :: length_scale, worst
       integer :: n, round, pivots, c, status, block_steps, fewest, stalled
 
@@ -255,57 +260,33 @@ contains
       if (allocated(error)) return
       pivots = 0
       worst = 0.0_dp
+      ! the set of the unloaded state, where the search of a model with switching springs starts
+      allocate (start_set(size(set)), stat=status)
+      call allocation_failure(status, 'the first contact set of the linear analysis', 4.0_dp*size(set), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      start_set(:) = set
+      settled = .false.
       block = .true.
       block_steps = 0
       fewest = huge(1)
       stalled = 0
       round = 0
       do
-         call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
-         if (allocated(error)) return
-         call band_copy(assembled, factors, error)
-         if (allocated(error)) return
-         call band_factorize(factors, error)
-         if (allocated(error) .and. block_steps > 0 .and. block) then
+         call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
+                        assembled, factors, rhs, x, r, g, worst, error, unheld_set)
+         if (allocated(error) .and. unheld_set .and. block_steps > 0 .and. block) then
             ! a block exchange that left the structure unheld: back to its set, the LCP goes on from it
             deallocate (error)
             set = previous
             block = .false.
             cycle
          end if
-         if (allocated(error)) then
-            call add_context(error, 'linear static analysis (are the supports and contacts enough to hold '// &
-                             'the structure?)')
-            return
-         end if
-         rhs(:, 1) = residual
-         rhs(:, 2) = reference
-         call band_solve(factors, rhs, error)
          if (allocated(error)) return
-         x(:) = rhs(:, 1) + rhs(:, 2)
-         ! The floating motions the set leaves free: defined up to them, the solution is taken with none
-         ! of them (its minimum-norm one), not with the amount the springs' equations and round-off set.
-         if (allocated(floating)) then
-            call unheld_motions(model, map, set, floating, unheld, error)
-            if (allocated(error)) return
-         else
-            allocate (unheld(n, 0), stat=status)
-            call allocation_failure(status, 'the floating motions no contact holds', 0.0_dp, error_analysis, error)
-            if (allocated(error)) return
+         if (worst <= complementarity_tolerance) then
+            settled = .true.
+            exit
          end if
-         call remove_unheld(map, unheld, x)
-         call linear_contact_state(model, map, x, set, r, g)
-         worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
-         call refine_solution(model, map, set, applied, factors, assembled, length_scale, zero_nodal, x, r, g, &
-                              worst, error)
-         if (allocated(error)) return
-         if (size(unheld, 2) > 0) then
-            call remove_unheld(map, unheld, x)
-            call linear_contact_state(model, map, x, set, r, g)
-            worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
-         end if
-         deallocate (unheld)
-         if (worst <= complementarity_tolerance) exit
          if (block) then
             call block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
             if (count(flip) < fewest) then
@@ -323,13 +304,10 @@ contains
             end if
          end if
          round = round + 1
-         if (round > max_rounds) then
-            call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
-                            error_analysis)
-            return
-         end if
+         if (round > max_rounds) exit
          ! The LCP posed at the refined solution x of the set (its residual from the elements' forces),
-         ! not at u = 0; `assembled` is its work space, then the set's K_S again.
+         ! not at u = 0; `assembled` (refine_solution left the contact part of K_S in it) is its work
+         ! space, then the set's K_S again.
          call linearize_at_solution(model, map, set, applied, factors, zero_nodal, length_scale, x, rhs(:, 2), &
                                     assembled, lin, error)
          if (allocated(error)) return
@@ -346,6 +324,20 @@ contains
          end if
          set = selection%active
       end do
+      if (.not. settled) then
+         if (.not. switching_springs(model)) then
+            call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
+                            error_analysis)
+            return
+         end if
+         ! Tangential springs that switch with their radial contacts: the law is not an LCP and its
+         ! rounds can cycle (docs/theory.md §3.8); the search by single changes from the set of the
+         ! unloaded state (uniarc_static_set_search) finds a consistent set or says that none was reached.
+         set = start_set
+         call search_consistent_set(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                                    assembled, factors, rhs, x, r, g, set, worst, error)
+         if (allocated(error)) return
+      end if
 
       call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
       if (allocated(error)) return
@@ -390,6 +382,158 @@ contains
          end do
       end if
    end subroutine solve_linearised
+
+   !> One solve of the linear problem with the contact set `set`: K_S assembled (`assembled`, with the
+   !> floating motions of `floating` the set leaves free held, assemble_set) and factorised (`factors`),
+   !> rhs(:, 1) = K_S⁻¹ (−F_aug(0)) (from `residual`, which assemble_set overwrites) and
+   !> rhs(:, 2) = K_S⁻¹ R (`reference`), x their sum without the unheld floating motions, refined
+   !> (refine_solution), with its reactions r, linearised gaps g and complementarity violation `worst`.
+   !> `assembled` holds the contact part of K_S on return (refine_solution's workspace), not K_S.
+   !> Errors: a singular K_S (the supports and contacts of the set do not hold the structure; then
+   !> `singular`, if present, is true), memory.
+   subroutine solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
+                        assembled, factors, rhs, x, r, g, worst, error, singular)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      logical, intent(in) :: set(:)
+      real(dp), allocatable, intent(in) :: floating(:, :)
+      real(dp), intent(inout) :: residual(:)
+      real(dp), intent(in) :: reference(:), applied(:), length_scale
+      type(band_matrix_t), intent(inout) :: assembled, factors
+      real(dp), intent(inout) :: rhs(:, :)
+      real(dp), intent(out) :: x(:), r(:), g(:), worst
+      type(error_t), allocatable, intent(out) :: error
+      logical, intent(out), optional :: singular
+      real(dp), allocatable :: unheld(:, :)
+      integer :: status
+      if (present(singular)) singular = .false.
+      worst = huge(1.0_dp)
+      x = 0.0_dp
+      r = 0.0_dp
+      g = 0.0_dp
+      call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
+      if (allocated(error)) return
+      call band_copy(assembled, factors, error)
+      if (allocated(error)) return
+      call band_factorize(factors, error)
+      if (allocated(error)) then
+         if (present(singular)) singular = .true.
+         call add_context(error, 'linear static analysis (are the supports and contacts enough to hold '// &
+                          'the structure?)')
+         return
+      end if
+      rhs(:, 1) = residual
+      rhs(:, 2) = reference
+      call band_solve(factors, rhs, error)
+      if (allocated(error)) return
+      x(:) = rhs(:, 1) + rhs(:, 2)
+      ! The floating motions the set leaves free: defined up to them, the solution is taken with none
+      ! of them (its minimum-norm one), not with the amount the springs' equations and round-off set.
+      if (allocated(floating)) then
+         call unheld_motions(model, map, set, floating, unheld, error)
+         if (allocated(error)) return
+      else
+         allocate (unheld(map%n_equations, 0), stat=status)
+         call allocation_failure(status, 'the floating motions no contact holds', 0.0_dp, error_analysis, error)
+         if (allocated(error)) return
+      end if
+      call remove_unheld(map, unheld, x)
+      call linear_contact_state(model, map, x, set, r, g)
+      worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
+      call refine_solution(model, map, set, applied, factors, assembled, length_scale, zero_nodal, x, r, g, &
+                           worst, error)
+      if (allocated(error)) return
+      if (size(unheld, 2) > 0) then
+         call remove_unheld(map, unheld, x)
+         call linear_contact_state(model, map, x, set, r, g)
+         worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
+      end if
+   end subroutine solve_set
+
+   !> The contact set of a model whose tangential springs switch with their radial contacts, when the
+   !> rounds of the contact LCP did not settle (docs/theory.md §3.8): from `set` (on entry the set of the
+   !> unloaded state, where every touching contact and its spring act), solve with the set
+   !> (solve_set), and while a candidate's sign condition fails change one of them,
+   !> (uniarc_static_set_search: the largest violation first), until the solution is consistent (on return: `set`, x, r,
+   !> g and `worst` of it, `assembled` K_S) or a set comes back, or max_changes sets were solved: then
+   !> no consistent set at λ = 1 was reached, an analysis error that names the cause and the remedies.
+   subroutine search_consistent_set(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                                    assembled, factors, rhs, x, r, g, set, worst, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      real(dp), allocatable, intent(in) :: floating(:, :)
+      real(dp), intent(inout) :: residual(:)
+      real(dp), intent(in) :: reference(:), applied(:), length_scale
+      type(band_matrix_t), intent(inout) :: assembled, factors
+      real(dp), intent(inout) :: rhs(:, :)
+      real(dp), intent(out) :: x(:), r(:), g(:)
+      logical, intent(inout) :: set(:)
+      real(dp), intent(out) :: worst
+      type(error_t), allocatable, intent(out) :: error
+      integer(i8), allocatable :: seen(:)
+      integer(i8) :: signature
+      real(dp) :: r_unit, g_unit
+      integer :: max_changes, k, c, status, n_unilateral
+      logical :: singular
+      character(len=:), allocatable :: why, group
+      n_unilateral = 0
+      do c = 1, size(set)
+         if (candidate_live(map, c) .and. .not. model%contacts(c)%bilateral) n_unilateral = n_unilateral + 1
+      end do
+      ! the searches measured changed each candidate at most a few times (the lining: 14 to 40 sets for
+      ! 48 radial springs); ten changes per candidate and a hundred more bound the solves (each one band
+      ! solve) where no set comes back first.
+      max_changes = 10*n_unilateral + 100
+      allocate (seen(max_changes), stat=status)
+      call allocation_failure(status, 'the signatures of the contact sets searched', 8.0_dp*max_changes, &
+                              error_analysis, error)
+      if (allocated(error)) return
+      why = ''
+      do k = 1, max_changes
+         call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
+                        assembled, factors, rhs, x, r, g, worst, error, singular)
+         if (allocated(error)) then
+            ! a set too small to hold the structure is no answer: the search ends there
+            if (.not. singular) return
+            deallocate (error)
+            why = 'a search by single changes from the unloaded contact set reached a set that does not '// &
+                  'hold the structure after '//integer_to_string(k - 1)//' sets'
+            exit
+         end if
+         if (worst <= complementarity_tolerance) then
+            call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
+            return
+         end if
+         signature = set_signature(set)
+         if (any(seen(1:k - 1) == signature)) then
+            why = 'a search by single changes from the unloaded contact set came back to a set after '// &
+                  integer_to_string(k - 1)//' sets'
+            exit
+         end if
+         seen(k) = signature
+         r_unit = max(maxval(abs(r)), norm2(reference), tiny(1.0_dp))
+         g_unit = max(maxval(abs(map%metric*x)), 1.0e-12_dp*length_scale, tiny(1.0_dp))
+         c = largest_violation(model, map, set, r, g, r_unit, g_unit, complementarity_tolerance)
+         if (c == 0) then
+            why = 'a search by single changes stopped at a set whose only violation is the round-off of the '// &
+                  'reactions times the gaps'
+            exit
+         end if
+         set(c) = .not. set(c)
+      end do
+      if (len(why) == 0) why = 'a search by single changes tried '//integer_to_string(max_changes)//' sets'
+      group = switching_group(model)
+      if (len(group) > 0) group = ' of '''//group//''''
+      call make_error(error, 'linear static analysis: no consistent contact set at lambda = 1: the tangential '// &
+                      'springs'//group//' (KT=, TANGENTIAL=CONTACT) act only where their radial contact is '// &
+                      'closed, so they switch with the contact set, and every set tried leaves a radial spring '// &
+                      'of the set pulling or a node outside it in the ground once its tangential springs are '// &
+                      'switched (the rounds of the contact LCP did not settle; '//why//'). Trace the load with '// &
+                      '*PATH, where the springs'' status is history (docs/theory.md 3.8), or make the springs '// &
+                      'act everywhere with TANGENTIAL=BONDED', error_analysis)
+   end subroutine search_consistent_set
 
    !> A structure held only by its contacts across a gap, that the reference load `reference` pushes
    !> along a rigid translation its supports leave free (docs/theory.md §2.8, uniarc_path_approach):

@@ -589,11 +589,12 @@ contains
       integer, intent(in) :: step
       real(dp), intent(in) :: lambda, tracked(:)
       reason = stop_none
-      if (abs(lambda) >= rules%lambda_max) then
+      ! A step landed on a limit (docs/theory.md §2.11) reaches it to the round-off of λ + Δλ (or of
+      ! u + Δu): within 1e-12 of it, far below any tolerance of a step, it counts as reached — not a
+      ! further step of Δλ ≈ 1e-13 that would repeat the row at the same λ.
+      if (abs(lambda) >= rules%lambda_max*(1.0_dp - 1.0e-12_dp)) then
          reason = stop_load_limit
       else if (rules%track > 0) then
-         ! A step landed on the limit (docs/theory.md §2.11) reaches it to the round-off of u + Δu:
-         ! 1e-12 of it, far below any tolerance of a step, counts as reached.
          if (abs(tracked(rules%track)) >= rules%track_limit*(1.0_dp - 1.0e-12_dp)) reason = stop_track_limit
       end if
       if (reason == stop_none .and. step >= rules%max_steps) reason = stop_step_limit

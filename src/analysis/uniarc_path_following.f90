@@ -53,7 +53,7 @@ module uniarc_path_following
                                 trace_retraced_step, trace_set_origin, trace_remember_corner, &
                                 trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
-                                  add_concave_corner_hint
+                                  add_concave_corner_hint, add_convex_corner_hint
    use uniarc_path_start, only: size_first_step, find_floating, approach_first_contact
    implicit none
    private
@@ -446,8 +446,9 @@ contains
                   call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                   return
                end if
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                ! A step that converged but went back along the path (the piece past a corner folding
                ! back) is said: the path does not go on forward from here (docs/theory.md §2.3).
@@ -456,8 +457,12 @@ contains
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
                end if
                call add_concave_corner_hint(model, state, error)
+               if (index(error%message, 'concave corner') == 0) &
+                  call add_convex_corner_hint(model, state, options%control == control_load, &
+                                              2.0_dp*length/state%first_length, error)
                if (options%control == control_load .and. state%point%neg_pivots == 0 .and. &
-                   index(error%message, 'concave corner') == 0 .and. .not. at_bearing_limit(state)) then
+                   index(error%message, 'concave corner') == 0 .and. index(error%message, 'convex corner') == 0 &
+                   .and. .not. at_bearing_limit(state)) then
                   ! Under load control the path cannot pass a limit point: past it there is no
                   ! equilibrium near the last one (docs/contracts.md, exit code 1). Not said where
                   ! contacts are at their bearing limit: arc length meets the same plateau there
@@ -725,8 +730,9 @@ contains
             end if
             if (length < options%min_increment*state%first_length) then
                call move_alloc(system, state%system)
+               ! `length` was halved after the last attempt failed: the smallest attempt was twice it
                call make_error(error, 'no convergence ('//trial%reason//') after cutting the step down to '// &
-                               real_to_string(length/state%first_length, message_edit)//' of the first', &
+                               real_to_string(2.0_dp*length/state%first_length, message_edit)//' of the first', &
                                error_analysis)
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &

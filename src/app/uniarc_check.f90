@@ -8,19 +8,21 @@ module uniarc_check
    use uniarc_error, only: error_t, make_error, error_input
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, analysis_linear, control_load, control_displacement, dofs_per_node, &
-                           element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak
+                           element_kind_of, element_truss, element_length, load_pressure, foundation_pasternak, &
+                           element_timoshenko, contact_candidate_t
    use uniarc_contact_law, only: chain_nodes
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_held_normal
    use uniarc_element, only: element_stiffness_scale, element_coordinates
    use uniarc_memory, only: model_memory_bytes, memory_shortfall, available_memory, memory_text, allocation_failure
-   use uniarc_model, only: control_arclength, thermal_load_t
+   use uniarc_model, only: control_arclength, thermal_load_t, analysis_options_t, track_t
+   use uniarc_builder_loads, only: thermal_excess
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_mechanism, only: closed_linear_stiffness, find_mechanism
    implicit none
    private
    public :: model_memory_estimate, check_model, check_element_scales, print_model_summary, stiffness_bound
-   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning
+   public :: nearly_mechanism_warning, check_bed_ends, held_contact_warning, analysis_summary
 
    !> A linear response to the loads that moves a node by more than this many times the model's size
    !> is reported as a nearly singular model (nearly_mechanism_warning).
@@ -125,39 +127,23 @@ contains
       end do
    end subroutine check_element_scales
 
-   !> The free thermal deformations of the elements (docs/theory.md §1.9): the axial strain α ΔT at most
-   !> 1 in magnitude, and the free rotation of the element's ends against each other, the curvature
-   !> α ΔT_d / h times its length L, at most π. The corotational element takes its natural deformation
-   !> as a small strain and a rotation against its chord; beyond these a deformation means nothing, and
-   !> its products with the stiffnesses (EA α ΔT, EI κ, κ L² in the displacements) overflowed double
-   !> precision (ΔT_d = 1e300 or h = 1e-100 in the reviewer's sweep: SIGFPE in Debug). The quotient
-   !> is compared through logarithms, so that the check itself cannot overflow. Errors (error_input,
-   !> exit code 2): the first element that fails, named with its values.
+   !> The free thermal deformations of the elements (uniarc_builder_loads, thermal_excess: the axial
+   !> strain α ΔT at most 1 in magnitude, the free rotation α ΔT_d L/h at most π). A deck's *TEMPERATURE
+   !> lines are checked as they are read (at their line and column); this guards a model built without
+   !> a deck. Errors (error_input, exit code 2): the first element that fails, named with its values.
    subroutine check_thermal_scales(model, loads, error)
       type(model_t), intent(in) :: model
       type(thermal_load_t), intent(in) :: loads(:)
       type(error_t), allocatable, intent(out) :: error
-      real(dp), parameter :: pi = acos(-1.0_dp)
-      real(dp) :: x(2, 2), length
+      real(dp) :: x(2, 2)
       integer :: i, label
       character(len=:), allocatable :: what
+      logical :: axial
       do i = 1, size(loads)
          associate (load => loads(i))
-            what = ''
-            if (load%alpha /= 0.0_dp .and. load%delta_t /= 0.0_dp) then
-               if (log(abs(load%alpha)) + log(abs(load%delta_t)) > 0.0_dp) &
-                  what = 'a free thermal strain alpha dT beyond 1 in magnitude (alpha = '// &
-                         real_to_string(load%alpha)//', dT = '//real_to_string(load%delta_t)//')'
-            end if
-            if (len(what) == 0 .and. load%alpha /= 0.0_dp .and. load%difference /= 0.0_dp .and. &
-                load%depth > 0.0_dp) then
-               x = element_coordinates(model, load%element)
-               length = norm2(x(:, 2) - x(:, 1))
-               if (log(abs(load%alpha)) + log(abs(load%difference)) + log(length) - log(load%depth) > log(pi)) &
-                  what = 'a free thermal rotation alpha dT_d L/h beyond pi (alpha = '//real_to_string(load%alpha)// &
-                         ', dT_d = '//real_to_string(load%difference)//', h = '//real_to_string(load%depth)// &
-                         ', L = '//real_to_string(length)//')'
-            end if
+            x = element_coordinates(model, load%element)
+            call thermal_excess(load%alpha, load%delta_t, load%difference, load%depth, norm2(x(:, 2) - x(:, 1)), &
+                                what, axial)
             if (len(what) == 0) cycle
             label = load%element
             if (allocated(model%element_label)) label = model%element_label(load%element)
@@ -378,14 +364,25 @@ contains
       end do
       call line('nodes', integer_to_string(model%n_nodes))
       call line('elements', integer_to_string(model%n_elements)//' ('//integer_to_string(model%n_elements - n_truss)// &
-                ' beam-columns, '//integer_to_string(n_truss)//' trusses)')
+                ' beam-columns, '//integer_to_string(n_truss)//' trusses)'//timoshenko_text())
+      if (allocated(model%end_joints)) then
+         if (any(model%end_joints%hinge .or. model%end_joints%compliance > 0.0_dp)) &
+            call line('end releases', counted(count(model%end_joints%hinge), 'hinge')//', '// &
+                      counted(count(.not. model%end_joints%hinge .and. model%end_joints%compliance > 0.0_dp), &
+                              'rotational spring')//' (*RELEASE)')
+      end if
       call line('node sets', integer_to_string(count_sets_nodes())//';  element sets '// &
                 integer_to_string(count_sets_elements()))
       if (allocated(model%sections)) then
          call line('sections', integer_to_string(size(model%sections)))
          do i = 1, size(model%sections)
-            call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
-                      real_to_string(model%sections(i)%ei))
+            if (model%sections(i)%gas > 0.0_dp) then
+               call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
+                         real_to_string(model%sections(i)%ei)//', GAs = '//real_to_string(model%sections(i)%gas))
+            else
+               call line('', model%sections(i)%name//': EA = '//real_to_string(model%sections(i)%ea)//', EI = '// &
+                         real_to_string(model%sections(i)%ei))
+            end if
          end do
       end if
       held_nodes = 0
@@ -418,11 +415,14 @@ contains
                    ' (fixed-direction; pressures act along the normals)')
       end if
       if (allocated(model%contact_groups)) then
+         ! a foundation's tangential springs (KT=) are candidates of its group but not contacts
+         ! (docs/input.md *FOUNDATION): counted apart, with the law they act by
          call line('contact groups', integer_to_string(size(model%contact_groups))//', '// &
-                   integer_to_string(size(model%contacts))//' candidates')
+                   counted(count(.not. model%contacts%tangential), 'candidate')//tangential_text(model%contacts))
          do i = 1, size(model%contact_groups)
             call line('', model%contact_groups(i)%name//': '// &
-                      integer_to_string(size(model%contact_groups(i)%candidates))//' candidates')
+                      counted(count(.not. model%contacts(model%contact_groups(i)%candidates)%tangential), &
+                              'candidate')//tangential_text(model%contacts(model%contact_groups(i)%candidates)))
          end do
       else
          call line('contact groups', '0')
@@ -430,7 +430,11 @@ contains
       if (allocated(model%tracks)) then
          call line('tracks', integer_to_string(size(model%tracks)))
       end if
-      call line('analysis', analysis_text())
+      if (allocated(model%steps)) then
+         call line('analysis', 'in '//integer_to_string(size(model%steps))//' analysis steps (below)')
+      else
+         call line('analysis', analysis_summary(model%analysis, model%tracks))
+      end if
       call line('equations', integer_to_string(map%n_equations)//bed_text(map)//', half bandwidth '// &
                 integer_to_string(map%half_bandwidth))
       call available_memory(available, origin)
@@ -441,6 +445,17 @@ contains
          call line('memory', 'about '//memory_text(model_memory_estimate(model, map))//' estimated')
       end if
    contains
+      !> ", N Timoshenko" when some of the beam-columns are shear-deformable (TYPE=TIMOSHENKO), else nothing.
+      function timoshenko_text() result(text)
+         character(len=:), allocatable :: text
+         integer :: e, n_timoshenko
+         n_timoshenko = 0
+         do e = 1, model%n_elements
+            if (element_kind_of(model, e) == element_timoshenko) n_timoshenko = n_timoshenko + 1
+         end do
+         text = ''
+         if (n_timoshenko > 0) text = ', '//integer_to_string(n_timoshenko)//' of them Timoshenko (shear-deformable)'
+      end function timoshenko_text
       subroutine line(label, text)
          character(len=*), intent(in) :: label, text
          character(len=16) :: padded
@@ -455,28 +470,34 @@ contains
          count_sets_elements = 0
          if (allocated(model%element_sets)) count_sets_elements = size(model%element_sets)
       end function count_sets_elements
-      function analysis_text() result(text)
-         character(len=:), allocatable :: text
-         if (model%analysis%kind == analysis_linear) then
-            text = 'linear static (one load case, lambda = 1)'
-            return
-         end if
-         select case (model%analysis%control)
-         case (control_load)
-            text = 'path, load control'
-         case (control_displacement)
-            text = 'path, displacement control'
-         case default
-            text = 'path, arc length'
-         end select
-         text = text//'; first increment '//real_to_string(model%analysis%first_increment)//'; stops at '// &
-                integer_to_string(model%analysis%max_steps)//' steps'
-         if (model%analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '// &
-                                                                real_to_string(model%analysis%lambda_max)
-         if (model%analysis%stop_track > 0) text = text//', |'//model%tracks(model%analysis%stop_track)%name// &
-                                                   '| >= '//real_to_string(model%analysis%stop_value)
-      end function analysis_text
    end subroutine print_model_summary
+
+   !> The analysis options `analysis` in words, for the --check summary: its kind, control, first
+   !> increment and stop rules (`tracks`: the model's, for the name of a stop track), e.g.
+   !> 'path, arc length; first increment 0.1; stops at 200 steps, |lambda| >= 1'.
+   pure function analysis_summary(analysis, tracks) result(text)
+      type(analysis_options_t), intent(in) :: analysis
+      type(track_t), allocatable, intent(in) :: tracks(:)   !< may be unallocated (no *TRACK)
+      character(len=:), allocatable :: text
+      if (analysis%kind == analysis_linear) then
+         text = 'linear static (one load case, lambda = 1)'
+         return
+      end if
+      select case (analysis%control)
+      case (control_load)
+         text = 'path, load control'
+      case (control_displacement)
+         text = 'path, displacement control'
+      case default
+         text = 'path, arc length'
+      end select
+      text = text//'; first increment '//real_to_string(analysis%first_increment)//'; stops at '// &
+             integer_to_string(analysis%max_steps)//' steps'
+      if (analysis%lambda_max < huge(1.0_dp)) text = text//', |lambda| >= '//real_to_string(analysis%lambda_max)
+      if (.not. allocated(tracks)) return
+      if (analysis%stop_track > 0 .and. analysis%stop_track <= size(tracks)) &
+         text = text//', |'//tracks(analysis%stop_track)%name//'| >= '//real_to_string(analysis%stop_value)
+   end function analysis_summary
 
    !> "1 node", "2 nodes": a count and its noun.
    pure function counted(n, noun) result(text)
@@ -486,6 +507,19 @@ contains
       text = integer_to_string(n)//' '//noun
       if (n /= 1) text = text//'s'
    end function counted
+
+   !> ", with N tangential springs (in contact|bonded)" for the candidates `contacts` that have
+   !> tangential springs (*FOUNDATION, KT=), else nothing.
+   pure function tangential_text(contacts) result(text)
+      type(contact_candidate_t), intent(in) :: contacts(:)
+      character(len=:), allocatable :: text
+      integer :: n_contact, n_bonded
+      n_contact = count(contacts%tangential .and. contacts%partner > 0)
+      n_bonded = count(contacts%tangential .and. contacts%partner == 0)
+      text = ''
+      if (n_contact > 0) text = text//', with '//counted(n_contact, 'tangential spring')//' acting in contact'
+      if (n_bonded > 0) text = text//', with '//counted(n_bonded, 'tangential spring')//' bonded'
+   end function tangential_text
 
    !> "N nodes, M elements, K contact candidates; E equations, half bandwidth B".
    function counts_text(model, map) result(text)

@@ -12,7 +12,7 @@ module uniarc_run_checks
    use uniarc_dof_map, only: dof_map_t, build_dof_map
    use uniarc_path_mechanism, only: check_model_mechanism
    use uniarc_check, only: check_model, check_element_scales, check_bed_ends, print_model_summary, &
-                           model_memory_estimate, nearly_mechanism_warning, held_contact_warning
+                           model_memory_estimate, nearly_mechanism_warning, held_contact_warning, analysis_summary
    use uniarc_memory, only: available_memory, memory_text
    use uniarc_strings, only: integer_to_string, counted
    use uniarc_run_common, only: run_options_t, name_analysis_step
@@ -41,7 +41,7 @@ contains
          do k = 1, size(model%steps)
             associate (step => model%steps(k))
                write (output_unit, '(a)') '  analysis step '//integer_to_string(k)//' ('//step%name//'): '// &
-                  trim(merge('*STATIC', '*PATH  ', step%analysis%kind == analysis_linear))//', loads on '// &
+                  analysis_summary(step%analysis, model%tracks)//'; loads on '// &
                   integer_to_string(count(any(step%loads%nodal_load /= 0.0_dp, dim=1)))//' nodes, '// &
                   integer_to_string(size(step%loads%distributed_loads))//' element loads, '// &
                   integer_to_string(size(step%loads%thermal_loads))//' temperature changes'// &

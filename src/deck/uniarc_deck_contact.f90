@@ -133,6 +133,14 @@ contains
          return
       end if
       foundation%bilateral = option_index(card, 'BILATERAL') > 0
+      if (foundation%bilateral .and. foundation%gap /= 0.0_dp) then
+         ! bonded: the bed holds the node where it starts, so an initial gap would pull it down by g0
+         ! at the start (as with TU= above)
+         call raise(source, card%line, card%options(option_index(card, 'GAP'))%column, 'expected no GAP= ' // &
+                    'with BILATERAL (a bonded bed is attached to the nodes at the start), found GAP='// &
+                    real_to_string(foundation%gap), error)
+         return
+      end if
       if (direction_option > 0) then
          call option_real(source, card, deck, direction_option, 'an angle in degrees', angle, error)
          if (allocated(error)) return
@@ -445,6 +453,18 @@ contains
             end do
          end if
 
+         ! The angle of a plane's normal or an ellipse's axis: at most one turn either way. The normal
+         ! comes from sin and cos of the angle reduced modulo 360 (sin_degrees), whose reduction of a
+         ! huge number is round-off (1e300: a direction that no angle of the deck gave, and a false
+         ! mechanism refusal); a turn and more says nothing a smaller angle does not.
+         if (kind == 'PLANE' .or. (kind == 'ELLIPSE' .and. size(fields) == 5)) then
+            i = merge(3, 5, kind == 'PLANE')
+            if (.not. abs(values(i)) <= 360.0_dp) then
+               call raise(source, line, fields(i)%column, 'expected an angle from -360 to 360 degrees, found '// &
+                          real_to_string(values(i)), error)
+               return
+            end if
+         end if
          ! The builder makes the candidates (uniarc_contact_law) and finds a node that starts inside; the
          ! message says it here with the position.
          angle = values(3)

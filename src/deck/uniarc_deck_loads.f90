@@ -14,6 +14,7 @@ module uniarc_deck_loads
                                    add_thermal_load, add_prescribed_displacement, remove_support
    use uniarc_deck_state, only: deck_t, resolve_nodes, resolve_elements, read_dof, option_real
    use uniarc_growth, only: grow_integers
+   use uniarc_builder_loads, only: thermal_excess
    implicit none
    private
    public :: read_boundary, read_concentrated_load, read_distributed_load, read_temperature
@@ -412,12 +413,14 @@ contains
       type(card_t), intent(in) :: card
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
-      integer :: i, j, line, status
-      real(dp) :: alpha, delta_t, difference, depth
+      integer :: i, j, line, status, nodes(2)
+      real(dp) :: alpha, delta_t, difference, depth, length
       type(field_t), allocatable :: fields(:)
       integer, allocatable :: elements(:)
       type(parameter_table_t) :: table
       real(dp), allocatable :: position(:, :)
+      character(len=:), allocatable :: what
+      logical :: axial
 
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
@@ -469,6 +472,17 @@ contains
                              ' (a truss has no bending)', error)
                   return
                end if
+            end if
+            ! A deformation beyond the element's (docs/theory.md §1.9) refused at the value that makes it.
+            nodes = deck%model%connectivity(1:2, elements(j))
+            length = norm2(deck%model%coordinates(:, nodes(2)) - deck%model%coordinates(:, nodes(1)))
+            call thermal_excess(alpha, delta_t, difference, depth, length, what, axial)
+            if (len(what) > 0) then
+               call raise(source, line, fields(merge(3, 4, axial))%column, 'expected a thermal deformation '// &
+                          'the element can take (a small strain, a rotation against its chord): element '// &
+                          integer_to_string(deck%model%element_label(elements(j)))//' would have '//what// &
+                          '; check the units of alpha, dT, dT_d and h', error)
+               return
             end if
             call add_thermal_load(deck%model, elements(j), alpha, delta_t, difference, depth, status)
             call allocation_failure(status, 'the list of temperature changes', 80.0_dp*deck%model%n_thermal, &

@@ -162,7 +162,7 @@ contains
       type(deck_t), intent(inout) :: deck
       type(error_t), allocatable, intent(out) :: error
       integer :: i, line, column, status
-      logical :: released
+      logical :: released, moved
       call check_options(source, card, [character(len=1) ::], error)
       if (allocated(error)) return
       if (.not. deck%in_step) then
@@ -184,12 +184,15 @@ contains
                                  12.0_dp*deck%model%n_nodes, error_input, error)
          if (allocated(error)) return
          released = any(deck%step_start_fixed .and. .not. step%fixed)
+         ! A move or a prescribed displacement of zero drives nothing (λ would scale nothing): no load.
+         moved = .false.
+         if (allocated(step%loads%moves)) moved = any(step%loads%moves /= 0.0_dp)
+         if (allocated(step%loads%prescribed)) moved = moved .or. any(step%loads%prescribed /= 0.0_dp)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
-             size(step%loads%thermal_loads) == 0 .and. .not. allocated(step%loads%prescribed) .and. &
-             .not. allocated(step%loads%moves) .and. .not. released) then
+             size(step%loads%thermal_loads) == 0 .and. .not. moved .and. .not. released) then
             call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE, a '// &
-                       'prescribed displacement, an obstacle moved or a support removed) in the step opened at line '// &
-                       integer_to_string(deck%step_line)//', found none', error)
+                       'prescribed displacement, an obstacle moved or a support removed, not all zero) in the '// &
+                       'step opened at line '//integer_to_string(deck%step_line)//', found none', error)
             return
          end if
          if (allocated(deck%stop_track)) then
@@ -204,6 +207,11 @@ contains
             deallocate (deck%stop_track)
          end if
          step%analysis = deck%model%analysis
+         ! A *PATH step that removes a support ramps the support's force down to zero at λ = 1; past it
+         ! the force would come back reversed, which no construction stage means: lambda_max = 1 unless
+         ! the step gives its own (docs/input.md, *STEP).
+         if (released .and. step%analysis%kind /= analysis_linear .and. &
+             .not. (step%analysis%lambda_max < huge(1.0_dp))) step%analysis%lambda_max = 1.0_dp
          ! Supports change between nonlinear steps only: a linear static step solves all the loads so far
          ! on one structure (superposition), which a support added or removed on the way would break.
          if (step%analysis%kind == analysis_linear .and. any(deck%step_start_fixed .neqv. step%fixed)) then

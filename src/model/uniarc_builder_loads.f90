@@ -5,12 +5,13 @@
 module uniarc_builder_loads
    use uniarc_kinds, only: dp
    use uniarc_growth, only: grow_integers
+   use uniarc_strings, only: real_to_string
    use uniarc_model, only: distributed_load_t, thermal_load_t, load_pattern_t, dofs_per_node, dof_ux, &
                            load_fixed_direction, load_pressure
    use uniarc_builder_type, only: model_builder_t, slot_fixed, slot_pressure, slot_follower
    implicit none
    private
-   public :: add_nodal_load, add_line_load, add_pressure, add_thermal_load
+   public :: add_nodal_load, add_line_load, add_pressure, add_thermal_load, thermal_excess
    public :: add_prescribed_displacement, has_prescribed_displacements, take_loads
 
 contains
@@ -85,6 +86,38 @@ contains
       builder%thermal(builder%n_thermal) = thermal_load_t(element=element, alpha=alpha, delta_t=delta_t, &
                                                           difference=difference, depth=depth)
    end subroutine add_thermal_load
+
+   !> What is wrong with a temperature change (α `alpha`, ΔT `delta_t` at the axis, ΔT_left − ΔT_right
+   !> `difference` over the depth `depth`) on an element of length `length` (docs/theory.md §1.9), or ''
+   !> when nothing is: the free axial strain α ΔT at most 1 in magnitude, and the free rotation of the
+   !> element's ends against each other, α ΔT_d L / h, at most π. The corotational element takes its
+   !> natural deformation as a small strain and a rotation against its chord; beyond these a deformation
+   !> means nothing, and its products with the stiffnesses (EA α ΔT, EI κ, κ L² in the displacements)
+   !> overflow double precision (ΔT_d = 1e300 or h = 1e-100: SIGFPE in the Debug build). The products
+   !> are compared through logarithms, so that the test itself cannot overflow. `axial` is true when
+   !> the strain is what fails (the rotation otherwise), for the message's column.
+   pure subroutine thermal_excess(alpha, delta_t, difference, depth, length, what, axial)
+      real(dp), intent(in) :: alpha, delta_t, difference, depth, length
+      character(len=:), allocatable, intent(out) :: what
+      logical, intent(out) :: axial
+      real(dp), parameter :: pi = acos(-1.0_dp)
+      what = ''
+      axial = .false.
+      if (alpha /= 0.0_dp .and. delta_t /= 0.0_dp) then
+         if (log(abs(alpha)) + log(abs(delta_t)) > 0.0_dp) then
+            what = 'a free thermal strain alpha dT beyond 1 in magnitude (alpha = '//real_to_string(alpha)// &
+                   ', dT = '//real_to_string(delta_t)//')'
+            axial = .true.
+            return
+         end if
+      end if
+      if (alpha /= 0.0_dp .and. difference /= 0.0_dp .and. depth > 0.0_dp .and. length > 0.0_dp) then
+         if (log(abs(alpha)) + log(abs(difference)) + log(length) - log(depth) > log(pi)) &
+            what = 'a free thermal rotation alpha dT_d L/h beyond pi (alpha = '//real_to_string(alpha)// &
+                   ', dT_d = '//real_to_string(difference)//', h = '//real_to_string(depth)// &
+                   ', L = '//real_to_string(length)//')'
+      end if
+   end subroutine thermal_excess
 
    !> Hold DOF `dof` of `node` and prescribe its displacement `value` (a support settlement), a reference
    !> value scaled by λ like the loads; values on one DOF add up.

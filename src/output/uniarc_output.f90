@@ -146,11 +146,15 @@ contains
       files%step_column = allocated(model%steps)
       if (.not. allocated(model%contacts)) return
       if (size(model%contacts) == 0) return
-      ! plastic media: two more columns, the slip and whether the candidate yields (docs/contracts.md)
+      ! plastic media: two more columns, the slip and whether the candidate yields; Pasternak beds one,
+      ! the deflection of the bed's surface (docs/contracts.md)
       call open_table(results, files%contact, results%stem//'.contact', &
                       'step lambda medium candidate node s gap reaction length pressure tangential_displacement '// &
                       'tangential_force shear'//trim(merge(' slip yielding', '              ', &
-                      any(model%contacts%plastic)))//step_column(model), comments, csv, error)
+                      any(model%contacts%plastic)))// &
+                      trim(merge(' surface_deflection', '                   ', &
+                                 any(model%contacts%bed_stiffness(2) > 0.0_dp)))//step_column(model), &
+                      comments, csv, error)
       if (allocated(error)) return
       files%with_contact = .true.
    end subroutine open_outputs
@@ -395,7 +399,9 @@ contains
    !> has tangential springs (tangential_springs), the spring's gap t·u, its reaction on the node along t
    !> and reaction/length (0 0 0 without one); with plastic media also `slip yielding` (the plastic slip
    !> of the candidate and 1 where it is at its bearing limit, −1 at its uplift limit (TU=), else 0,
-   !> docs/theory.md §3.9), the gap then measured to the medium's surface sunk by the slip.
+   !> docs/theory.md §3.9), the gap then measured to the medium's surface sunk by the slip; with
+   !> Pasternak beds also `surface_deflection` (the bed surface's own deflection w_b at the candidate,
+   !> positive into the medium; 0 for candidates of other media).
    subroutine write_forces(files, model, record, error)
       type(output_files_t), intent(inout) :: files
       type(model_t), intent(in) :: model
@@ -405,10 +411,10 @@ contains
       real(dp) :: tangential(3)
       integer, allocatable :: spring(:)
       logical, allocatable :: yielding(:)
-      character(len=:), allocatable :: head, tail
+      character(len=:), allocatable :: head, tail, surface
       real(dp) :: bytes
       integer :: e, c, status, m
-      logical :: plastic
+      logical :: plastic, pasternak
       if (.not. files%with_forces .or. files%forces_last == record%step) return
       ! Every array of the tables computed first, allocated with stat=: an allocation refused leaves no
       ! row of this step in either table (error: out of memory, error_analysis).
@@ -462,6 +468,7 @@ contains
       if (allocated(record%reactions)) reactions(1:min(size(reactions), size(record%reactions))) = &
          record%reactions(1:min(size(reactions), size(record%reactions)))
       plastic = any(model%contacts%plastic)
+      pasternak = any(model%contacts%bed_stiffness(2) > 0.0_dp)
       slip = 0.0_dp
       yielding = .false.
       if (allocated(record%slip)) slip(1:min(size(slip), size(record%slip))) = &
@@ -472,17 +479,26 @@ contains
          if (model%contacts(c)%tangential) cycle   ! a foundation's tangential spring: on its radial one's row
          tangential = 0.0_dp
          if (spring(c) > 0) tangential = [gaps(spring(c)), reactions(spring(c)), reactions(spring(c))/lengths(spring(c))]
+         ! a Pasternak bed's surface deflection (into the medium; 0 for the other candidates)
+         surface = ''
+         if (pasternak) then
+            if (model%contacts(c)%bed_stiffness(2) > 0.0_dp .and. allocated(record%bed_deflections)) then
+               surface = numbers_text([record%bed_deflections(c)])
+            else
+               surface = numbers_text([0.0_dp])
+            end if
+         end if
          if (plastic) then
             ! the gap to the medium's surface sunk by the plastic slip
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                          numbers_text([model%contacts(c)%coordinate, gaps(c) + slip(c), reactions(c), lengths(c), &
-                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//yield_flag(c)//tail)
+                                       reactions(c)/lengths(c), tangential, slip(c)])//' '//yield_flag(c)//surface//tail)
          else
             call put_row(files%contact, head//medium_name(model, model%contacts(c)%group)//' '// &
                          integer_to_string(c)//' '//integer_to_string(model%node_label(model%contacts(c)%node))// &
                          numbers_text([model%contacts(c)%coordinate, gaps(c), reactions(c), lengths(c), &
-                                       reactions(c)/lengths(c), tangential])//tail)
+                                       reactions(c)/lengths(c), tangential])//surface//tail)
          end if
       end do
       call put_row(files%contact, '')

@@ -3,7 +3,7 @@
 
 Usage (one CTest per call):
   agree_check.py --uniarc BIN --deck A --deck B --out DIR --column NAME:RTOL [--column ...]
-                 [--define NAME=VALUE]... [--all-rows]
+                 [--define NAME=VALUE]... [--define-first NAME=VALUE]... [--all-rows]
 
 NAME may be `NAME_A=NAME_B` where the two decks write the quantity under different names (a moving
 obstacle's `reaction_sum` against a jack's `prescribed_force`).
@@ -13,7 +13,8 @@ LCP) and the same structure under a load-controlled *PATH to lambda = 1 at a loa
 geometric nonlinearity is below the tolerance (docs/testing.md). The check fails when either run does
 not exit 0, when a column is missing, or when |a - b| > RTOL * max(|a|, |b|). With --all-rows every
 row is compared (the two path files must have as many rows): two runs that must trace the same path
-step for step, a structure and its mirror image.
+step for step, a structure and its mirror image. --define-first goes to the first deck only (a
+parameter of the path deck that the static one does not have: where the path stops).
 """
 import argparse
 import os
@@ -29,6 +30,7 @@ def main():
     parser.add_argument('--out', required=True)
     parser.add_argument('--column', action='append', required=True)
     parser.add_argument('--define', action='append', default=[])
+    parser.add_argument('--define-first', action='append', default=[])
     parser.add_argument('--all-rows', action='store_true')
     args = parser.parse_args()
     if len(args.deck) != 2:
@@ -36,7 +38,7 @@ def main():
     tables = []
     for index, deck in enumerate(args.deck):
         out = os.path.join(args.out, str(index))
-        command, run = run_uniarc(args.uniarc, deck, out, args.define)
+        command, run = run_uniarc(args.uniarc, deck, out, args.define + (args.define_first if index == 0 else []))
         if run.returncode != 0:
             raise SystemExit(f'FAIL: {" ".join(command)} exited {run.returncode}')
         stem = os.path.splitext(os.path.basename(deck))[0]

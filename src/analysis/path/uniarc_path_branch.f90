@@ -27,6 +27,8 @@ module uniarc_path_branch
    use uniarc_path_state_copy, only: copy_state, move_state
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
+   use uniarc_path_contact_set, only: candidate_state, contact_units
+   use uniarc_contact_lcp, only: contact_scales_t
    implicit none
    private
    public :: switch_branch, nodal_mode, mode_orientation
@@ -67,7 +69,8 @@ contains
    !> x_c + ξφ at λ_c (φ orthogonal to the primary tangent, unit in the displacement norm; at a lift-off
    !> signed to open the contacts that touch without force, else by mode_orientation; ξ the
    !> current step length; orthogonal to the primary path's chord over the step that passed the
-   !> bifurcation), Riks' normal-plane corrections, the step halved on failure down to
+   !> bifurcation; at a lift-off the contacts it opens released from the first working set,
+   !> release_opened), Riks' normal-plane corrections, the step halved on failure down to
    !> min_increment. The converged state is committed as the next step (point%switched set, its tangent
    !> factorised into state%system) and the arc length goes on from it along the new branch;
    !> state%bifurcation stays until the next step (the switch's row in STEM.crit).
@@ -139,6 +142,17 @@ contains
          return
       end if
       phi = phi*sign_of
+      ! At a lift-off the working set the corrections start with is the secondary branch's: the
+      ! contacts that touch without force and that ξφ̂ opens are released (a rigid one would otherwise
+      ! pull the structure back onto its obstacle in the first correction, its reaction unknown free
+      ! to become any tension the arc length asks for).
+      if (state%bifurcation%liftoff) then
+         call release_opened(model, critical, phi, error)
+         if (allocated(error)) then
+            call move_alloc(system, state%system)
+            return
+         end if
+      end if
       ! Riks' updated normal plane for the corrections of this step only (its options: no copy of the model).
       riks = model%analysis
       riks%iteration = iteration_riks
@@ -216,6 +230,50 @@ contains
       state%point%stability_fraction = -1.0_dp
       state%point%limit_by_contact = .false.
    end subroutine switch_branch
+
+   !> The working set of the first step along the secondary branch of a lift-off (docs/theory.md §2.6):
+   !> the contacts of `state`'s working set that touch without force (reaction at most the
+   !> displacement tolerance × the force unit, as the lift-off stability test finds them,
+   !> uniarc_path_stability) and that the signed mode `phi` opens (a_cᵀφ + d_c(φ) above 1e-6 |a_c| of
+   !> φ's largest displacement: below it is round-off of a motion along the surface, as in that test)
+   !> leave state%active. Those in compression, the bilateral ones and those φ leaves in place stay.
+   !> Without it the first correction starts with them closed: an elastic bed pulls the structure
+   !> back by k ξ φ before the sign rule frees it, and a rigid contact's reaction unknown takes
+   !> whatever tension returns the structure onto the obstacle, where the arc-length constraint can
+   !> be met only by a huge Δλ (the strut on a rigid plane: λ = 8.9e4, 89° off the mode).
+   !> Errors: the vectors of the test refused by the system (error_analysis, out of memory).
+   subroutine release_opened(model, state, phi, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      real(dp), intent(in) :: phi(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(contact_scales_t) :: units
+      real(dp), allocatable :: nodal(:, :), shape(:, :), reaction(:), gap(:)
+      real(dp) :: g, gradient(2), hessian(2, 2), opening, size_mode
+      integer :: c, node, m, status
+      m = size(state%active)
+      if (m == 0) return
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      allocate (shape(dofs_per_node, model%n_nodes), reaction(m), gap(m), stat=status)
+      call allocation_failure(status, 'the contacts a lift-off mode opens', &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 2*m), error_analysis, error)
+      if (allocated(error)) return
+      call gather_nodal(state%map, phi, shape)
+      call candidate_state(model, state%map, state%u, nodal, state%active, reaction, gap, lambda=state%lambda)
+      units = contact_units(state, state%u, reaction, state%active)
+      size_mode = maxval(abs(state%map%metric*phi))
+      do c = 1, m
+         if (.not. state%active(c) .or. .not. candidate_live(state%map, c)) cycle
+         if (model%contacts(c)%bilateral) cycle
+         if (reaction(c) > model%analysis%displacement_tolerance*units%force) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), g, gradient, &
+                            hessian, state%lambda)
+         opening = dot_product(gradient, shape(1:2, node)) + bed_deflection(state%map, c, phi)
+         if (opening > 1.0e-6_dp*norm2(gradient)*size_mode) state%active(c) = .false.
+      end do
+   end subroutine release_opened
 
    !> +1 or −1: the sign of the predictor along φ. At a state with contacts in the working set that
    !> touch without force (a lift-off), the sign that opens them (Σ a_cᵀφ ≥ 0 over the working set:

@@ -12,7 +12,7 @@ module uniarc_path_contact_set
    use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
-   use uniarc_contact, only: candidate_gap, in_set
+   use uniarc_contact, only: candidate_gap, in_set, carried_by_support
    use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
@@ -125,6 +125,8 @@ contains
    !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
    !> beyond the tolerance of `violation`; the others stay.
    !> A candidate at its bearing limit (`yielding`, optional) stays: its pair is the yield rule's.
+   !> A rigid candidate whose gap moves only along held DOFs at x leaves the set (its node's support
+   !> carries it: uniarc_contact, held_by_support) and does not enter it.
    !> reaction, gap: work arrays of one entry per candidate (as for `complementary`).
    subroutine sign_rule(model, state, x, nodal, active, new_active, reaction, gap, yielding, lambda)
       type(model_t), intent(in) :: model
@@ -147,7 +149,9 @@ contains
          if (present(yielding)) then
             if (yielding(c)) cycle
          end if
-         if (active(c)) then
+         if (carried_by_support(model, state%map, c, nodal, lambda)) then
+            new_active(c) = .false.
+         else if (active(c)) then
             if (-reaction(c)/units%force > tolerance) new_active(c) = .false.
          else
             if (-gap(c)/units%gap > tolerance) new_active(c) = .true.
@@ -278,7 +282,8 @@ contains
 
    !> Candidates that touch (|g| within round-off of the model size) or are bonded; a tangential spring
    !> that follows a radial partner acts where its partner touches (its status along the path,
-   !> docs/theory.md §3.8).
+   !> docs/theory.md §3.8). A touching candidate carried by its node's support (uniarc_contact,
+   !> held_by_support: a node on a polyline's face along its held DOF) is not in the set.
    pure subroutine touching_candidates(model, state, nodal, active)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
@@ -292,6 +297,8 @@ contains
                             state%lambda)
          active(c) = candidate_live(state%map, c) .and. &
                      (model%contacts(c)%bilateral .or. gap <= 1.0e-9_dp*state%length_scale)
+         if (active(c) .and. .not. model%contacts(c)%bilateral) &
+            active(c) = .not. carried_by_support(model, state%map, c, nodal, state%lambda)
       end do
       ! the partners come first (uniarc_contact_law: the radial candidates, then the tangential ones)
       do c = 1, size(state%map%candidate_equation)

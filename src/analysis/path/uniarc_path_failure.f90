@@ -1,7 +1,8 @@
 !> What a step that no cut-back converges says about itself (docs/contracts.md, exit code 1): the
 !> hints added to its error — joints at their moment limit, contacts at their bearing limit
 !> (docs/theory.md §1.11, §3.9), a node at the crest of a moving curved obstacle (§3.11), a node at a
-!> concave corner of a polyline — and the lift-off test of a load that no contact can hold (§3.12).
+!> concave corner of a polyline, a node passing close by a convex one — and the lift-off test of a
+!> load that no contact can hold (§3.12).
 !> Used by the path following (uniarc_path_following, path_advance) only.
 module uniarc_path_failure
    use uniarc_kinds, only: dp
@@ -18,6 +19,7 @@ module uniarc_path_failure
    implicit none
    private
    public :: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, add_concave_corner_hint
+   public :: add_convex_corner_hint
 
    !> How a real is written in these messages (λ): 6 digits suffice, as in uniarc_path_following.
    character(len=*), parameter :: message_edit = '(es12.5)'
@@ -185,6 +187,70 @@ contains
          return
       end do
    end subroutine add_concave_corner_hint
+
+   !> A step that does not converge with a node of a polyline obstacle whose nearest feature is a convex
+   !> corner at a distance d (0 < d ≤ 1e-3 of the model's size): the corner's gap is |x − v|, a circle
+   !> of radius d (uniarc_obstacle_shapes), whose linearisation a·Δu holds only for motions well below d.
+   !> A step that moves the node more than d past it predicts a contact that the exact gap never makes
+   !> (a node held 1e-6 beside the corner, sliding past it: the linearised gap closes after 2e-6 of
+   !> travel, the exact one stays ≥ 1e-6), and the corrector, free of it, lands far from that predictor
+   !> (uniarc_path_acceptance, far_from_predictor): every cut is refused until a step moves the node
+   !> less than about d. The path there is right once the step is that short, so the message says how
+   !> short: `smallest` is the smallest attempt over the first step; under load control the
+   !> displacement of the first step at the node (first_length × K⁻¹R) gives the min_increment and
+   !> max_cuts (*PATH) that reach d/10.
+   subroutine add_convex_corner_hint(model, state, control_load, smallest, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      logical, intent(in) :: control_load
+      real(dp), intent(in) :: smallest
+      type(error_t), intent(inout) :: error
+      real(dp), allocatable :: nodal(:, :)
+      real(dp) :: reach, gap, gradient(2), hessian(2, 2), distance, travel, ratio
+      integer :: c, node, status, k, cuts
+      if (.not. allocated(model%contacts) .or. .not. allocated(state%u)) return
+      if (.not. any(model%contacts%gap_kind == gap_polyline)) return
+      ! refused, no hint: the step's own error stands (as for the other hints)
+      allocate (nodal(dofs_per_node, model%n_nodes), stat=status)
+      if (status /= 0) return
+      call gather_nodal(state%map, state%u, nodal)
+      reach = 1.0e-3_dp*norm2(maxval(model%coordinates, dim=2) - minval(model%coordinates, dim=2))
+      do c = 1, size(model%contacts)
+         if (model%contacts(c)%gap_kind /= gap_polyline .or. .not. candidate_live(state%map, c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, &
+                            state%lambda)
+         ! only a vertex has a Hessian, ±(I − e eᵀ)/d, trace ±1/d: positive on the free side of a convex corner
+         if (.not. (hessian(1, 1) + hessian(2, 2) > 0.0_dp)) cycle
+         distance = 1.0_dp/(hessian(1, 1) + hessian(2, 2))
+         if (distance > reach) cycle
+         error%message = error%message//'; node '//integer_to_string(model%node_label(node))//' passes '// &
+                         trim(adjustl(real_to_string(distance, '(es9.2)')))//' from a convex corner of the '// &
+                         'polyline obstacle '''//group_name(model, c)//''', whose gap turns through the corner''s '// &
+                         'angle within that distance: a step that moves the node farther sees a contact that is '// &
+                         'not there (the linearised gap closes, the exact one does not) and is refused'
+         travel = 0.0_dp
+         if (control_load .and. allocated(state%tangent_displacement)) then
+            do k = 1, 2
+               if (state%map%equation(k, node) > 0) travel = max(travel, &
+                  abs(state%first_length*state%tangent_displacement(state%map%equation(k, node))))
+            end do
+         end if
+         if (travel > 0.0_dp) then
+            ratio = 0.1_dp*distance/travel
+            cuts = ceiling(log(1.0_dp/ratio)/log(2.0_dp))
+            error%message = error%message//'; the smallest step moved it about '// &
+                            trim(adjustl(real_to_string(smallest*travel, '(es9.2)')))//': let the step be cut '// &
+                            'below '//trim(adjustl(real_to_string(0.1_dp*distance, '(es9.2)')))//' (*PATH, '// &
+                            'min_increment = '//trim(adjustl(real_to_string(ratio, '(es9.2)')))// &
+                            ', max_cuts = '//integer_to_string(cuts)//') or place the node farther from the corner'
+         else
+            error%message = error%message//'; let the step be cut until it moves the node less than that '// &
+                            '(min_increment and max_cuts of *PATH) or place the node farther from the corner'
+         end if
+         return
+      end do
+   end subroutine add_convex_corner_hint
 
    !> The name of the contact group of candidate c.
    function group_name(model, c) result(name)

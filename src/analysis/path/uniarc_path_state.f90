@@ -14,14 +14,14 @@ module uniarc_path_state
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
    use uniarc_memory, only: allocation_failure
-   use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of
+   use uniarc_model, only: model_t, dofs_per_node, dof_rz, end_joint_t, end_joints_of, gap_fixed_direction
    use uniarc_strings, only: integer_to_string
    use uniarc_element, only: element_response_t, element_response, element_displacements, transformation_corotational
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_add, band_get
    use uniarc_assembly, only: gather_nodal
    use uniarc_equilibrium, only: assemble_equilibrium
-   use uniarc_contact, only: assemble_contact, candidate_gap
+   use uniarc_contact, only: assemble_contact, candidate_gap, carried_by_support
    use uniarc_contact_plastic, only: has_plastic, commit_slip
    implicit none
    private
@@ -637,6 +637,8 @@ contains
       if (present(lambda)) state%lambda = lambda
       state%active = trial%active
       state%set_edited = .false.
+      call commit_carried(model, state, error)
+      if (allocated(error)) return
       call commit_tangential(model, state, error)
       if (allocated(error)) return
       call commit_plastic(model, state, trial%yielding, error)
@@ -645,6 +647,29 @@ contains
       state%point%s = state%point%s + masked_norm(state%map, trial%increment)
       call commit_joint_state(model, state, error)
    end subroutine accept_trial
+
+   !> A candidate that the converged state leaves carried by its node's support (a curved obstacle's
+   !> normal along a held DOF: uniarc_contact, held_by_support) is no contact of the committed set: its
+   !> row was r = 0 whatever the set said, and the inertia of the tangent counts one negative pivot per
+   !> contact row of the set (uniarc_path_stability, structural_inertia). The trial's set may still
+   !> hold it where the node moved onto such a normal within the step. Nothing without curved
+   !> obstacles. Errors: its nodal displacements refused by the system (error_analysis, out of memory).
+   subroutine commit_carried(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :)
+      integer :: c
+      if (.not. allocated(model%contacts)) return
+      if (all(model%contacts%gap_kind == gap_fixed_direction)) return
+      if (.not. any(state%active)) return
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      do c = 1, size(state%active)
+         if (.not. state%active(c) .or. model%contacts(c)%bilateral) cycle
+         if (carried_by_support(model, state%map, c, nodal, state%lambda)) state%active(c) = .false.
+      end do
+   end subroutine commit_carried
 
    !> The commit of the tangential springs that follow a radial partner (*FOUNDATION, KT=,
    !> TANGENTIAL=CONTACT; docs/theory.md §3.8), after state%u and state%active have become the
