@@ -300,6 +300,7 @@ contains
                previous = set
                set = set .neqv. flip
                block_steps = block_steps + 1
+               pivots = pivots + count(flip)   ! principal pivots, as the LCP's block phase counts them
                cycle
             end if
          end if
