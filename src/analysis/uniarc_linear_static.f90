@@ -46,6 +46,9 @@ module uniarc_linear_static
    !> `block_backup` of them, or when at most `block_threshold` are left (the LCP's own values,
    !> uniarc_lcp_implicit).
    integer, parameter :: max_block_steps = 50, block_backup = 3, block_threshold = 4
+   !> Single exchanges of the refined solution after the LCP (single_exchanges): each one a
+   !> factorisation; the edges of contact regions the LCP left move a few candidates each.
+   integer, parameter :: max_single_exchanges = 200
    !> Complementarity accepted within this fraction of the force and gap units (the LCP solver's own
    !> acceptance tolerance, uniarc_lcp_implicit, with a decade of room for the final solve's round-off).
    real(dp), parameter :: complementarity_tolerance = 1.0e-8_dp
@@ -218,6 +221,7 @@ contains
       real(dp), allocatable :: floating(:, :)
       logical, allocatable :: set(:), start_set(:), previous(:), flip(:)
       logical :: singular, settled, block, unheld_set
+      character(len=:), allocatable :: solver_message
       real(dp) :: length_scale, worst
       integer :: n, round, pivots, c, status, block_steps, fewest, stalled
 
@@ -319,18 +323,24 @@ contains
          if (allocated(error)) then
             ! a load that lifts the structure off every contact that could hold it: no equilibrium
             ! exists (docs/theory.md §3.12), said so instead of the solver's words
+            solver_message = error%message
             call lift_off_error(model, map, zero_nodal, assembled, error)
-            call add_context(error, 'linear static analysis')
-            return
+            if (error%message /= solver_message .or. switching_springs(model)) then
+               call add_context(error, 'linear static analysis')
+               return
+            end if
+            ! not that: the LCP's frames did not reach its accuracy (a breakdown, not a ray); the single
+            ! exchanges of the refined solution below go on from the set of the last solve
+            deallocate (error)
+            exit
          end if
          set = selection%active
       end do
-      if (.not. settled) then
-         if (.not. switching_springs(model)) then
-            call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
-                            error_analysis)
-            return
-         end if
+      if (.not. settled .and. .not. switching_springs(model)) then
+         call single_exchanges(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                               assembled, factors, rhs, x, r, g, set, worst, pivots, error)
+         if (allocated(error)) return
+      else if (.not. settled) then
          ! Tangential springs that switch with their radial contacts: the law is not an LCP and its
          ! rounds can cycle (docs/theory.md §3.8); the search by single changes from the set of the
          ! unloaded state (uniarc_static_set_search) finds a consistent set or says that none was reached.
@@ -451,6 +461,56 @@ contains
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
       end if
    end subroutine solve_set
+
+   !> The set of the linear problem by single exchanges of its refined solution, when the contact LCP
+   !> did not settle it (its rounds spent, or its frames short of its accuracy: a free span lifted
+   !> 10³ above a bed of 10⁵ candidates, whose contact edges the frames' one-product refinement cannot
+   !> resolve): from `set` (on entry the last set solved, with x, r, g and `worst` of it), the
+   !> violating candidate of least index (block_exchange's test) changes sides and the set is solved
+   !> and refined again (solve_set), until complementarity holds. Murty's least-index rule (Murty 1974;
+   !> Cottle, Pang & Stone 1992, §4.2) is finite for a P-matrix LCP, as a structure's contacts on a
+   !> medium with every motion held give; each exchange costs one factorisation, so at most
+   !> max_single_exchanges. Out: `set`, x, r, g, `worst`, `assembled` K_S of the set; `pivots` counts
+   !> the exchanges. Errors (error_analysis): the set not settled in that many; a set that does not
+   !> hold the structure (singular K_S); memory.
+   subroutine single_exchanges(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                               assembled, factors, rhs, x, r, g, set, worst, pivots, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      real(dp), allocatable, intent(in) :: floating(:, :)
+      real(dp), intent(inout) :: residual(:)
+      real(dp), intent(in) :: reference(:), applied(:), length_scale
+      type(band_matrix_t), intent(inout) :: assembled, factors
+      real(dp), intent(inout) :: rhs(:, :)
+      real(dp), intent(inout) :: x(:), r(:), g(:)
+      logical, intent(inout) :: set(:)
+      real(dp), intent(inout) :: worst
+      integer, intent(inout) :: pivots
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: flip(:)
+      integer :: k, c, status
+      allocate (flip(size(set)), stat=status)
+      call allocation_failure(status, 'the exchanges of the contact set', 4.0_dp*size(set), error_analysis, error)
+      if (allocated(error)) return
+      do k = 1, max_single_exchanges
+         call block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+         c = findloc(flip, .true., dim=1)
+         ! no candidate on the wrong side: what is left of the violation is the round-off of r w
+         if (c == 0) exit
+         set(c) = .not. set(c)
+         pivots = pivots + 1
+         call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
+                        assembled, factors, rhs, x, r, g, worst, error)
+         if (allocated(error)) return
+         if (worst <= complementarity_tolerance) return
+      end do
+      if (worst <= complementarity_tolerance .or. c == 0) return
+      call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP and '// &
+                      integer_to_string(max_single_exchanges)//' single exchanges of its candidates (largest '// &
+                      'relative violation of complementarity '//trim(adjustl(real_to_string(worst, '(es10.3)')))// &
+                      ')', error_analysis)
+   end subroutine single_exchanges
 
    !> The contact set of a model whose tangential springs switch with their radial contacts, when the
    !> rounds of the contact LCP did not settle (docs/theory.md §3.8): from `set` (on entry the set of the
