@@ -429,7 +429,8 @@ contains
          if (present(released)) set(:) = set .and. .not. released
          call orthonormal_motions(state%map, state%floating_motion, basis, error)
          if (allocated(error)) return
-         call unheld_motions(model, state%map, set, basis, unheld, error)
+         ! (the set's tangential springs hold too, as they do one motion at a time in sees_floating)
+         call unheld_motions(model, state%map, set, basis, unheld, error, tangential=.true.)
          if (allocated(error)) return
          if (size(unheld, 2) > unseen) then
             call spring_equations(state%map, unheld, equations, error)
