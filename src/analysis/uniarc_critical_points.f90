@@ -28,6 +28,16 @@ module uniarc_critical_points
    !> below the bifurcation, at the λ of the step itself, across which the count did not change).
    real(dp), parameter :: roundoff_turn = 1.0e-12_dp
 
+   !> A step is flat when λ changes over it by at most this fraction of |λ|, both converged (the change
+   !> between its ends) and along the tangent at either end (|dλ/ds| Δs): then neither the sign of
+   !> dλ/ds nor the count of negative pivots says anything (docs/theory.md §2.6). On the strut's
+   !> post-buckling branch on a tensionless bed (docs/input.md's strut_switch, max_increment = 1), flat
+   !> to 1e-10, λ rose by 1e-13 to 2.7e-12 a step (2.7e-11 of λ) while dλ/ds changed sign and the count
+   !> on the cone went 0/1 with round-off (6 limit and 5 unilateral_bifurcation rows at one λ); a step
+   !> that passes a limit point or a bifurcation moves λ by far more than 1e-9 of it, a share of the
+   !> equilibrium tolerance (1e-8 of the load scale) that the converged λ cannot resolve anyway.
+   real(dp), parameter :: flat_share = 1.0e-9_dp
+
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
       !> limit_max, limit_min, contact_corner, bifurcation, unilateral_bifurcation or a contact event
@@ -69,6 +79,9 @@ contains
       type(critical_event_t) :: event
       integer :: unexplained
       allocate (events(0))
+      ! A flat step (flat_share) with the same working set: its sign change of dλ/ds and its change of
+      ! the count are round-off, no row (a contact event across it is still reported, below).
+      if (flat_step(before, after) .and. .not. contact_changes(before, after)) return
       unexplained = abs(after%neg_pivots - before%neg_pivots)
       if (opposite_signs(before%dlambda_ds, after%dlambda_ds)) then
          if (after%limit_fraction >= 0.0_dp) then
@@ -175,6 +188,17 @@ contains
       end function real_turn
 
    end subroutine find_critical_events
+
+   !> Whether λ changes over the step from `before` to `after` by at most flat_share of |λ|: between the
+   !> converged ends and along the tangent at each end (|dλ/ds| times the step's path length).
+   pure logical function flat_step(before, after)
+      type(path_point_t), intent(in) :: before, after
+      real(dp) :: scale, length
+      scale = flat_share*max(abs(before%lambda), abs(after%lambda))
+      length = abs(after%s - before%s)
+      flat_step = scale > 0.0_dp .and. abs(after%lambda - before%lambda) <= scale .and. &
+                  abs(before%dlambda_ds)*length <= scale .and. abs(after%dlambda_ds)*length <= scale
+   end function flat_step
 
    !> The events of one interval in path order: by position, stable (events at the same position keep
    !> the order they were found in). Insertion sort: an interval holds a handful.

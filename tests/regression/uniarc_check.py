@@ -417,6 +417,9 @@ def main():
     parser.add_argument('--expect-stderr', action='append', default=[])
     parser.add_argument('--expect-modes-min', action='append', default=[])
     parser.add_argument('--expect-no-return', action='append', default=[])
+    parser.add_argument('--expect-no-walk-back', action='append', default=[],
+                        help='COLUMN,COLUMN,...: no row goes back along the path traced by earlier rows '
+                             '(check_no_walk_back)')
     parser.add_argument('--expect-free-span', action='append', default=[])
     parser.add_argument('--expect-count-explained', action='store_true',
                         help='every change of the neg_pivots column between two rows of the path has a row of '
@@ -482,6 +485,9 @@ def main():
     if args.expect_no_return:
         names, rows = read_table(path_file)
         failures += check_no_return(args.expect_no_return, names, rows)
+    for expectation in args.expect_no_walk_back:
+        names, rows = read_table(path_file)
+        failures += check_no_walk_back(expectation.split(','), names, rows)
     for expectation in args.expect_modes_min:
         failures += check_modes_min(expectation, os.path.join(args.out, stem + '.modes'))
     for expectation in args.expect_free_span:
@@ -567,6 +573,83 @@ def check_no_return(columns, names, rows):
             print(f'ok: {column} does not decrease over the {len(c)} rows from the largest lambda '
                   f'(step {rows[peak][0]:g}) on')
     return failures
+
+
+def check_no_walk_back(columns, names, rows):
+    """--expect-no-walk-back lambda,COLUMN,...: no row revisits an earlier row's state in reverse (issue
+    11, Deliver 3). In the space of the given columns, each scaled by its range over the path, two
+    consecutive steps (rows i-1 -> i and i -> i+1) each land on an earlier segment (rows j -> j+1, ending
+    before the step's start) and run against it: the step's chord makes a cosine below -0.9 with the
+    segment's, the landing row lies within 0.15 of the segment's length of it (its projection
+    between -0.15 and 1.15 of the way along), and the step's start lies so on that segment or on one traced
+    after it. 0.15 is the sagitta share of the solver's own retrace test
+    (uniarc_path_trace.f90): a step's arc leaves its chord by at most 0.05 of its length away from folds.
+    Not a fold: past a limit point lambda turns and the displacements go on (or the other way at a
+    snap-back), so the step is not against the earlier one in every column; only a path retracing itself
+    is. Two steps in a row, so that a single crossing of two pieces in the projection does not count.
+    Opt-in, for paths that must not come back: on the few tracked columns a path of many loops meets its
+    own projection (arch_above_long_path), and a load history that unloads goes back by design."""
+    for column in columns:
+        if column not in names:
+            return [f'no column {column} in {names}']
+    index = [names.index(column) for column in columns]
+    scale = []
+    for k in index:
+        values = [row[k] for row in rows]
+        scale.append(max(values) - min(values))
+    used = [m for m in range(len(index)) if scale[m] > 0.0]
+    points = [[row[index[m]]/scale[m] for m in used] for row in rows]
+
+    def dot(a, b):
+        return sum(x*y for x, y in zip(a, b))
+
+    def minus(a, b):
+        return [x - y for x, y in zip(a, b)]
+
+    def tube(p, last):
+        """The earlier segments (rows j -> j+1, j + 1 <= last) whose tube holds the point p, with their
+        chords."""
+        found = []
+        for j in range(0, last):
+            chord = minus(points[j + 1], points[j])
+            length2 = dot(chord, chord)
+            if length2 == 0.0:
+                continue
+            offset = minus(p, points[j])
+            t = dot(offset, chord)/length2
+            if t < -0.15 or t > 1.15:
+                continue
+            normal = [o - t*c for o, c in zip(offset, chord)]
+            if dot(normal, normal) <= 0.15**2*length2:
+                found.append((j, chord))
+        return found
+
+    def landing(i):
+        """The first row of the earlier segment that the step into row i runs back along, or None: the
+        step's end lies on a segment whose chord it runs against, and its start on that segment or on
+        one traced after it (a step that only crosses the old path starts away from it)."""
+        step = minus(points[i], points[i - 1])
+        size_step = dot(step, step) ** 0.5
+        if size_step == 0.0:
+            return None
+        starts = [j for j, _ in tube(points[i - 1], i - 2)]
+        if not starts:
+            return None
+        for j, chord in tube(points[i], i - 2):
+            if dot(step, chord) <= -0.9*size_step*dot(chord, chord) ** 0.5 and max(starts) >= j:
+                return j
+        return None
+
+    previous = None
+    for i in range(2, len(points)):
+        j = landing(i)
+        if j is not None and previous is not None:
+            return [f'the path walks back: the steps to rows {rows[i - 1][0]:g} and {rows[i][0]:g} '
+                    f'(lambda {rows[i][names.index("lambda")]!r}) go back along the rows from step '
+                    f'{rows[previous][0]:g} and {rows[j][0]:g} traced before']
+        previous = j
+    print(f'ok: no step of the {len(rows)} rows goes back along the path traced before ({",".join(columns)})')
+    return []
 
 
 def check_mirror_reactions(expectation, contact_file):
