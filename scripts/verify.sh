@@ -115,16 +115,21 @@ def expand_foreach(text):
     value with ${var} replaced, so that every test of a loop is read like the others."""
     loop = re.compile(r'^foreach\((\w+)((?:\s+[^)\s]+)+)\)\n(.*?)^endforeach\(\)\n', re.S | re.M)
     pick = re.compile(r'^\s*list\(GET\s+(\w+)\s+(\d+)\s+(\w+)\)\n', re.M)
+    swap = re.compile(r'^\s*string\(REPLACE\s+"([^"]*)"\s+"([^"]*)"\s+(\w+)\s+\$\{(\w+)\}\)\n', re.M)
 
     def body(template, variable, value):
-        """One pass of a loop: `list(GET variable i name)` lines (a value "a;b" read as a list) set
-        ${name}; then ${variable} and those names are replaced."""
+        """One pass of a loop: `list(GET variable i name)` lines (a value "a;b" read as a list) and
+        `string(REPLACE "x" "y" name ${variable})` lines set ${name}; then ${variable} and those names
+        are replaced."""
         value = value.strip('"')
         names = {}
         for source, index, name in pick.findall(template):
             if source == variable:
                 names[name] = value.split(';')[int(index)]
-        text = pick.sub('', template).replace('${' + variable + '}', value)
+        for old, new, name, source in swap.findall(template):
+            if source == variable:
+                names[name] = value.replace(old, new)
+        text = swap.sub('', pick.sub('', template)).replace('${' + variable + '}', value)
         for name, item in names.items():
             text = text.replace('${' + name + '}', item)
         return text
