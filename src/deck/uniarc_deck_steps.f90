@@ -188,6 +188,7 @@ contains
          moved = .false.
          if (allocated(step%loads%moves)) moved = any(step%loads%moves /= 0.0_dp)
          if (allocated(step%loads%prescribed)) moved = moved .or. any(step%loads%prescribed /= 0.0_dp)
+         ! (a force on a DOF the step holds is a load: it acts once a later step releases the DOF)
          if (all(step%loads%nodal_load == 0.0_dp) .and. size(step%loads%distributed_loads) == 0 .and. &
              size(step%loads%thermal_loads) == 0 .and. .not. moved .and. .not. released) then
             call raise(source, card%line, card%column, 'expected a load (*CLOAD, *DLOAD, *TEMPERATURE, a '// &
