@@ -228,6 +228,17 @@ contains
       ! The path has a kink where the contact set changes: λ is extrapolated along the tangent at
       ! `before`, on the smooth branch that leads to the event, not read on a cubic across the kink.
       event%lambda = before%lambda + event%fraction*h*before%dlambda_ds
+      ! Where λ does not turn in the interval (dλ/ds of one sign at both ends: no limit point or
+      ! corner there, find_critical_events) it is monotone between the two converged states, and every
+      ! state of the path between them has its λ between theirs. An extrapolation beyond that range
+      ! (the tangent at `before` is not the path's up to the event: a bed that unloads along a curve
+      ! extrapolated 0.85 past the end of its analysis step) is no state of the path: the event is
+      ! placed at the converged state where the set is seen changed, `after`, with its λ.
+      if (same_signs(before%dlambda_ds, after%dlambda_ds) .and. &
+          (event%lambda < min(before%lambda, after%lambda) .or. event%lambda > max(before%lambda, after%lambda))) then
+         event%fraction = 1.0_dp
+         event%lambda = after%lambda
+      end if
       event%position = before%step + event%fraction
       events = [events, event]
 
