@@ -239,6 +239,17 @@ contains
          event%fraction = 1.0_dp
          event%lambda = after%lambda
       end if
+      ! Where λ turns in the interval at a point located by re-solving the step (a limit, or a corner
+      ! at the contact event itself: uniarc_path_locate), that λ is the extremum of every state of the
+      ! path between the two converged states: a reading along the tangent beyond it (ex. 4's arch,
+      ! gap 4.98: its contact_start 5e-5 below the corner located at λ = 0.66494) is bounded by it.
+      if (opposite_signs(before%dlambda_ds, after%dlambda_ds) .and. after%limit_fraction >= 0.0_dp) then
+         if (before%dlambda_ds > 0.0_dp) then
+            event%lambda = min(event%lambda, after%limit_lambda)
+         else
+            event%lambda = max(event%lambda, after%limit_lambda)
+         end if
+      end if
       event%position = before%step + event%fraction
       events = [events, event]
 
