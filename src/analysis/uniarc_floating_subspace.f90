@@ -69,23 +69,31 @@ contains
    !> of the set's live, non-tangential candidates applied to each motion's displacement at their node;
    !> columns: `basis`, orthonormal in the metric) whose singular value is at most floating_tolerance of
    !> the motion's largest component. p = 0: the set holds every floating motion.
+   !> `tangential` (optional, default false): the set's tangential springs count too, each by its
+   !> direction along its node's tangent (the path's tangent holds with them: a ring on a bed with
+   !> shear springs has its rotation held by them).
    !> Errors (error_analysis, out of memory): B, its rotations, the motions or `unheld` refused by the
    !> system (each allocated with stat=, no array constructor of the set's length).
-   subroutine unheld_motions(model, map, set, basis, unheld, error)
+   subroutine unheld_motions(model, map, set, basis, unheld, error, tangential)
       type(model_t), intent(in) :: model
       type(dof_map_t), intent(in) :: map
       logical, intent(in) :: set(:)
       real(dp), intent(in) :: basis(:, :)
       real(dp), allocatable, intent(out) :: unheld(:, :)
       type(error_t), allocatable, intent(out) :: error
+      logical, intent(in), optional :: tangential
       real(dp), allocatable :: b(:, :), z(:, :), v(:, :)
       real(dp) :: gap, gradient(2), hessian(2, 2), sigma
       logical, allocatable :: free(:)
+      logical :: with_tangential
       integer :: c, node, i, m, k, kept, status
+      with_tangential = .false.
+      if (present(tangential)) with_tangential = tangential
       k = size(basis, 2)
       m = 0
       do c = 1, size(set)
-         if (set(c) .and. candidate_live(map, c) .and. .not. model%contacts(c)%tangential) m = m + 1
+         if (set(c) .and. candidate_live(map, c) .and. (with_tangential .or. .not. model%contacts(c)%tangential)) &
+            m = m + 1
       end do
       allocate (b(m, k), source=0.0_dp, stat=status)
       call allocation_failure(status, 'the contact normals on the floating motions', 8.0_dp*m*k, error_analysis, error)
@@ -93,7 +101,7 @@ contains
       m = 0
       do c = 1, size(set)
          if (.not. (set(c) .and. candidate_live(map, c))) cycle
-         if (model%contacts(c)%tangential) cycle
+         if (model%contacts(c)%tangential .and. .not. with_tangential) cycle
          m = m + 1
          node = model%contacts(c)%node
          call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)

@@ -17,8 +17,8 @@ module uniarc_linear_static
    use uniarc_error, only: error_t, add_context, make_error, error_analysis, error_input
    use uniarc_memory, only: allocation_failure
    use uniarc_copy, only: reserve
-   use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside
-   use uniarc_strings, only: integer_to_string
+   use uniarc_model, only: model_t, dofs_per_node, gap_circle_inside, gap_circle_outside, gap_fixed_direction
+   use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_dof_map, only: dof_map_t, build_dof_map, candidate_live, element_equations, bed_deflection
    use uniarc_band, only: band_matrix_t, band_allocate, band_factorize, band_solve, band_inertia, band_copy, &
                           band_product, band_zero, band_add, band_get
@@ -38,8 +38,17 @@ module uniarc_linear_static
    public :: solve_linear_static, explain_static_imbalance
 
    !> Rounds of LCP and solve: the LCP of a linear problem is solved in one; a second round only
-   !> confirms a set that round-off of the first left in doubt.
+   !> confirms a set that round-off of the first left in doubt (each LCP is posed at the refined
+   !> solution of the last set, linearize_at_solution).
    integer, parameter :: max_rounds = 4
+   !> Block exchanges of the refined solution before the LCP (block_exchange, Kostreva 1978; Júdice &
+   !> Pires 1994): at most this many, stopped when the count of violations has not fallen for
+   !> `block_backup` of them, or when at most `block_threshold` are left (the LCP's own values,
+   !> uniarc_lcp_implicit).
+   integer, parameter :: max_block_steps = 50, block_backup = 3, block_threshold = 4
+   !> Single exchanges of the refined solution after the LCP (single_exchanges): each one a
+   !> factorisation; the edges of contact regions the LCP left move a few candidates each.
+   integer, parameter :: max_single_exchanges = 200
    !> Complementarity accepted within this fraction of the force and gap units (the LCP solver's own
    !> acceptance tolerance, uniarc_lcp_implicit, with a decade of room for the final solve's round-off).
    real(dp), parameter :: complementarity_tolerance = 1.0e-8_dp
@@ -51,8 +60,134 @@ module uniarc_linear_static
    integer, parameter :: max_refinements = 4
    !> The resultant of the residual a well-conditioned solve leaves: a few ε times the forces summed.
    real(dp), parameter :: balance_target = 1.0e-12_dp
+   !> Re-linearisations of the gaps of curved and polyline obstacles (solve_linear_static, a sequential
+   !> LCP): a smooth obstacle converges linearly with the ratio of its curvature's effect to the
+   !> structure's stiffness, and a polyline's feature settles in one or two; more means no settling.
+   integer, parameter :: max_relinearisations = 30
 
 contains
+
+   !> Solve the linear problem with its contacts, the gaps of curved and polyline obstacles exact.
+   !> solve_linearised solves the structure with every gap linear, g_c(u) = g_c(b) + a_c(b)·(u − b), at
+   !> the linearisation point b (b = 0 first); for planes (beds, springs, flat surfaces) that is the
+   !> gap itself and one solve is the answer. A curved or polyline obstacle's gap is not linear: its
+   !> plane at u = 0 faces the nearest feature there (a trench's corner, not its floor), and the
+   !> solution may stop short of the obstacle or pass through it. So, as a sequential LCP, the true
+   !> gaps (uniarc_obstacle_shapes) are evaluated at the solution u and re-linearised there (b = u),
+   !> and the linear problem is solved again, until each candidate's linearised gap at its solution
+   !> is its true gap within complementarity_tolerance of the largest displacement (the working set
+   !> and each contact's feature then settle; the reactions act along the normals at u), at most
+   !> max_relinearisations times. Out and errors: those of solve_linearised, and (error_analysis) the
+   !> re-linearisations not settling (no state that penetrates an obstacle is returned).
+   subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                                  lcp_residual, deflections)
+      type(model_t), intent(in) :: model
+      real(dp), allocatable, intent(out) :: displacement(:, :)
+      integer, intent(out) :: negative_pivots
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable, intent(out), optional :: reactions(:)
+      logical, allocatable, intent(out), optional :: active(:)
+      integer, intent(out), optional :: lcp_pivots
+      real(dp), intent(out), optional :: lcp_residual
+      real(dp), allocatable, intent(out), optional :: deflections(:)
+      type(model_t) :: planar
+      real(dp), allocatable :: base(:, :), r(:), d(:)
+      logical, allocatable :: set(:), curved(:)
+      real(dp) :: residual, mismatch, unit, length_scale
+      integer :: round, pivots, total, c, status
+      logical :: any_curved
+      any_curved = .false.
+      if (allocated(model%contacts)) any_curved = any(model%contacts%gap_kind /= gap_fixed_direction)
+      if (.not. any_curved) then
+         call solve_linearised(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                               lcp_residual, deflections)
+         return
+      end if
+      call centre_on_node(model, error)
+      if (allocated(error)) return
+      allocate (base(dofs_per_node, model%n_nodes), curved(size(model%contacts)), stat=status)
+      call allocation_failure(status, 'the linearisation point of the curved obstacles', &
+                              8.0_dp*dofs_per_node*model%n_nodes + 4.0_dp*size(model%contacts), error_analysis, error)
+      if (allocated(error)) return
+      curved(:) = model%contacts%gap_kind /= gap_fixed_direction
+      length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
+      planar = model
+      base(:, :) = 0.0_dp
+      total = 0
+      do round = 1, max_relinearisations
+         call tangent_planes(model, curved, base, planar)
+         call solve_linearised(planar, displacement, negative_pivots, error, r, set, pivots, residual, d)
+         if (allocated(error)) return
+         total = total + pivots
+         base(:, :) = displacement
+         if (allocated(model%prescribed)) base = base - model%prescribed
+         unit = max(maxval(abs(base(1:2, :))), 1.0e-12_dp*length_scale)
+         mismatch = plane_mismatch(model, planar, curved, base, set, r)
+         if (mismatch <= complementarity_tolerance*unit) exit
+         if (round == max_relinearisations) then
+            call make_error(error, 'linear static analysis: the contacts with curved or polyline obstacles did '// &
+                            'not settle after '//integer_to_string(max_relinearisations)//' re-linearisations of '// &
+                            'their gaps at the solution (largest difference of a linearised and a true gap: '// &
+                            trim(adjustl(real_to_string(mismatch, '(es10.3)')))//'); no result written', error_analysis)
+            ! a load that drives the structure along a rigid motion its contacts cannot hold (a ring
+            ! spun in a frictionless cavity) has no equilibrium: said so rather than that the gaps moved
+            call explain_static_imbalance(model, error)
+            deallocate (displacement)
+            return
+         end if
+      end do
+      if (present(reactions)) call move_alloc(r, reactions)
+      if (present(active)) call move_alloc(set, active)
+      if (present(deflections)) call move_alloc(d, deflections)
+      if (present(lcp_pivots)) lcp_pivots = total
+      if (present(lcp_residual)) lcp_residual = residual
+   end subroutine solve_linear_static
+
+   !> `planar`'s candidates on curved or polyline obstacles (`curved`) become the planes tangent to
+   !> their gap at the nodal displacements `base`: g(u) = g(b) + a(b)·(u − b), a fixed-direction gap
+   !> with direction a(b) and offset g(b) − a(b)·b (uniarc_model: g = offset + n·u). The others are
+   !> the model's own.
+   subroutine tangent_planes(model, curved, base, planar)
+      type(model_t), intent(in) :: model
+      logical, intent(in) :: curved(:)
+      real(dp), intent(in) :: base(:, :)
+      type(model_t), intent(inout) :: planar
+      real(dp) :: gap, gradient(2), hessian(2, 2)
+      integer :: c, node
+      do c = 1, size(curved)
+         if (.not. curved(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), base(1:2, node), gap, gradient, hessian)
+         planar%contacts(c)%gap_kind = gap_fixed_direction
+         planar%contacts(c)%direction = gradient
+         planar%contacts(c)%offset = gap - dot_product(gradient, base(1:2, node))
+      end do
+   end subroutine tangent_planes
+
+   !> How far the solution `displacement` (the free DOFs' part, without settlements) of the tangent
+   !> planes `planar` is from the true obstacles, as a length: the largest |g_true(u) − g_plane(u)| of
+   !> the curved candidates, and for those in contact (set, r > 0) the turn of the normal
+   !> |a_true(u) − a_plane| times the largest displacement (a reaction along a stale normal: a
+   !> polyline's feature that changed while the gap still matches, at a corner).
+   real(dp) function plane_mismatch(model, planar, curved, displacement, set, r) result(mismatch)
+      type(model_t), intent(in) :: model, planar
+      logical, intent(in) :: curved(:), set(:)
+      real(dp), intent(in) :: displacement(:, :), r(:)
+      real(dp) :: gap, gradient(2), hessian(2, 2), plane, unit
+      integer :: c, node
+      mismatch = 0.0_dp
+      unit = maxval(abs(displacement(1:2, :)))
+      do c = 1, size(curved)
+         if (.not. curved(c)) cycle
+         node = model%contacts(c)%node
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, gradient, &
+                            hessian)
+         plane = planar%contacts(c)%offset + dot_product(planar%contacts(c)%direction, displacement(1:2, node))
+         mismatch = max(mismatch, abs(gap - plane))
+         if (set(c) .and. r(c) > 0.0_dp) &
+            mismatch = max(mismatch, norm2(gradient - planar%contacts(c)%direction)*unit)
+      end do
+   end function plane_mismatch
 
    !> Solve the linear problem with its contacts.
    !> Out: `displacement` (3, n_nodes) nodal displacements; `negative_pivots`, the negative pivots of
@@ -64,8 +199,8 @@ contains
    !> Errors: a mechanism (input: the model moves as a rigid body with every contact closed,
    !> uniarc_path_mechanism); a singular matrix (analysis: the supports and the contacts of the set do not hold the
    !> structure); a contact LCP that is not solved (analysis).
-   subroutine solve_linear_static(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
-                                  lcp_residual, deflections)
+   subroutine solve_linearised(model, displacement, negative_pivots, error, reactions, active, lcp_pivots, &
+                               lcp_residual, deflections)
       type(model_t), intent(in) :: model
       real(dp), allocatable, intent(out) :: displacement(:, :)
       integer, intent(out) :: negative_pivots
@@ -84,10 +219,11 @@ contains
       !> the floating motions (n, k, orthonormal in the metric) of a structure held only by its contacts
       !> across a gap (unallocated: no approach)
       real(dp), allocatable :: floating(:, :)
-      logical, allocatable :: set(:), start_set(:)
-      logical :: singular, settled
-      real(dp) :: length_scale, worst, bytes
-      integer :: n, round, pivots, c, status
+      logical, allocatable :: set(:), start_set(:), previous(:), flip(:)
+      logical :: singular, settled, block, unheld_set
+      character(len=:), allocatable :: solver_message
+      real(dp) :: length_scale, worst
+      integer :: n, round, pivots, c, status, block_steps, fewest, stalled
 
       call build_dof_map(model, map, error, error_analysis)
       if (allocated(error)) return
@@ -95,9 +231,9 @@ contains
       length_scale = max(maxval(model%coordinates) - minval(model%coordinates), tiny(1.0_dp))
       allocate (zero_nodal(dofs_per_node, model%n_nodes), reference(n), residual(n), rhs(n, 2), applied(n), x(n), &
                 set(size(map%candidate_equation)), r(size(map%candidate_equation)), g(size(map%candidate_equation)), &
-                stat=status)
+                previous(size(map%candidate_equation)), flip(size(map%candidate_equation)), stat=status)
       call allocation_failure(status, 'the load and residual vectors of the linear analysis', &
-                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n) + 20.0_dp*size(map%candidate_equation), &
+                              8.0_dp*(dofs_per_node*model%n_nodes + 6.0_dp*n) + 28.0_dp*size(map%candidate_equation), &
                               error_analysis, error)
       if (allocated(error)) return
       zero_nodal = 0.0_dp
@@ -135,57 +271,76 @@ contains
       if (allocated(error)) return
       start_set(:) = set
       settled = .false.
-      do round = 1, max_rounds
+      block = .true.
+      block_steps = 0
+      fewest = huge(1)
+      stalled = 0
+      round = 0
+      do
          call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
-                        assembled, factors, rhs, x, r, g, worst, error)
+                        assembled, factors, rhs, x, r, g, worst, error, unheld_set)
+         if (allocated(error) .and. unheld_set .and. block_steps > 0 .and. block) then
+            ! a block exchange that left the structure unheld: back to its set, the LCP goes on from it
+            deallocate (error)
+            set = previous
+            block = .false.
+            cycle
+         end if
          if (allocated(error)) return
          if (worst <= complementarity_tolerance) then
             settled = .true.
             exit
          end if
-         ! refine_solution used `assembled` for the contact part of K_S: the set's K_S again.
+         if (block) then
+            call block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+            if (count(flip) < fewest) then
+               fewest = count(flip)
+               stalled = 0
+            else
+               stalled = stalled + 1
+            end if
+            block = count(flip) > block_threshold .and. stalled < block_backup .and. block_steps < max_block_steps
+            if (block) then
+               previous = set
+               set = set .neqv. flip
+               block_steps = block_steps + 1
+               pivots = pivots + count(flip)   ! principal pivots, as the LCP's block phase counts them
+               cycle
+            end if
+         end if
+         round = round + 1
+         if (round > max_rounds) exit
+         ! The LCP posed at the refined solution x of the set (its residual from the elements' forces),
+         ! not at u = 0; `assembled` (refine_solution left the contact part of K_S in it) is its work
+         ! space, then the set's K_S again.
+         call linearize_at_solution(model, map, set, applied, factors, zero_nodal, length_scale, x, rhs(:, 2), &
+                                    assembled, lin, error)
+         if (allocated(error)) return
          call assemble_set(model, map, zero_nodal, set, assembled, residual, error, floating)
          if (allocated(error)) return
-         if (round == max_rounds) exit
-         ! The LCP of one load step δλ = 1 from the unloaded state: x = 0, λ = 0, residual = −F_aug(0).
-         ! its vectors allocated with stat= first: the assignments below then allocate nothing
-         bytes = 0.0_dp
-         call reserve(lin%x, n, status, bytes)
-         if (status == 0) call reserve(lin%nodal, dofs_per_node, model%n_nodes, status, bytes)
-         if (status == 0) call reserve(lin%residual, n, status, bytes)
-         if (status == 0) call reserve(lin%reference, n, status, bytes)
-         if (status == 0) call reserve(lin%du_residual, n, status, bytes)
-         if (status == 0) call reserve(lin%du_tangent, n, status, bytes)
-         call allocation_failure(status, 'a vector of the contact LCP of the linear analysis', bytes, error_analysis, &
-                                 error)
-         if (allocated(error)) return
-         lin%x = 0.0_dp
-         lin%nodal = zero_nodal
-         lin%residual = residual
-         lin%reference = reference
-         lin%du_residual = rhs(:, 1)
-         lin%du_tangent = rhs(:, 2)
-         lin%constraint%kind = constraint_load
-         lin%constraint%target = 1.0_dp
-         lin%units%force = max(norm2(reference), tiny(1.0_dp))
-         lin%units%gap = max(maxval(abs(map%metric*x)), 1.0e-6_dp*length_scale)
          call select_contact_set(model, map, lin, set, assembled, factors, selection, error)
          pivots = pivots + selection%report%pivots
          if (allocated(error)) then
             ! a load that lifts the structure off every contact that could hold it: no equilibrium
             ! exists (docs/theory.md §3.12), said so instead of the solver's words
+            solver_message = error%message
             call lift_off_error(model, map, zero_nodal, assembled, error)
-            call add_context(error, 'linear static analysis')
-            return
+            if (error%message /= solver_message .or. switching_springs(model)) then
+               call add_context(error, 'linear static analysis')
+               return
+            end if
+            ! not that: the LCP's frames did not reach its accuracy (a breakdown, not a ray); the single
+            ! exchanges of the refined solution below go on from the set of the last solve
+            deallocate (error)
+            exit
          end if
          set = selection%active
       end do
-      if (.not. settled) then
-         if (.not. switching_springs(model)) then
-            call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP', &
-                            error_analysis)
-            return
-         end if
+      if (.not. settled .and. .not. switching_springs(model)) then
+         call single_exchanges(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                               assembled, factors, rhs, x, r, g, set, worst, pivots, error)
+         if (allocated(error)) return
+      else if (.not. settled) then
          ! Tangential springs that switch with their radial contacts: the law is not an LCP and its
          ! rounds can cycle (docs/theory.md §3.8); the search by single changes from the set of the
          ! unloaded state (uniarc_static_set_search) finds a consistent set or says that none was reached.
@@ -237,7 +392,7 @@ contains
             deflections(c) = bed_deflection(map, c, x)
          end do
       end if
-   end subroutine solve_linear_static
+   end subroutine solve_linearised
 
    !> One solve of the linear problem with the contact set `set`: K_S assembled (`assembled`, with the
    !> floating motions of `floating` the set leaves free held, assemble_set) and factorised (`factors`),
@@ -306,6 +461,56 @@ contains
          worst = complementarity_violation(model, map, length_scale, x, reference, r, g, set)
       end if
    end subroutine solve_set
+
+   !> The set of the linear problem by single exchanges of its refined solution, when the contact LCP
+   !> did not settle it (its rounds spent, or its frames short of its accuracy: a free span lifted
+   !> 10³ above a bed of 10⁵ candidates, whose contact edges the frames' one-product refinement cannot
+   !> resolve): from `set` (on entry the last set solved, with x, r, g and `worst` of it), the
+   !> violating candidate of least index (block_exchange's test) changes sides and the set is solved
+   !> and refined again (solve_set), until complementarity holds. Murty's least-index rule (Murty 1974;
+   !> Cottle, Pang & Stone 1992, §4.2) is finite for a P-matrix LCP, as a structure's contacts on a
+   !> medium with every motion held give; each exchange costs one factorisation, so at most
+   !> max_single_exchanges. Out: `set`, x, r, g, `worst`, `assembled` K_S of the set; `pivots` counts
+   !> the exchanges. Errors (error_analysis): the set not settled in that many; a set that does not
+   !> hold the structure (singular K_S); memory.
+   subroutine single_exchanges(model, map, zero_nodal, floating, residual, reference, applied, length_scale, &
+                               assembled, factors, rhs, x, r, g, set, worst, pivots, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: zero_nodal(:, :)
+      real(dp), allocatable, intent(in) :: floating(:, :)
+      real(dp), intent(inout) :: residual(:)
+      real(dp), intent(in) :: reference(:), applied(:), length_scale
+      type(band_matrix_t), intent(inout) :: assembled, factors
+      real(dp), intent(inout) :: rhs(:, :)
+      real(dp), intent(inout) :: x(:), r(:), g(:)
+      logical, intent(inout) :: set(:)
+      real(dp), intent(inout) :: worst
+      integer, intent(inout) :: pivots
+      type(error_t), allocatable, intent(out) :: error
+      logical, allocatable :: flip(:)
+      integer :: k, c, status
+      allocate (flip(size(set)), stat=status)
+      call allocation_failure(status, 'the exchanges of the contact set', 4.0_dp*size(set), error_analysis, error)
+      if (allocated(error)) return
+      do k = 1, max_single_exchanges
+         call block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+         c = findloc(flip, .true., dim=1)
+         ! no candidate on the wrong side: what is left of the violation is the round-off of r w
+         if (c == 0) exit
+         set(c) = .not. set(c)
+         pivots = pivots + 1
+         call solve_set(model, map, zero_nodal, set, floating, residual, reference, applied, length_scale, &
+                        assembled, factors, rhs, x, r, g, worst, error)
+         if (allocated(error)) return
+         if (worst <= complementarity_tolerance) return
+      end do
+      if (worst <= complementarity_tolerance .or. c == 0) return
+      call make_error(error, 'linear static analysis: the contact set did not settle after the contact LCP and '// &
+                      integer_to_string(max_single_exchanges)//' single exchanges of its candidates (largest '// &
+                      'relative violation of complementarity '//trim(adjustl(real_to_string(worst, '(es10.3)')))// &
+                      ')', error_analysis)
+   end subroutine single_exchanges
 
    !> The contact set of a model whose tangential springs switch with their radial contacts, when the
    !> rounds of the contact LCP did not settle (docs/theory.md §3.8): from `set` (on entry the set of the
@@ -645,6 +850,66 @@ contains
       call make_error(error, text, error_analysis)
    end subroutine lift_off_error
 
+   !> The contact LCP of the linear problem posed at the solution x of the working set `set` (refined,
+   !> refine_solution) rather than at u = 0: the state x, its residual ρ = R − F_aug(x) from the
+   !> elements' forces (linear_residual) and K_S⁻¹ρ (`factors`, the band LU of the set's K_S), the
+   !> load held (δλ = 0). For the linear gaps the LCP is the same, but its q, the reactions and gaps at
+   !> x, are as accurate as the refined x: posed at u = 0 they were K_S⁻¹(R − F_aug(0)) of one solve,
+   !> whose error κε|u| (a long span lifted off a bed, |u| ~ 10³ where the gaps at a lift-off point are
+   !> ~10⁻⁴) decided the edge of a contact region against the refined solution, and the rounds never
+   !> settled. Each frame the LCP refactorises is refined by products K_S v of its increments, which
+   !> are small near the solution: their round-off is that of the increment, not of u.
+   !> `du_tangent`: K_S⁻¹R; `matrix`: work space (the contact part of K_S is assembled in it).
+   !> Errors (error_analysis): a vector refused by the system (out of memory).
+   subroutine linearize_at_solution(model, map, set, applied, factors, zero_nodal, length_scale, x, du_tangent, &
+                                    matrix, lin, error)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      logical, intent(in) :: set(:)
+      real(dp), intent(in) :: applied(:)          !< R without the settlements' load (they move the elements)
+      type(band_matrix_t), intent(in) :: factors
+      real(dp), intent(in) :: zero_nodal(:, :), length_scale, x(:), du_tangent(:)
+      type(band_matrix_t), intent(inout) :: matrix
+      type(contact_linearization_t), intent(inout) :: lin
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: contact_force(:), zero_r(:), correction(:, :)
+      real(dp) :: bytes
+      integer :: n, status
+      n = size(x)
+      ! its vectors allocated with stat= first: the assignments below then allocate nothing
+      bytes = 0.0_dp
+      call reserve(lin%x, n, status, bytes)
+      if (status == 0) call reserve(lin%nodal, dofs_per_node, model%n_nodes, status, bytes)
+      if (status == 0) call reserve(lin%residual, n, status, bytes)
+      if (status == 0) call reserve(lin%reference, n, status, bytes)
+      if (status == 0) call reserve(lin%du_residual, n, status, bytes)
+      if (status == 0) call reserve(lin%du_tangent, n, status, bytes)
+      if (status == 0) allocate (contact_force(n), zero_r(size(set)), correction(n, 1), stat=status)
+      call allocation_failure(status, 'a vector of the contact LCP of the linear analysis', &
+                              bytes + 16.0_dp*n + 8.0_dp*size(set), error_analysis, error)
+      if (allocated(error)) return
+      zero_r(:) = 0.0_dp
+      contact_force(:) = 0.0_dp
+      call band_zero(matrix)
+      if (size(map%candidate_equation) > 0) call assemble_contact(model, map, zero_nodal, zero_r, set, matrix, &
+                                                                 contact_force)
+      call linear_residual(model, map, applied, contact_force, matrix, x, lin%nodal, lin%residual)
+      correction(:, 1) = lin%residual
+      call band_solve(factors, correction, error)
+      if (allocated(error)) return
+      lin%x = x
+      ! the nodal displacements of x without the settlements, as the gaps of linear_contact_state
+      call gather_nodal(map, x, lin%nodal)
+      lin%reference = applied
+      if (allocated(model%prescribed)) call add_settlement_load(model, map, lin%reference)
+      lin%du_residual = correction(:, 1)
+      lin%du_tangent = du_tangent
+      lin%constraint%kind = constraint_load
+      lin%constraint%target = 0.0_dp
+      lin%units%force = max(norm2(lin%reference), tiny(1.0_dp))
+      lin%units%gap = max(maxval(abs(map%metric*x)), 1.0e-6_dp*length_scale)
+   end subroutine linearize_at_solution
+
    !> K_S (linear K with the contact rows of `set`, unfactorised) and its residual −F_aug at u = 0,
    !> r = 0: g_c(0) on the rows of the candidates in the set, the force of condensed springs in it.
    !> With `floating` (n, k, orthonormal in the metric), the floating motions of a structure held only by
@@ -884,6 +1149,35 @@ contains
    end function resultant_imbalance
 
    !> Zero nodal displacements and reactions of the model, for the contact part at u = 0.
+
+   !> The candidates whose membership of `set` the refined solution x contradicts, to be exchanged at
+   !> once (block principal pivoting, Kostreva 1978; Júdice & Pires 1994): in the set and pulling
+   !> (r < 0), or out of it and penetrating (w = g + t r < 0), beyond complementarity_tolerance of the
+   !> units of complementarity_violation. The solve after such an exchange is refined like any other,
+   !> so the block phase sees the contact edges with the accuracy of the final check, which the LCP's
+   !> frames (each refined by one product K_S v of a possibly large v) do not always reach.
+   pure subroutine block_exchange(model, map, length_scale, x, reference, r, g, set, flip)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: length_scale, x(:), reference(:), r(:), g(:)
+      logical, intent(in) :: set(:)
+      logical, intent(out) :: flip(:)   !< (candidates) true: to leave or join the set
+      real(dp) :: r_unit, g_unit, w
+      integer :: c
+      flip = .false.
+      if (size(set) == 0) return
+      r_unit = max(maxval(abs(r)), norm2(reference), tiny(1.0_dp))
+      g_unit = max(maxval(abs(map%metric*x)), 1.0e-12_dp*length_scale, tiny(1.0_dp))
+      do c = 1, size(set)
+         if (.not. candidate_live(map, c) .or. model%contacts(c)%bilateral) cycle
+         w = g(c) + model%contacts(c)%flexibility*r(c)
+         if (set(c)) then
+            flip(c) = -r(c)/r_unit > complementarity_tolerance
+         else
+            flip(c) = -w/g_unit > complementarity_tolerance
+         end if
+      end do
+   end subroutine block_exchange
 
    !> Largest relative violation of complementarity of the unilateral candidates: −r/r_unit for a
    !> pulling contact, −w/g_unit for a penetrating free one (w = g + t r), |r w|/(r_unit g_unit); the

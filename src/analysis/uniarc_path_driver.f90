@@ -34,7 +34,7 @@ module uniarc_path_driver
    use uniarc_path_state_copy, only: copy_point_record, move_map, copy_state, move_state
    use uniarc_memory, only: allocation_failure
    use uniarc_path_pace, only: pace_t, pace_start, pace_record
-   use uniarc_path_trace, only: trace_closed_loop
+   use uniarc_path_trace, only: trace_closed_loop, trace_event_revisited, trace_remember_event
    use uniarc_path_rest, only: rest_on_contacts
    implicit none
    private
@@ -53,8 +53,9 @@ module uniarc_path_driver
    !> the committed state certifies (uniarc_path_collapse): a result, the path's last point
    integer, parameter :: stop_collapse = 5
    !> the step passed through the state where the branch began (the unloaded state, the analysis
-   !> step's start, the bifurcation of a branch switch): the path is a closed loop, traced once
-   !> (uniarc_path_trace, trace_closed_loop; docs/theory.md §2.3)
+   !> step's start, the bifurcation of a branch switch), or a step past a critical point or a corner
+   !> ended on the state of an earlier one: the path is a closed loop, traced once (uniarc_path_trace,
+   !> trace_closed_loop, trace_event_revisited; docs/theory.md §2.3)
    integer, parameter :: stop_closed_loop = 6
 
    !> When the path stops (docs/input.md, *PATH); driver_start copies them from `model%analysis`.
@@ -84,9 +85,11 @@ module uniarc_path_driver
       character(len=:), allocatable :: collapse_nodes
       !> the joints at their moment limit that are hinges of the collapse mechanism ('' for a rigid one)
       character(len=:), allocatable :: collapse_joints
-      !> at stop_closed_loop: the step and λ of the state where the closed branch began
+      !> at stop_closed_loop: the step and λ of the state where the closed branch began, or (when
+      !> loop_repeated) of the earlier step past an event whose state the last step repeated
       integer :: loop_origin_step = 0
       real(dp) :: loop_origin_lambda = 0.0_dp
+      logical :: loop_repeated = .false.
       logical :: started = .false.                 !< driver_start succeeded
       !> Converged steps before the current analysis step (driver_next_analysis_step): the step
       !> numbers go on across analysis steps, and max_steps counts the steps of the current one.
@@ -214,8 +217,8 @@ contains
       character(len=:), allocatable :: finding, nodes
       type(path_state_t), allocatable :: before
       real(dp) :: upper
-      integer :: k, points, status
-      logical :: collapsed, near_collapse, short, advanced
+      integer :: k, points, status, revisited
+      logical :: collapsed, near_collapse, short, advanced, past_event
       real(dp), allocatable :: u_before(:)
       type(error_t), allocatable :: memory_error
       if (.not. driver%started) then
@@ -403,6 +406,29 @@ contains
          call trace_closed_loop(driver%trace, driver%state%map, driver%state%lambda_scale, driver%loop_origin_step, &
                                 driver%loop_origin_lambda)
          if (driver%loop_origin_step >= 0 .and. driver%stop == stop_none) driver%stop = stop_closed_loop
+         ! A step past a critical point or a corner that ends on the state of an earlier one: the
+         ! path came round to a state it passed (by a loop that does not go through its branch's
+         ! origin, or one that a jump closed) and, taking the same steps again, would go round it
+         ! for ever (the circular liner in its host at eps = 1e-5: limit_min 17.8833 every 19 steps
+         ! until max_steps; docs/theory.md §2.3, "closed loops").
+         past_event = .false.
+         do k = 1, size(outcome%events)
+            select case (outcome%events(k)%kind)
+            case ('limit_max', 'limit_min', 'contact_corner', 'bifurcation')
+               past_event = .true.
+            end select
+         end do
+         if (driver%stop == stop_none .and. past_event) then
+            revisited = trace_event_revisited(driver%trace, driver%state%u, driver%state%lambda)
+            if (revisited > 0) then
+               driver%stop = stop_closed_loop
+               driver%loop_origin_step = revisited
+               driver%loop_origin_lambda = driver%state%lambda
+               driver%loop_repeated = .true.
+            else
+               call trace_remember_event(driver%trace, driver%state%u, driver%state%lambda, driver%state%point%step)
+            end if
+         end if
       end if
       ! A commit that switched tangential springs off is followed by its release step (Δλ = 0) before
       ! the path stops at a load or track limit: the last row is in equilibrium without their forces

@@ -306,7 +306,7 @@ contains
       character(len=:), allocatable :: jump, went_back
       integer :: attempt, halvings
       logical :: to_limit, hidden, landed, track_landed, cornered, corner_passed, left_branch, unresolved, multiple
-      logical :: tie_split_cut, split_allowed
+      logical :: tie_split_cut, split_allowed, unexplained_limit
       integer :: revisited
       state%point%tie_kept = .false.
       state%limit_under_load = .false.
@@ -695,13 +695,21 @@ contains
             if (len(jump) == 0 .and. .not. (trial%release .or. before%set_edited)) then
                ! A limit point or bifurcation the step has passed is located by re-solving from its start.
                call locate_critical_points(model, before, state, system, length, left_branch, unresolved, &
-                                           error, switching=state%bifurcations + 1 == options%switch_bifurcation)
+                                           unexplained_limit, error, &
+                                           switching=state%bifurcations + 1 == options%switch_bifurcation)
                if (allocated(error)) then
                   call move_alloc(system, state%system)
                   call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
                   return
                end if
                if (left_branch) jump = 'the states re-solved along it change branch where the inertia changes'
+               ! λ turned at a limit point that the load sees (φᵀR ≠ 0), and the count of negative
+               ! pivots at the step's end is that of its start: a limit point changes it by one, so the
+               ! step passed another critical point too, or landed on another branch (docs/theory.md
+               ! §2.3, "a limit that the inertia does not see"). Cut while it can be.
+               if (unexplained_limit .and. 0.5_dp*length >= options%min_increment*state%first_length) &
+                  jump = 'lambda turns in it at a limit point, and the count of negative pivots at its end is '// &
+                         'that of its start'
                ! A change of the count by more than one is a multiple bifurcation only if the locator
                ! found all of it at one bifurcation, across a bracket narrowed to its tolerance (a
                ! double eigenvalue of a symmetric structure: two eigenvalues of K_T vanish at once);

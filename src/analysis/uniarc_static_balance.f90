@@ -80,7 +80,10 @@ contains
       do c = 1, min(size(reactions), size(model%contacts))
          if (.not. in_set(model, active, c)) cycle
          node = model%contacts(c)%node
-         call candidate_gap(model%contacts(c), model%coordinates(:, node), [0.0_dp, 0.0_dp], gap, gradient, hessian)
+         ! the reaction along the normal at the state: a plane's is constant; a curved or polyline
+         ! obstacle's is the one the linear analysis re-linearised its gap at (uniarc_linear_static)
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), displacement(1:2, node), gap, gradient, &
+                            hessian)
          do i = 1, 2
             if (model%fixed(i, node)) cycle   ! carried by the support, counted in its reaction
             nodal(i, node) = nodal(i, node) + gradient(i)*reactions(c)

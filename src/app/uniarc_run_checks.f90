@@ -183,13 +183,13 @@ contains
       end do
    end subroutine refuse_deck_among_results
 
-   !> What analysis step k changes of the supports, for the --check summary: ', N DOFs held from
-   !> here, N released, N moved' (the counts that are not zero), or ''.
+   !> What analysis step k changes of the supports and obstacles, for the --check summary: ', N DOFs
+   !> held from here, N released, N moved, N obstacles moved (*MOVE)' (the counts that are not zero), or ''.
    pure function support_changes(model, k) result(text)
       type(model_t), intent(in) :: model
       integer, intent(in) :: k
       character(len=:), allocatable :: text
-      integer :: added, released, moved
+      integer :: added, released, moved, obstacles
       text = ''
       added = 0
       released = 0
@@ -201,9 +201,12 @@ contains
          end if
       end if
       if (allocated(model%steps(k)%loads%prescribed)) moved = count(model%steps(k)%loads%prescribed /= 0.0_dp)
+      obstacles = 0
+      if (allocated(model%steps(k)%loads%moves)) obstacles = count(any(model%steps(k)%loads%moves /= 0.0_dp, dim=1))
       if (added > 0) text = text//', '//counted(added, 'DOF')//' held from here'
       if (released > 0) text = text//', '//counted(released, 'DOF')//' released'
       if (moved > 0) text = text//', '//counted(moved, 'DOF')//' moved'
+      if (obstacles > 0) text = text//', '//counted(obstacles, 'obstacle')//' moved (*MOVE)'
    end function support_changes
 
 end module uniarc_run_checks

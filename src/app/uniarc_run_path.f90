@@ -387,10 +387,17 @@ contains
       case (stop_failure)
          message = 'stopped by an error'
       case (stop_closed_loop)
-         message = 'stopped where the path closes on itself: its last step passes through the state of step '// &
-                   integer_to_string(driver%loop_origin_step)//' (lambda = '// &
-                   short_number(driver%loop_origin_lambda)//') where this branch began; followed on, it '// &
-                   'would go round the same loop again'
+         if (driver%loop_repeated) then
+            message = 'stopped where the path repeats itself: its last step, past a critical point or a '// &
+                      'corner, ends on the state of step '//integer_to_string(driver%loop_origin_step)// &
+                      ' (lambda = '//short_number(driver%loop_origin_lambda)//'), reached past one too; the '// &
+                      'steps between are a loop, and followed on it would go round it again'
+         else
+            message = 'stopped where the path closes on itself: its last step passes through the state of step '// &
+                      integer_to_string(driver%loop_origin_step)//' (lambda = '// &
+                      short_number(driver%loop_origin_lambda)//') where this branch began; followed on, it '// &
+                      'would go round the same loop again'
+         end if
       case (stop_collapse)
          hinges = ''
          if (allocated(driver%collapse_joints)) then

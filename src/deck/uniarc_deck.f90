@@ -341,6 +341,8 @@ contains
             return
          end if
       end if
+      call check_path_has_load(source, deck, error)
+      if (allocated(error)) return
       bad = element_without_section(deck%model)
       if (bad > 0) then
          call raise_plain(source, 'expected a section for every element, found element '// &
@@ -378,6 +380,27 @@ contains
                                    joints=model%end_joints)
       end associate
    end subroutine check_whole_deck
+
+   !> A *PATH deck without analysis steps whose load pattern is all zero — no force, no distributed
+   !> load, no temperature change, prescribed displacements and *MOVE translations of zero — has
+   !> nothing for λ to scale: refused at its *PATH card (exit code 2), as a step without a load is at
+   !> its *END STEP. (A load that the supports take whole, or a restrained temperature change, is a
+   !> load: the path's start judges those.)
+   subroutine check_path_has_load(source, deck, error)
+      type(source_t), intent(in) :: source
+      type(deck_t), intent(in) :: deck
+      type(error_t), allocatable, intent(out) :: error
+      logical :: loaded
+      if (deck%n_steps > 0 .or. deck%model%analysis%kind /= analysis_nonlinear .or. deck%analysis_line == 0) return
+      associate (model => deck%model)
+         loaded = any(model%nodal_load(:, 1:model%n_nodes) /= 0.0_dp) .or. model%n_loads > 0 .or. model%n_thermal > 0
+         if (model%n_prescribed > 0) loaded = loaded .or. any(model%prescribed_value(1:model%n_prescribed) /= 0.0_dp)
+         if (allocated(model%moves)) loaded = loaded .or. any(model%moves /= 0.0_dp)
+      end associate
+      if (.not. loaded) call raise(source, deck%analysis_line, max(deck%analysis_column, 1), 'expected a load for the path '// &
+                                   'to follow (*CLOAD, *DLOAD, *TEMPERATURE, a prescribed displacement or an obstacle '// &
+                                   'moved, not all zero), found none: lambda would scale nothing', error)
+   end subroutine check_path_has_load
 
    !> *IMPERFECTION without FILE= (uniarc_deck_imperfection): the first run that computes the mode
    !> traces the deck's own path under arc-length control, and moves the nodes after the contact

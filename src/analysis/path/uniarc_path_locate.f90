@@ -120,10 +120,17 @@ contains
    !> `unresolved`: a re-solution failed before the bracket of a limit point was narrowed to its
    !> tolerance, or a re-solution of either kind of point converged off the piece of path between the
    !> bracket's ends (the point is placed from the bracket so far; the caller may cut the step and
-   !> locate it again).
+   !> locate it again); or one failed before the bracket of a bifurcation was narrowed, where the load
+   !> sees the least eigenvector at both of its ends (a near-bifurcation that the gap test cannot judge).
+   !> `unexplained_limit`: λ turns (a limit point, located as usual) while the count of negative pivots
+   !> at the step's end is that of its start, with one working set across the final bracket and the
+   !> load seeing the least eigenvector at both of its ends (φᵀR ≠ 0: a limit point, where one eigenvalue
+   !> crosses zero) — the step passed a second critical point, or landed on another branch; the caller
+   !> cuts it. (Where φᵀR is round-off, λ turns at a symmetric pitchfork passed along its bifurcated
+   !> branch, whose two sides are mirror images with the same count: a path of its own, kept.)
    !> Errors: out of memory in a re-solution (error_analysis; the run ends).
-   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, error, &
-                                     switching)
+   subroutine locate_critical_points(model, before, after, system, length, left_branch, unresolved, &
+                                     unexplained_limit, error, switching)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(inout) :: before   !< unchanged (inout for copy_state)
       type(path_state_t), intent(inout) :: after
@@ -132,6 +139,8 @@ contains
       logical, intent(out) :: left_branch
       !> a re-solution inside the bracket did not converge before it was narrowed to the tolerance
       logical, intent(out) :: unresolved
+      !> a limit point that the load sees, passed with the count of negative pivots unchanged
+      logical, intent(out) :: unexplained_limit
       !> the path switches branches at the bifurcation if the step passed one: a finer bracket
       logical, intent(in), optional :: switching
       type(error_t), allocatable, intent(out) :: error
@@ -157,6 +166,7 @@ contains
       after%point%limit_by_contact = .false.
       left_branch = .false.
       unresolved = .false.
+      unexplained_limit = .false.
       tolerance = bracket_tolerance
       probes = max_probes
       if (present(switching)) then
@@ -178,7 +188,8 @@ contains
       fb = indicator(pb)
       set_a = before%active
       set_b = after%active
-      if (bifurcation) then
+      ! (a limit with the count unchanged keeps the bracket's states too, for their modes)
+      if (bifurcation .or. (limit .and. before%point%neg_pivots == after%point%neg_pivots)) then
          call copy_state(before, state_a, 'the state at the start of the step', error)
          if (.not. allocated(error)) call copy_state(after, state_b, 'the state at the end of the step', error)
          if (allocated(error)) return
@@ -231,14 +242,14 @@ contains
             fb = fp
             set_b = probe_state%active
             side = 1
-            if (bifurcation) call move_state(probe_state, state_b)
+            if (allocated(state_b%u)) call move_state(probe_state, state_b)
          else
             ha = h
             call move_point(probe, pa)
             fa = fp
             set_a = probe_state%active
             side = -1
-            if (bifurcation) call move_state(probe_state, state_a)
+            if (allocated(state_a%u)) call move_state(probe_state, state_a)
          end if
          if (side == last_side) then
             same_side = same_side + 1
@@ -310,6 +321,21 @@ contains
                if (t >= 0.0_dp .and. t <= 1.0_dp) after%point%limit_lambda = pa%lambda + fa*t*(pb%s - pa%s)
             end if
          end if
+         ! A smooth limit point is a simple zero of det K_T whose eigenvector the load sees: the
+         ! count changes by one across it. Where the count at the step's end is that of its start
+         ! and the narrowed bracket's ends (one working set, no lift-off) both see their mode in
+         ! the load, the step went past another critical point as well, or landed on another branch
+         ! (docs/theory.md §2.3, "a limit that the inertia does not see"). |φᵀR|/(|φ||R|) measured
+         ! there: Walker's whole arch with a crown load of 1e-6 to 1e-5 P, whose steps jumped across
+         ! the broken bifurcations at its limits (66.39, −35.72) onto the mirror image of the path,
+         ! 2.7e-4 to 1.1e-3; the switched branch of the whole arch on its bed (SWITCH=1, 120
+         ! elements) passing through the symmetric pitchfork at its top, 146.97, and back through
+         ! its bifurcation at 118.27: 5.6e-8 to 7.1e-8 and 9e-13 (the φᵀR of a symmetric mode,
+         ! round-off; mode_load_cosine lies between).
+         if (allocated(state_a%u) .and. allocated(state_b%u) .and. hb - ha <= tolerance*length .and. &
+             .not. after%point%limit_by_contact .and. .not. any(set_a .neqv. set_b) .and. &
+             .not. (pa%liftoff .or. pb%liftoff)) &
+            unexplained_limit = load_sees_mode(state_a) .and. load_sees_mode(state_b)
       else if (hb - ha <= tolerance*length .and. any(state_a%active .neqv. state_b%active) .and. &
                jumps_at_contact()) then
          ! The count changes where the working set does (within 1e-3 of the step): a contact closing
@@ -339,6 +365,18 @@ contains
          ! linear between them, vanishes nearer to it, else at pb, where the count is seen changed.
          ! Its state and mode are that end's.
          after%point%bifurcation_unbracketed = .true.
+         ! Where the load sees the least eigenvector at both ends of that wide bracket, the count
+         ! changed at a limit point (φᵀR ≠ 0) that λ did not turn at, as at the near-bifurcation of
+         ! an imperfect structure, whose step may have gone past it onto the complementary path —
+         ! the gap test above needs the narrowed bracket to tell. Walker's whole arch with an
+         ! antisymmetric imperfection of amplitude 1e-6: a probe failed on a bracket of 0.018 of the
+         ! step, |φᵀR|/(|φ||R|) 5.1e-4 and 1.8e-3 at its ends, and the step had landed on the
+         ! complementary path (the crown's sideways displacement from +2.8e-5 to −1.4e-5; a
+         ! `bifurcation` at 66.39 and the perfect arch's limit 76.43 followed). Located like a limit
+         ! point that could not be bracketed: the caller cuts the step while it can (docs/theory.md
+         ! §2.3); at the smallest step the bifurcation placed here is kept.
+         if (.not. in_lambda_alone()) &
+            unresolved = unresolved .or. (load_sees_mode(state_a) .and. load_sees_mode(state_b))
          t = 1.0_dp
          if (opposite_signs(pa%min_eigenvalue, pb%min_eigenvalue)) then
             if (pa%min_eigenvalue/(pa%min_eigenvalue - pb%min_eigenvalue) < 0.5_dp) t = 0.0_dp

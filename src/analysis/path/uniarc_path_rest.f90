@@ -9,6 +9,11 @@
 !> the metric, as the static analysis takes its solution, §2.8), then the rigid motion d = U Uᵀp that
 !> the push p just before drives (−sign(Δλ) R: λ came from where λR pressed the contacts) moves it to
 !> the first contact it closes; the contacts that touch there join the working set at zero force.
+!> A contact of the set that carries nothing (its reaction within Newton's force tolerance of the
+!> force scale: zero to the accuracy of the equilibrium) holds nothing either: a ring unloaded to zero
+!> on its bed was left held only by two contacts at the bed's ends with reactions of 3e-17, 5.6e-3
+!> above the bed, and the reload failed (issue 16, second review); such a state is at rest on the
+!> contacts that carry something and on those it touches after the rest, not on the ones it drifted to.
 module uniarc_path_rest
    use uniarc_kinds, only: dp
    use uniarc_error, only: error_t, error_analysis
@@ -39,6 +44,10 @@ module uniarc_path_rest
    !> fixed-direction gap and one to confirm it; a rotation's second-order error, θ², falls below the
    !> touch tolerance by the third (θ ~ 1e-5 in the decks of issue 16).
    integer, parameter :: rest_passes = 8
+   !> The rest never moves the structure along the push by more than this many times its own size
+   !> (state%length_scale): a contact farther than that along the push is not one the structure left
+   !> in the step (a step's motion is a fraction of the size), and the structure is floating away.
+   real(dp), parameter :: rest_reach = 1.0_dp
 
 contains
 
@@ -46,10 +55,13 @@ contains
    !> `before` (n_equations), at rest on its contacts: `x` (n_equations) and `active` (candidates) are
    !> the state to commit instead, and `rested` says whether there is one. Nothing to do (rested
    !> false) unless the structure has floating motions, some of which no candidate of the working set
-   !> sees (unheld_motions; a yielding or bonded candidate of the set sees them too), and the reference
-   !> load does work along them; nor where the push closes no contact (rest_along), or the state at
-   !> rest is further from equilibrium than the converged one (its residual above both Newton's force
-   !> tolerance and the converged residual).
+   !> that carries a force sees (unheld_motions over `carrying`; a yielding or bonded candidate of the
+   !> set sees them too, a unilateral one whose reaction is within Newton's force tolerance of the
+   !> force scale does not), and the reference load does work along them; nor where the push closes
+   !> no contact within rest_reach of the structure's size (rest_along), or the state at rest is
+   !> further from equilibrium than the converged one (its residual above both Newton's force
+   !> tolerance and the converged residual). The set at rest: the carrying candidates and those that
+   !> touch there.
    !> Errors (error_analysis, out of memory): the work arrays and the band matrix of the test.
    subroutine rest_on_contacts(model, state, before, dlambda, x, active, rested, error)
       type(model_t), intent(in) :: model
@@ -65,22 +77,18 @@ contains
       real(dp) :: element_scale, roundoff, residual_before, residual_after, scale, gap, part
       real(dp) :: gradient(2), hessian(2, 2)
       logical :: pushed
+      logical, allocatable :: carrying(:)
       integer :: n, m, i, c, node, contact, status, round
       rested = .false.
       if (.not. allocated(state%floating_motion) .or. .not. allocated(state%active)) return
       if (size(state%floating_motion, 2) == 0 .or. dlambda == 0.0_dp) return
       if (.not. allocated(model%contacts) .or. .not. allocated(state%slip)) return
+      if (.not. allocated(state%reactions)) return
       n = state%map%n_equations
       m = size(state%active)
-      call orthonormal_motions(state%map, state%floating_motion, basis, error)
-      if (allocated(error)) return
-      ! every candidate of the set counts, a yielding one too (it carries its limit force)
-      call unheld_motions(model, state%map, state%active, basis, unheld, error)
-      if (allocated(error)) return
-      if (size(unheld, 2) == 0) return
-      allocate (x(n), active(m), internal(n), reference(n), push(n), d(n), drift(n), &
+      allocate (x(n), active(m), carrying(m), internal(n), reference(n), push(n), d(n), drift(n), &
                 nodal(dofs_per_node, model%n_nodes), stat=status)
-      call allocation_failure(status, 'the vectors of the rest on the contacts', 64.0_dp*n + 4.0_dp*m, &
+      call allocation_failure(status, 'the vectors of the rest on the contacts', 64.0_dp*n + 8.0_dp*m, &
                               error_analysis, error)
       if (allocated(error)) return
       call band_allocate(work%tangent, n, state%map%half_bandwidth, state%map%half_bandwidth, error)
@@ -90,10 +98,31 @@ contains
                           element_scale, error, roundoff)
       if (allocated(error)) return
       residual_before = masked_norm(state%map, state%lambda*reference - internal)
+      scale = max(state%load_norm, norm2(state%lambda*reference), element_scale)
+      ! A unilateral candidate of the set holds a motion only if it carries a force: a reaction within
+      ! Newton's force tolerance of the force scale is zero to the accuracy of the converged
+      ! equilibrium (the residual is only known to that), and a contact that touches with no force
+      ! holds nothing but its own point (the rings of issue 16 were held by reactions of 3e-17 and
+      ! 2.4e-14 against a scale of 0.1). A bonded candidate holds in tension too, and a yielding one
+      ! carries its limit force: both count whatever their reaction.
+      do c = 1, m
+         carrying(c) = state%active(c)
+         if (.not. carrying(c) .or. model%contacts(c)%bilateral .or. model%contacts(c)%tangential) cycle
+         if (allocated(state%yielding)) then
+            if (state%yielding(c)) cycle
+         end if
+         carrying(c) = abs(state%reactions(c)) > model%analysis%force_tolerance*scale
+      end do
+      call orthonormal_motions(state%map, state%floating_motion, basis, error)
+      if (allocated(error)) return
+      call unheld_motions(model, state%map, carrying, basis, unheld, error)
+      if (allocated(error)) return
+      if (size(unheld, 2) == 0) return
       ! the push just before the step's end: λ came from the side where λR did work against the contacts
       push(:) = -sign(1.0_dp, dlambda)*reference
       x(:) = state%u
-      active(:) = state%active
+      ! the set at rest: the carrying candidates, and those that touch where the structure comes to rest
+      active(:) = carrying
       ! Resting on one contact may leave a motion about it free (a tilted beam on its lower end): the
       ! push then turns it about that contact onto the next, at most once per floating motion.
       do round = 1, size(basis, 2)
@@ -290,6 +319,11 @@ contains
             end if
          end do
          if (nearest == 0 .or. s_close*size_d < s_open*size_d - touch_fraction*length_scale) then
+            contact = 0
+            return
+         end if
+         ! (no contact within the structure's reach along d: it is not resting but floating away)
+         if (abs(s_close)*size_d > rest_reach*length_scale) then
             contact = 0
             return
          end if

@@ -372,7 +372,8 @@ contains
          if (row > 0) n_rows = n_rows - 1
       end do
       if (allocated(state%floating_equation)) &
-         call hold_floating(model, state, state%active, nodal, piece, released)
+         call hold_floating(model, state, state%active, nodal, piece, memory_error, released)
+      if (allocated(memory_error)) return
       call band_inertia(piece, negative, singular, status)
       call allocation_failure(status, 'the elimination copy of a piece of the lift-off stability test', &
                               8.0_dp*real(size(piece%ab, 1), dp)*real(size(piece%ab, 2), dp), error_analysis, &

@@ -23,6 +23,7 @@ module uniarc_path_state
    use uniarc_equilibrium, only: assemble_equilibrium
    use uniarc_contact, only: assemble_contact, candidate_gap, carried_by_support
    use uniarc_contact_plastic, only: has_plastic, commit_slip
+   use uniarc_floating_subspace, only: orthonormal_motions, unheld_motions, spring_equations
    implicit none
    private
    public :: path_point_t, path_system_t, path_state_t, step_trial_t, linearization_t, bifurcation_state_t
@@ -336,13 +337,14 @@ contains
          ! a candidate at its bearing limit has no stiffness: it holds no motion (docs/theory.md §3.9)
          if (present(yielding)) then
             holding = active .and. .not. yielding
-            call hold_floating(model, state, holding, nodal, system%tangent)
+            call hold_floating(model, state, holding, nodal, system%tangent, error)
          else if (allocated(state%yielding)) then
             holding = active .and. .not. state%yielding
-            call hold_floating(model, state, holding, nodal, system%tangent)
+            call hold_floating(model, state, holding, nodal, system%tangent, error)
          else
-            call hold_floating(model, state, active, nodal, system%tangent)
+            call hold_floating(model, state, active, nodal, system%tangent, error)
          end if
+         if (allocated(error)) return
       end if
       if (allocated(state%joint_plastic)) call hold_yielded_nodes(model, state%map, system%tangent, error)
    end subroutine equilibrium_at
@@ -393,18 +395,59 @@ contains
    !> only: the residual is untouched, so a converged state is in exact equilibrium, and a right-hand
    !> side with no component along v (every self-equilibrated one: no contact force) is solved exactly,
    !> with δx_j = 0 — the structure does not drift while nothing pushes it (docs/theory.md §2.8).
+   !> One motion at a time is not enough (uniarc_floating_subspace): one contact may see two motions
+   !> and leave a mixture of them free — a ring held only by one contact at the end of its bed,
+   !> whose normal sees the vertical translation and the rotation, leaves the rotation about that
+   !> contact free; unloaded to zero at increment 0.2, a step on that tangent moved the ring 2.6e6
+   !> (issue 16, second review). When the set's normals leave more of the span free
+   !> (unheld_motions) than the motions it does not see one by one, the springs hold that subspace
+   !> instead, at its pivoted equations (spring_equations), as the static analysis does.
    !> `released` (optional, one per candidate): candidates of `active` left out of the set (the
    !> lift-off test's pieces), read in place of an array expression `active .and. .not. released`
    !> (a temporary of the candidates' length, not checked).
-   subroutine hold_floating(model, state, active, nodal, tangent, released)
+   !> Errors (error_analysis, out of memory): the work arrays of the subspace test.
+   subroutine hold_floating(model, state, active, nodal, tangent, error, released)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       logical, intent(in) :: active(:)
       real(dp), intent(in) :: nodal(:, :)
       type(band_matrix_t), intent(inout) :: tangent
+      type(error_t), allocatable, intent(out) :: error
       logical, intent(in), optional :: released(:)
+      real(dp), allocatable :: basis(:, :), unheld(:, :)
+      logical, allocatable :: set(:)
+      integer, allocatable :: equations(:)
       real(dp) :: diagonal
-      integer :: i, j, held(3)
+      integer :: i, j, held(3), unseen, status
+      unseen = 0
+      do i = 1, size(state%floating_equation)
+         if (.not. sees_floating(model, state, active, nodal, i, released)) unseen = unseen + 1
+      end do
+      if (unseen < size(state%floating_equation)) then
+         allocate (set(size(active)), stat=status)
+         call allocation_failure(status, 'the set of the floating subspace test', 4.0_dp*size(active), &
+                                 error_analysis, error)
+         if (allocated(error)) return
+         set(:) = active
+         if (present(released)) set(:) = set .and. .not. released
+         call orthonormal_motions(state%map, state%floating_motion, basis, error)
+         if (allocated(error)) return
+         ! (the set's tangential springs hold too, as they do one motion at a time in sees_floating)
+         call unheld_motions(model, state%map, set, basis, unheld, error, tangential=.true.)
+         if (allocated(error)) return
+         if (size(unheld, 2) > unseen) then
+            call spring_equations(state%map, unheld, equations, error)
+            if (allocated(error)) return
+            do i = 1, size(equations)
+               j = equations(i)
+               if (j <= 0) cycle
+               diagonal = abs(band_get(tangent, j, j))
+               if (.not. (diagonal > 0.0_dp)) diagonal = 1.0_dp
+               call band_add(tangent, j, j, diagonal)
+            end do
+            return
+         end if
+      end if
       held = 0
       do i = 1, size(state%floating_equation)
          if (sees_floating(model, state, active, nodal, i, released)) cycle

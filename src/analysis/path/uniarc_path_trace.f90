@@ -3,7 +3,9 @@
 !> the analysis step (displacements, λ, step number) and the committed states at which the last corners
 !> were passed; and the state where the branch being traced began (the unloaded state, the start of an
 !> analysis step, the bifurcation a branch switch left from), against which a path that closes on
-!> itself is recognised (§2.3, "closed loops").
+!> itself is recognised (§2.3, "closed loops"); and the committed states of the last steps that passed
+!> a critical point or a corner, against which a path that comes round to the same state again is
+!> recognised (trace_event_revisited).
 !>
 !> Both are ring buffers allocated once, with stat=, for the path's number of unknowns (again only if an
 !> analysis step renumbers the equations), and held by the caller of the path following (the path
@@ -19,16 +21,21 @@ module uniarc_path_trace
    private
    public :: path_trace_t, traced_kept, corners_kept, traced_vectors
    public :: trace_allocate, trace_forget, trace_remember, trace_retraced_step, trace_remember_corner, &
-             trace_corner_revisited, trace_set_origin, trace_closed_loop
+             trace_corner_revisited, trace_set_origin, trace_closed_loop, trace_event_revisited, &
+             trace_remember_event
 
    !> Committed states kept for the test of a step going back along the path (trace_retraced_step).
    integer, parameter :: traced_kept = 16
    !> Corners kept for the test of a loop of corners (trace_corner_revisited): a loop of more corners
    !> than that is not recognised.
    integer, parameter :: corners_kept = 8
+   !> Committed states of steps that passed a critical point or a corner kept for the test of a path
+   !> that comes round to one of them again (trace_event_revisited): a loop through more such steps
+   !> than that is not recognised.
+   integer, parameter :: events_kept = 8
    !> Vectors of the number of unknowns a path_trace_t holds: the kept states, the kept corners, the
    !> branch's origin and two work vectors (uniarc_memory's estimate counts them).
-   integer, parameter :: traced_vectors = traced_kept + corners_kept + 3
+   integer, parameter :: traced_vectors = traced_kept + corners_kept + events_kept + 3
    !> A state lies along a traced segment when within this share of the segment's chord of it: the
    !> arc of a step deviates from its chord by its sagitta, |chord| tan(θ/4)/2 ≈ |chord| θ/8 for a turn θ
    !> between its end tangents, 0.05 |chord| for the turns of at most 2 × 22° measured away from folds
@@ -50,6 +57,11 @@ module uniarc_path_trace
       integer :: corner_step(corners_kept) = 0
       integer :: corners = 0                !< corners kept
       integer :: corner_newest = 0
+      real(dp), allocatable :: event_u(:, :)    !< (n, events_kept) committed states past an event (ring)
+      real(dp) :: event_lambda(events_kept) = 0.0_dp
+      integer :: event_step(events_kept) = 0
+      integer :: events = 0                 !< event states kept
+      integer :: event_newest = 0
       real(dp), allocatable :: chord(:), offset(:)   !< (n) work vectors
       real(dp), allocatable :: origin_u(:)  !< (n) the state where the branch traced began
       real(dp) :: origin_lambda = 0.0_dp
@@ -71,6 +83,8 @@ contains
       trace%newest = 0
       trace%corners = 0
       trace%corner_newest = 0
+      trace%events = 0
+      trace%event_newest = 0
       trace%has_origin = .false.
       if (trace%n == n) return
       if (allocated(trace%u)) deallocate (trace%u)
@@ -78,12 +92,14 @@ contains
       if (allocated(trace%chord)) deallocate (trace%chord)
       if (allocated(trace%offset)) deallocate (trace%offset)
       if (allocated(trace%origin_u)) deallocate (trace%origin_u)
+      if (allocated(trace%event_u)) deallocate (trace%event_u)
       trace%n = -1
       allocate (trace%u(n, traced_kept), trace%corner_u(n, corners_kept), trace%chord(n), trace%offset(n), &
-                trace%origin_u(n), stat=status)
+                trace%origin_u(n), trace%event_u(n, events_kept), stat=status)
       if (status /= 0) then
          if (allocated(trace%u)) deallocate (trace%u)
          if (allocated(trace%corner_u)) deallocate (trace%corner_u)
+         if (allocated(trace%event_u)) deallocate (trace%event_u)
          if (allocated(trace%chord)) deallocate (trace%chord)
          if (allocated(trace%offset)) deallocate (trace%offset)
          if (allocated(trace%origin_u)) deallocate (trace%origin_u)
@@ -92,12 +108,14 @@ contains
       trace%n = n
    end subroutine trace_allocate
 
-   !> The kept states and the origin are forgotten (the start of an analysis step: its λ measures
-   !> another load pattern). The corners are kept.
+   !> The kept states, the event states and the origin are forgotten (the start of an analysis step:
+   !> its λ measures another load pattern). The corners are kept.
    pure subroutine trace_forget(trace)
       type(path_trace_t), intent(inout) :: trace
       trace%count = 0
       trace%newest = 0
+      trace%events = 0
+      trace%event_newest = 0
       trace%has_origin = .false.
    end subroutine trace_forget
 
@@ -268,18 +286,64 @@ contains
       type(path_trace_t), intent(inout) :: trace   !< its corners unchanged (work vector used)
       real(dp), intent(in) :: u(:)
       integer :: k, c
-      real(dp) :: size_u
       step = 0
       if (trace%n /= size(u)) return
-      size_u = norm2(u)
       do k = 1, trace%corners
          c = column(k, trace%corners, trace%corner_newest, corners_kept)
-         trace%offset(:) = u - trace%corner_u(:, c)
-         if (norm2(trace%offset) <= 1.0e-9_dp*max(size_u, tiny(1.0_dp))) then
+         if (same_displacements(trace, u, trace%corner_u(:, c))) then
             step = trace%corner_step(c)
             return
          end if
       end do
    end function trace_corner_revisited
+
+   !> The committed state (u (n), λ) of step `step`, a step that passed a critical point or a corner,
+   !> kept (the last events_kept) for trace_event_revisited.
+   subroutine trace_remember_event(trace, u, lambda, step)
+      type(path_trace_t), intent(inout) :: trace
+      real(dp), intent(in) :: u(:), lambda
+      integer, intent(in) :: step
+      if (.not. ready(trace, size(u))) return
+      trace%event_newest = modulo(trace%event_newest, events_kept) + 1
+      trace%events = min(trace%events + 1, events_kept)
+      trace%event_u(:, trace%event_newest) = u
+      trace%event_lambda(trace%event_newest) = lambda
+      trace%event_step(trace%event_newest) = step
+   end subroutine trace_remember_event
+
+   !> The step of a kept event state (trace_remember_event) that the committed state (u (n), λ) of a
+   !> step past a critical point or a corner repeats, or 0 (docs/theory.md §2.3, "closed loops"): the
+   !> same displacements to 1e-9 of their size and λ to 1e-9 of the larger |λ|, as for a corner
+   !> revisited (trace_corner_revisited; the tolerance is that of the round-off of a converged state,
+   !> distinct states of a path differ at first order). The path following is deterministic: from
+   !> the same state with the same step length it takes the same steps, so a path whose steps come
+   !> back to a state they passed goes round the same loop for ever. Its steps need not land on the
+   !> same states on a second pass, but once one pass has taken the steps of the one before, every
+   !> state repeats; comparing the states past an event (few, and at the same place of each pass)
+   !> finds it at the first repeat. The oldest kept state is compared first.
+   integer function trace_event_revisited(trace, u, lambda) result(step)
+      type(path_trace_t), intent(inout) :: trace   !< its event states unchanged (work vector used)
+      real(dp), intent(in) :: u(:), lambda
+      integer :: k, c
+      step = 0
+      if (trace%n /= size(u)) return
+      do k = 1, trace%events
+         c = column(k, trace%events, trace%event_newest, events_kept)
+         if (abs(lambda - trace%event_lambda(c)) > 1.0e-9_dp*max(abs(lambda), abs(trace%event_lambda(c)))) cycle
+         if (same_displacements(trace, u, trace%event_u(:, c))) then
+            step = trace%event_step(c)
+            return
+         end if
+      end do
+   end function trace_event_revisited
+
+   !> The displacements u (n) are those of a kept state `kept` (n) to 1e-9 of the size of u: the
+   !> round-off of a converged state (trace_corner_revisited, trace_event_revisited).
+   logical function same_displacements(trace, u, kept)
+      type(path_trace_t), intent(inout) :: trace   !< work vector used
+      real(dp), intent(in) :: u(:), kept(:)
+      trace%offset(:) = u - kept
+      same_displacements = norm2(trace%offset) <= 1.0e-9_dp*max(norm2(u), tiny(1.0_dp))
+   end function same_displacements
 
 end module uniarc_path_trace
