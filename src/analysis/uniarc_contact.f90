@@ -34,6 +34,22 @@
 !> (uniarc_dof_map: candidate_held_normal); a curved obstacle's normal turns with the node, so the
 !> test is made at every state.
 !>
+!> A rigid candidate that touches a curved obstacle where the gap, along its node's free translations,
+!> has a minimum of (within a tolerance) zero is `grazing`: the tip of a bar held in y pushed in x over
+!> the top of a circle. The gap there never goes negative whatever the free DOFs do, so the constraint
+!> g ≥ 0 is not binding and its reaction is zero. Closed, it would have to balance the push with r a_f,
+!> a_f its free gradient, which tends to 0 at the tangency: Newton converges a hair before it (a_f ~
+!> 1e-8) with r ~ 1e7 times the load, a stop that does not exist. The path's sign rule, its
+!> complementarity check and the contact LCP take a grazing candidate out of the set (uniarc_path_contact_set,
+!> uniarc_contact_lcp); it keeps its row and re-enters if the node later penetrates. The test is of
+!> second order (docs/theory.md §3.1): with a_f, H_f the gap's gradient and Hessian on the free
+!> translations at the state, H_f positive definite, the gap's quadratic model has its minimum
+!>     g_min = g − ½ a_fᵀ H_f⁻¹ a_f          (Newton's step to it: δ = −H_f⁻¹ a_f),
+!> and the candidate grazes where g ≤ τ and g_min ≥ −τ, τ the gap tolerance of the complementarity
+!> check. Both bounds together keep |δ| ≤ √(4τ/h_min), where the quadratic model is exact to
+!> O(|δ|³): the test is local. A node with both translations free beside a circle or an ellipse
+!> has H_f singular along the normal (its gap falls linearly there): never grazing.
+!>
 !> A spring no stiffer than the structure at its node is condensed (uniarc_dof_map): it has no row;
 !> in the set its reaction is r_c = −g_c/t_c, a function of u, which adds −a_c r_c to F and
 !> a_c a_cᵀ/t_c − r_c ∂a_c/∂u to the tangent (the row above eliminated); out of the set it adds nothing.
@@ -49,7 +65,7 @@ module uniarc_contact
    ! candidate_gap is the contact law's (uniarc_contact_law), made public here too for the solvers that
    ! take it from this module.
    public :: candidate_gap, assemble_contact, toggle_contacts, set_membership
-   public :: in_set, held_by_support, carried_by_support
+   public :: in_set, held_by_support, carried_by_support, grazing
 
    !> A gap gradient whose components on the node's free translations are at most this fraction of its
    !> length moves only along held DOFs (held_by_support): the round-off of a unit normal's component
@@ -337,6 +353,46 @@ contains
       held = held_by_support(map%candidate_equation(c), map%equation(1:2, node), gradient, &
                              model%contacts(c)%flexibility, map%bed_equation(c))
    end function carried_by_support
+
+   !> Whether candidate c of `model` grazes its obstacle at nodal displacements `nodal` (3, n_nodes) and
+   !> load factor `lambda` (a moving obstacle's position) with gap tolerance `tolerance` (absolute, a
+   !> length): a rigid, elastic, unbonded candidate with an augmented row and a curved gap, touching
+   !> (g ≤ τ), whose gap along its node's free translations has a strict local minimum g_min ≥ −τ
+   !> (module header: g_min = g − ½ a_fᵀ H_f⁻¹ a_f). A candidate with no free translation is
+   !> carried_by_support's, not this test's.
+   pure logical function grazing(model, map, c, nodal, lambda, tolerance) result(grazes)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      integer, intent(in) :: c
+      real(dp), intent(in) :: nodal(:, :)
+      real(dp), intent(in) :: lambda
+      real(dp), intent(in) :: tolerance
+      real(dp) :: gap, gradient(2), hessian(2, 2), determinant, lowest
+      integer :: node, eq(2), k
+      grazes = .false.
+      if (map%candidate_equation(c) == 0 .or. map%bed_equation(c) /= 0) return
+      associate (candidate => model%contacts(c))
+         if (candidate%flexibility /= 0.0_dp .or. candidate%bilateral .or. candidate%plastic) return
+         if (candidate%gap_kind == gap_fixed_direction) return   ! a plane's gap is linear: no minimum
+         node = candidate%node
+         eq = map%equation(1:2, node)
+         if (all(eq == 0)) return
+         call candidate_gap(candidate, model%coordinates(:, node), nodal(1:2, node), gap, gradient, hessian, lambda)
+      end associate
+      if (gap > tolerance) return
+      if (all(eq > 0)) then
+         ! both free: H_f = H must be positive definite (Sylvester), g_min by Cramer's rule
+         determinant = hessian(1, 1)*hessian(2, 2) - hessian(1, 2)*hessian(2, 1)
+         if (hessian(1, 1) <= 0.0_dp .or. determinant <= 0.0_dp) return
+         lowest = gap - 0.5_dp*(hessian(2, 2)*gradient(1)**2 - (hessian(1, 2) + hessian(2, 1))*gradient(1)*gradient(2) &
+                                + hessian(1, 1)*gradient(2)**2)/determinant
+      else
+         k = merge(1, 2, eq(1) > 0)
+         if (hessian(k, k) <= 0.0_dp) return
+         lowest = gap - 0.5_dp*gradient(k)**2/hessian(k, k)
+      end if
+      grazes = lowest >= -tolerance
+   end function grazing
 
    !> The row of Pasternak bed point c (module header): F_aug = Σ_j K_b(c, j) d_j − r_c on its deflection's
    !> equation, the tangent K_b(c, ·) on the deflections of c and its neighbours and −1 at its reaction.

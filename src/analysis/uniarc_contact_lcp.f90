@@ -23,7 +23,7 @@ module uniarc_contact_lcp
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_band, only: band_matrix_t, band_factorize, band_solve, band_solve_transpose, band_copy, &
                           band_move, band_product
-   use uniarc_contact, only: candidate_gap, set_membership, in_set, carried_by_support
+   use uniarc_contact, only: candidate_gap, set_membership, in_set, carried_by_support, grazing
    use uniarc_lcp_operator, only: lcp_operator_t
    use uniarc_lcp_implicit, only: implicit_lcp_solve, implicit_lcp_report_t, implicit_lcp_options_t
    use uniarc_lemke, only: lemke_solved, lemke_ray_termination
@@ -163,6 +163,9 @@ contains
       integer :: c, j, m, status
       real(dp) :: bytes
       logical :: partner_changed
+      ! a grazing candidate of `active` left the set: its row is closed in every frame of this LCP, so
+      ! no frame's factors are the new set's (selection%kept stays false)
+      logical :: dropped
 
       ! Every array of the model's length allocated with stat= (docs/contracts.md, "Memory"): a
       ! refusal is an out-of-memory error, which ends the run (uniarc_path_state: fail_attempt).
@@ -172,13 +175,19 @@ contains
       if (allocated(error)) return
       selection%active(:) = active
       selection%kept = .false.
+      dropped = .false.
       ! A rigid candidate whose gap moves only along held DOFs at this state is carried by its node's
       ! support (uniarc_contact, held_by_support): its column of M is zero, it is no variable of the LCP
-      ! and leaves the set (its row of K_S is the identity, r = 0, in or out of it).
+      ! and leaves the set (its row of K_S is the identity, r = 0, in or out of it). One that grazes its
+      ! obstacle (uniarc_contact, grazing) is none either: it leaves the set and keeps its row.
       do c = 1, size(map%candidate_equation)
          if (selection%active(c) .and. .not. model%contacts(c)%bilateral) then
             if (carried_by_support(model, map, c, linearization%nodal, linearization%lambda)) &
                selection%active(c) = .false.
+            if (grazes(c)) then
+               selection%active(c) = .false.
+               dropped = .true.
+            end if
          end if
       end do
       ! The unilateral candidates: live, not bilateral, not yielding, not carried by a support.
@@ -296,7 +305,7 @@ contains
          if (model%contacts(c)%partner > 0 .and. &
              (in_set(model, selection%active, c) .neqv. in_set(model, active, c))) partner_changed = .true.
       end do
-      if (all(selection%active(unilateral) .eqv. lcp%active) .and. .not. partner_changed) then
+      if (all(selection%active(unilateral) .eqv. lcp%active) .and. .not. partner_changed .and. .not. dropped) then
          tangent%factorized = .true.
          call move_alloc(lcp%du_tangent, selection%du_tangent)   ! the operator's last use of it
          selection%kept = .true.
@@ -312,7 +321,17 @@ contains
             unilateral_candidate = .not. linearization%yielding(c)
          if (unilateral_candidate) unilateral_candidate = &
             .not. carried_by_support(model, map, c, linearization%nodal, linearization%lambda)
+         if (unilateral_candidate) unilateral_candidate = .not. grazes(c)
       end function unilateral_candidate
+
+      !> Candidate c grazes its obstacle at the linearisation (uniarc_contact, grazing), within the gap
+      !> tolerance of the path's complementarity check (uniarc_path_contact_set, violation): its gap
+      !> cannot fall below zero along its node's free motion, so it is no variable and not in the set.
+      logical function grazes(c)
+         integer, intent(in) :: c
+         grazes = grazing(model, map, c, linearization%nodal, linearization%lambda, &
+                          model%analysis%displacement_tolerance*linearization%units%gap)
+      end function grazes
    end subroutine select_contact_set
 
    !> The per-candidate data of the operator for the unilateral candidates `unilateral`.

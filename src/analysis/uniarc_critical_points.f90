@@ -252,6 +252,28 @@ contains
       ! The path has a kink where the contact set changes: λ is extrapolated along the tangent at
       ! `before`, on the smooth branch that leads to the event, not read on a cubic across the kink.
       event%lambda = before%lambda + event%fraction*h*before%dlambda_ds
+      ! Where λ does not turn in the interval (dλ/ds of one sign at both ends: no limit point or
+      ! corner there, find_critical_events) it is monotone between the two converged states, and every
+      ! state of the path between them has its λ between theirs. An extrapolation beyond that range
+      ! (the tangent at `before` is not the path's up to the event: a bed that unloads along a curve
+      ! extrapolated 0.85 past the end of its analysis step) is no state of the path: the event is
+      ! placed at the converged state where the set is seen changed, `after`, with its λ.
+      if (same_signs(before%dlambda_ds, after%dlambda_ds) .and. &
+          (event%lambda < min(before%lambda, after%lambda) .or. event%lambda > max(before%lambda, after%lambda))) then
+         event%fraction = 1.0_dp
+         event%lambda = after%lambda
+      end if
+      ! Where λ turns in the interval at a point located by re-solving the step (a limit, or a corner
+      ! at the contact event itself: uniarc_path_locate), that λ is the extremum of every state of the
+      ! path between the two converged states: a reading along the tangent beyond it (ex. 4's arch,
+      ! gap 4.98: its contact_start 5e-5 below the corner located at λ = 0.66494) is bounded by it.
+      if (opposite_signs(before%dlambda_ds, after%dlambda_ds) .and. after%limit_fraction >= 0.0_dp) then
+         if (before%dlambda_ds > 0.0_dp) then
+            event%lambda = min(event%lambda, after%limit_lambda)
+         else
+            event%lambda = max(event%lambda, after%limit_lambda)
+         end if
+      end if
       event%position = before%step + event%fraction
       events = [events, event]
 

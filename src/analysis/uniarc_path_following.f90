@@ -42,8 +42,8 @@ module uniarc_path_following
    use uniarc_critical_points, only: same_signs
    use uniarc_path_mechanism, only: check_mechanism
    use uniarc_path_integrator, only: degenerate_tangent
-   use uniarc_path_acceptance, only: degenerate_step, far_from_predictor, off_branch, tangent_turn_cosine, &
-                                     max_turn_cosine
+   use uniarc_path_acceptance, only: degenerate_step, far_from_predictor, far_from_committed_tangent, off_branch, &
+                                     tangent_turn_cosine, max_turn_cosine
    use uniarc_path_branch, only: switch_branch
    use uniarc_path_corner, only: step_past_corner
    use uniarc_path_contact_branch, only: split_tie, split_tolerance
@@ -424,7 +424,14 @@ contains
                   ! tolerance, of a contact of the set: a rigid plane 1e-9 under the loaded node
                   ! (docs/theory.md §2.3). Its landing is judged by the angle tests of its commit.
                   if (degenerate_tangent(state, state%tangent_displacement)) exit
-                  if (.not. far_from_predictor(state%map, trial)) exit
+                  ! A step that ends in the committed set after its predictor took another (the
+                  ! linearised gap of a contact closed, the exact one did not: a grazing contact, a
+                  ! convex corner passed close by) is judged against the committed set's predictor.
+                  if (trial%predictor_set_changed) then
+                     if (.not. far_from_committed_tangent(state, trial)) exit
+                  else
+                     if (.not. far_from_predictor(state%map, trial)) exit
+                  end if
                   trial%converged = .false.
                   trial%reason = 'the corrector landed farther from the predictor than the predictor''s own length'// &
                                  ' (another branch)'

@@ -781,10 +781,12 @@ def check_limits_bracketed(path_file, crit_file):
     has its lambda within the range of its two neighbours, widened to the lambda of a limit or corner
     row of the same interval (the only place lambda can turn inside it), and each tracked column
     within the range of the neighbours' values (the tracked values are those of a state between them).
-    A row at a whole step may end the interval before it or start the one after. Not a branch_switch
-    row, whose interval joins two branches, nor contact_start or contact_lost (contact events, read
-    along the tangent of the piece leading to them), nor a row whose neighbours lie in two analysis steps (*STEP), whose lambdas are not one
-    path's. The files carry 13 significant digits, so comparisons allow 1e-12 relative."""
+    A row at a whole step may end the interval before it or start the one after. contact_start and
+    contact_lost rows too: their lambda, read along the tangent of the piece leading to them, is
+    placed at the converged state where the set is seen changed when that tangent leaves the
+    interval (uniarc_critical_points, find_contact_events). Not a branch_switch row, whose interval
+    joins two branches; with analysis steps (*STEP) a row is compared with the rows of its own
+    analysis step (the crit file's analysis_step), whose lambdas are one path's. The files carry 13 significant digits, so comparisons allow 1e-12 relative."""
     failures = []
     path_names, path_rows = read_table(path_file)
     by_step = {int(round(row[0])): row for row in path_rows}
@@ -794,18 +796,23 @@ def check_limits_bracketed(path_file, crit_file):
     columns = [(names.index(n), path_names.index(n)) for n in names
                if n in path_names and n not in ('step', 'lambda', 'analysis_step', 'step_name')]
     turning = ('limit_max', 'limit_min', 'contact_corner')
-    # contact_start and contact_lost are contact events, not critical points: their lambda is read
-    # along the tangent of the smooth piece that leads to them (docs/contracts.md), not re-solved
-    skipped = ('branch_switch', 'contact_start', 'contact_lost')
+    skipped = ('branch_switch',)
 
     def slack(*values):
         return 1e-12 * max([abs(v) for v in values] + [1e-300])
 
-    def neighbours(position):
+    event_stage = names.index('analysis_step') if 'analysis_step' in names else None
+
+    def neighbours(position, numbers):
         # a row at a whole step may end the interval before it (fraction 1) or start the next (fraction 0)
         steps = {math.floor(position), math.ceil(position)}
         if math.floor(position) == math.ceil(position):
             steps |= {int(position) - 1, int(position) + 1}
+        if stage is not None and event_stage is not None and isinstance(numbers[event_stage], float):
+            # the rows of the event's own analysis step (*STEP): at a step's end the path file has the
+            # last row of one analysis step and the first of the next under one step number
+            return [row for row in path_rows
+                    if int(round(row[0])) in steps and row[stage] == numbers[event_stage]]
         rows = [by_step[k] for k in sorted(steps) if k in by_step]
         if stage is not None and len({row[stage] for row in rows}) > 1:
             return []
@@ -820,7 +827,7 @@ def check_limits_bracketed(path_file, crit_file):
         if kind in skipped:
             continue
         position, value = numbers[names.index('step')], numbers[names.index('lambda')]
-        rows = neighbours(position)
+        rows = neighbours(position, numbers)
         if not rows:
             continue
         around = [row[lam_path] for row in rows]

@@ -10,7 +10,7 @@ module uniarc_path_acceptance
    use uniarc_path_integrator, only: degenerate_tangent
    implicit none
    private
-   public :: degenerate_step, far_from_predictor, off_branch, tangent_turn_cosine
+   public :: degenerate_step, far_from_predictor, far_from_committed_tangent, off_branch, tangent_turn_cosine
 
    !> A step whose ends agree (count of negative pivots, sign of dλ/ds, working set) may turn the
    !> path's tangent by at most 45° (docs/theory.md §2.3, "a tangent that turns too far"): the steps
@@ -42,6 +42,20 @@ contains
       type(step_trial_t), intent(in) :: trial
       far_from_predictor = masked_norm(map, trial%increment - trial%predictor) > masked_norm(map, trial%predictor)
    end function far_from_predictor
+
+   !> far_from_predictor for a converged attempt that ends in the committed working set after its
+   !> predictor's contact LCP had taken another (trial%predictor_set_changed): a contact whose
+   !> linearised gap closed over the step and whose exact gap does not (a grazing contact, uniarc_contact
+   !> grazing; a convex corner passed close by). Its predictor followed that other set, which the
+   !> corrector left; the predictor of the set the step ends in is the committed tangent K⁻¹R times
+   !> the step's Δλ, and the same test is made against it (a jump to another branch of the committed
+   !> set is as far from it as from any predictor).
+   pure logical function far_from_committed_tangent(state, trial) result(far)
+      type(path_state_t), intent(in) :: state
+      type(step_trial_t), intent(in) :: trial
+      far = masked_norm(state%map, trial%increment - trial%dlambda*state%tangent_displacement) > &
+            masked_norm(state%map, trial%dlambda*state%tangent_displacement)
+   end function far_from_committed_tangent
 
    !> Whether a converged step of increment Δx (n) from a state reached by `last` (n; zero at the
    !> start) lands off the branch it followed: the path's tangent at the landing state, `tangent` (n,

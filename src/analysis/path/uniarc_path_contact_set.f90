@@ -12,7 +12,7 @@ module uniarc_path_contact_set
    use uniarc_copy, only: copy_array, reserve
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
-   use uniarc_contact, only: candidate_gap, in_set, carried_by_support
+   use uniarc_contact, only: candidate_gap, in_set, carried_by_support, grazing
    use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
@@ -119,14 +119,44 @@ contains
          ok = violation(model, state, x, reaction, gap, active, state%yielding) <= &
               model%analysis%displacement_tolerance
       end if
+      ! a closed candidate that grazes its obstacle carries a reaction its contact cannot (uniarc_contact,
+      ! grazing): the set is wrong even where r ≥ 0 and g = 0
+      if (ok) ok = .not. grazes_in_set(model, state, x, nodal, reaction, active, lambda)
    end function complementary
+
+   !> Whether a candidate of the set `active` grazes its obstacle at unknowns x (nodal: their nodal
+   !> displacements; reaction: the candidates', candidate_state) and load factor `lambda` (default 0),
+   !> within the gap tolerance of `violation` (uniarc_contact, grazing).
+   pure logical function grazes_in_set(model, state, x, nodal, reaction, active, lambda) result(grazes)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(in) :: state
+      real(dp), intent(in) :: x(:), nodal(:, :), reaction(:)
+      logical, intent(in) :: active(:)
+      real(dp), intent(in), optional :: lambda
+      type(contact_scales_t) :: units
+      real(dp) :: at
+      integer :: c
+      grazes = .false.
+      if (.not. any(active)) return
+      at = 0.0_dp
+      if (present(lambda)) at = lambda
+      units = contact_units(state, x, reaction, active)
+      do c = 1, size(active)
+         if (.not. active(c) .or. .not. candidate_live(state%map, c)) cycle
+         if (grazing(model, state%map, c, nodal, at, model%analysis%displacement_tolerance*units%gap)) then
+            grazes = .true.
+            return
+         end if
+      end do
+   end function grazes_in_set
 
    !> The primal–dual active-set rule (Hintermüller, Ito & Kunisch 2002) at unknowns x: a candidate
    !> outside `active` that penetrates (w < 0) enters, one inside that pulls (r < 0) leaves, each
    !> beyond the tolerance of `violation`; the others stay.
    !> A candidate at its bearing limit (`yielding`, optional) stays: its pair is the yield rule's.
    !> A rigid candidate whose gap moves only along held DOFs at x leaves the set (its node's support
-   !> carries it: uniarc_contact, held_by_support) and does not enter it.
+   !> carries it: uniarc_contact, held_by_support) and does not enter it; one that grazes its obstacle
+   !> (uniarc_contact, grazing) leaves it.
    !> reaction, gap: work arrays of one entry per candidate (as for `complementary`).
    subroutine sign_rule(model, state, x, nodal, active, new_active, reaction, gap, yielding, lambda)
       type(model_t), intent(in) :: model
@@ -138,8 +168,10 @@ contains
       logical, intent(in), optional :: yielding(:)
       real(dp), intent(in), optional :: lambda   !< of the state: moving obstacles (candidate_state)
       type(contact_scales_t) :: units
-      real(dp) :: tolerance
+      real(dp) :: tolerance, at
       integer :: c
+      at = 0.0_dp
+      if (present(lambda)) at = lambda
       call candidate_state(model, state%map, x, nodal, active, reaction, gap, state%slip, yielding, lambda)
       units = contact_units(state, x, reaction, active)
       tolerance = model%analysis%displacement_tolerance
@@ -153,6 +185,8 @@ contains
             new_active(c) = .false.
          else if (active(c)) then
             if (-reaction(c)/units%force > tolerance) new_active(c) = .false.
+            ! a grazing contact (uniarc_contact, grazing) leaves the set whatever its reaction
+            if (grazing(model, state%map, c, nodal, at, tolerance*units%gap)) new_active(c) = .false.
          else
             if (-gap(c)/units%gap > tolerance) new_active(c) = .true.
          end if

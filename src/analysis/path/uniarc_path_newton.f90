@@ -218,6 +218,7 @@ contains
       trial%yield_changes = 0
       trial%lcp_pivots = 0
       trial%set_changes = 0
+      trial%predictor_set_changed = .false.
       trial%iterations = 0
       trial%dlambda = 0.0_dp
       trial%load_step = .false.
@@ -651,6 +652,7 @@ contains
             end if
             if (update%changed) then
                trial%active = update%active
+               trial%predictor_set_changed = .true.
                if (update%kept) then
                   ! The LCP's last frame is the new set: its factors gave K_S⁻¹R already.
                   ut = update%du_tangent

@@ -220,6 +220,9 @@ module uniarc_path_state
       integer :: iterations = 0                 !< Newton corrections
       integer :: lcp_pivots = 0                 !< Lemke pivots of the contact LCPs
       integer :: set_changes = 0                !< changes of the working set within Newton
+      !> the predictor's contact LCP changed the working set (the predictor is of that set, not the
+      !> committed one)
+      logical :: predictor_set_changed = .false.
       logical :: converged = .false.            !< equilibrium and complementarity hold
       character(len=:), allocatable :: reason   !< why it did not converge (message text)
       !> An error that no shorter step cures (memory the system refused, uniarc_error: out_of_memory):
