@@ -107,7 +107,19 @@ check)
    } > "$deck"
    timeout -k 120 300 "$uniarc" --check "$deck" > "$work/out" 2> "$work/err" &
    pid=$!
-   sleep 0.5
+   # until uniarc (timeout's child) catches SIGTERM (bit 15 of SigCgt in /proc), at most 6 s: a fixed
+   # 0.5 s could fall before it had started on a loaded machine, and the default action killed it
+   # without its message
+   for _ in $(seq 600); do
+      child=$(pgrep -P $pid | head -n 1)
+      # (the child is uniarc once it has exec'd: before, it is a copy of timeout, which catches SIGTERM too)
+      if [ -n "$child" ] && [ "$(cat /proc/$child/comm 2> /dev/null)" = uniarc ] && \
+         [ $(( 0x$(awk '/^SigCgt/ {print $2}' /proc/$child/status 2> /dev/null || echo 0) & 0x4000 )) -ne 0 ]; then
+         break
+      fi
+      sleep 0.01
+   done
+   sleep 0.05
    kill -TERM $pid
    wait $pid
    status=$?
