@@ -8,6 +8,7 @@ module uniarc_path_acceptance
    use uniarc_dof_map, only: dof_map_t
    use uniarc_path_state, only: path_state_t, step_trial_t, masked_dot, masked_norm
    use uniarc_path_integrator, only: degenerate_tangent
+   use uniarc_contact_lcp, only: degenerate_fraction
    implicit none
    private
    public :: degenerate_step, far_from_predictor, far_from_committed_tangent, off_branch, tangent_turn_cosine
@@ -24,12 +25,20 @@ contains
    !> Whether a converged attempt went in λ alone, its displacement round-off (the contacts carry the
    !> whole reference load, docs/theory.md §2.7: a load step, or a step under load control): it has
    !> no direction for the angle and distance tests of a step.
+   !> The increment is also round-off where it is at most degenerate_fraction of the displacements the
+   !> step starts from (state, the state before the step): Newton's corrections of a state that an
+   !> earlier analysis step loaded (a beam settled under its weight, then heated between held ends)
+   !> carry the round-off of that state, which near a critical point grows past degenerate_fraction of
+   !> ψ|Δλ| (the heavy beam on its bed, 0.5 % past its bifurcation: ‖Δu‖ = 1.2e-17 for Δλ = 0.1 and
+   !> ψ = 1e-4; its settled ‖u‖ is 1e-2) and then points anywhere.
    pure logical function degenerate_step(state, trial)
       type(path_state_t), intent(in) :: state
       type(step_trial_t), intent(in) :: trial
       degenerate_step = .false.
       if (.not. (abs(trial%dlambda) > 0.0_dp)) return
       degenerate_step = degenerate_tangent(state, trial%increment/abs(trial%dlambda))
+      if (allocated(state%u) .and. .not. degenerate_step) &
+         degenerate_step = masked_norm(state%map, trial%increment) <= degenerate_fraction*masked_norm(state%map, state%u)
    end function degenerate_step
 
    !> Whether a converged attempt landed farther from its predictor than the predictor's own length

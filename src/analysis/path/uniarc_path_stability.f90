@@ -15,7 +15,8 @@ module uniarc_path_stability
    use uniarc_contact, only: candidate_gap, set_membership
    use uniarc_path_state, only: path_state_t, path_system_t, nodal_displacements, equilibrium_at, hold_floating
    use uniarc_path_contact_set, only: candidate_state, contact_units
-   use uniarc_contact_lcp, only: contact_scales_t
+   use uniarc_contact_lcp, only: contact_scales_t, degenerate_fraction
+   use uniarc_path_element_loads, only: element_load_norm
    implicit none
    private
    public :: structural_inertia, least_eigenvalue, liftoff_stability, commit_tangent, cone_mode
@@ -562,9 +563,43 @@ contains
       if (allocated(error)) return
       system%holds_committed = .true.
       state%tangent_displacement = rhs(:, 1)
+      call supports_take_load(model, state, error)
+      if (allocated(error)) return
       call least_eigenvalue(system%tangent, state%eigenvector, state%point%min_eigenvalue, error)
       if (allocated(error)) return
       call liftoff_stability(model, state, system%assembled, model%analysis%displacement_tolerance, unloaded, error)
    end subroutine commit_tangent
+
+   !> Where the supports take every equivalent nodal force of the step's temperature changes (a bar
+   !> heated between held ends), the reference load left on the free DOFs is the round-off of their
+   !> cancellation, and so is K⁻¹R: the path goes in λ alone (docs/theory.md §2.7). Near a critical
+   !> point that round-off is amplified by 1/μ along the least mode (the heated bar on its bed, 0.74 %
+   !> above its bifurcation: ‖K⁻¹R‖ = 7.8e-16 against ψ = 7.6e-4, ‖R‖ = 4.7e-16 against the element
+   !> loads' 1e2), past the degenerate_fraction of ψ that marks a load step; the step after it then
+   !> followed the mode at a λ the round-off set. So K⁻¹R is set to zero where ‖R‖ over the free DOFs
+   !> is at most degenerate_fraction of the element loads' equivalent nodal forces over every DOF
+   !> (uniarc_path_element_loads): the same fraction that separates round-off from a response in ψ.
+   !> A load that acts on the free DOFs (a force, a buckled bar's heated elements) stays far above.
+   !> Errors: the arrays of the element loads refused by the system (error_analysis, out of memory).
+   subroutine supports_take_load(model, state, error)
+      type(model_t), intent(in) :: model
+      type(path_state_t), intent(inout) :: state
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: nodal(:, :), total(:, :)
+      real(dp) :: loads
+      integer :: status
+      if (.not. allocated(model%thermal_loads)) return
+      if (size(model%thermal_loads) == 0) return
+      call nodal_displacements(model, state, nodal, error)
+      if (allocated(error)) return
+      allocate (total(size(nodal, 1), size(nodal, 2)), stat=status)
+      call allocation_failure(status, 'the nodal forces of the element loads', 8.0_dp*size(nodal), &
+                              error_analysis, error)
+      if (allocated(error)) return
+      loads = element_load_norm(model, nodal, total)
+      if (.not. (loads > 0.0_dp)) return
+      if (norm2(state%reference) > degenerate_fraction*loads) return
+      state%tangent_displacement = 0.0_dp
+   end subroutine supports_take_load
 
 end module uniarc_path_stability
