@@ -338,9 +338,11 @@ contains
                call section_value(source, deck, line, fields, 3, elements(j), .true., value, error)
                if (allocated(error)) return
             else
-               call field_real(source, table, line, fields(3), 'a load value', value, error)
+               call field_real(source, table, line, fields(3), 'a load value', value, error, &
+                              where_evaluated(deck, elements(j), position(:, j)))
                if (allocated(error)) return
-               call check_magnitude(source, line, fields(3), value, error)
+               call check_magnitude(source, line, fields(3), value, error, &
+                                    where_evaluated(deck, elements(j), position(:, j)))
                if (allocated(error)) return
                if (load_type == 'WEIGHT' .and. .not. (value >= 0.0_dp)) then
                   ! a weight is a magnitude, as *SECTION, WEIGHT= is: its direction is the angle
@@ -357,7 +359,8 @@ contains
                call add_line_load(deck%model, elements(j), dof_uy, value, status)
             case ('WEIGHT')
                angle = 270.0_dp
-               if (size(fields) > 3) call field_real(source, table, line, fields(4), 'an angle in degrees', angle, error)
+               if (size(fields) > 3) call field_real(source, table, line, fields(4), 'an angle in degrees', angle, error, &
+                                                    where_evaluated(deck, elements(j), position(:, j)))
                if (allocated(error)) return
                call add_line_load(deck%model, elements(j), dof_ux, value*cos_degrees(angle), status)
                if (status == 0) &
@@ -447,23 +450,29 @@ contains
             if (section_default(fields, 2)) then
                call section_value(source, deck, line, fields, 2, elements(j), .false., alpha, error)
             else
-               call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error)
+               call field_real(source, table, line, fields(2), 'a coefficient of thermal expansion', alpha, error, &
+                              where_evaluated(deck, elements(j), position(:, j)))
             end if
             if (allocated(error)) return
-            call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error)
+            call field_real(source, table, line, fields(3), 'a temperature change', delta_t, error, &
+                           where_evaluated(deck, elements(j), position(:, j)))
             if (allocated(error)) return
-            call check_magnitude(source, line, fields(3), delta_t, error)
+            call check_magnitude(source, line, fields(3), delta_t, error, &
+                                 where_evaluated(deck, elements(j), position(:, j)))
             if (allocated(error)) return
             difference = 0.0_dp
             depth = 0.0_dp
             if (size(fields) == 5) then
-               call field_real(source, table, line, fields(4), 'a temperature difference', difference, error)
+               call field_real(source, table, line, fields(4), 'a temperature difference', difference, error, &
+                              where_evaluated(deck, elements(j), position(:, j)))
                if (allocated(error)) return
-               call field_real(source, table, line, fields(5), 'a depth', depth, error)
+               call field_real(source, table, line, fields(5), 'a depth', depth, error, &
+                              where_evaluated(deck, elements(j), position(:, j)))
                if (allocated(error)) return
                if (.not. depth > 0.0_dp) then
                   call raise(source, line, fields(5)%column, 'expected a depth h > 0, found '''// &
-                             clip(fields(5)%text)//'''', error)
+                             clip(fields(5)%text)//''' = '//real_to_string(depth)// &
+                             where_evaluated(deck, elements(j), position(:, j)), error)
                   return
                end if
                if (difference /= 0.0_dp .and. element_kind(deck%model, elements(j)) == element_truss) then
@@ -556,16 +565,31 @@ contains
    !> A load, temperature change or prescribed displacement beyond 1e100 in magnitude is refused at its
    !> field (file:line:col, exit code 2), as stiffnesses beyond 1e100 are (uniarc_deck_mesh): the
    !> displacements it drives would overflow double precision in the equations.
-   subroutine check_magnitude(source, line, field, value, error)
+   subroutine check_magnitude(source, line, field, value, error, context)
       type(source_t), intent(in) :: source
       integer, intent(in) :: line
       type(field_t), intent(in) :: field
       real(dp), intent(in) :: value
       type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: context   !< where it was evaluated, ends the message
+      character(len=:), allocatable :: message
       if (abs(value) <= 1.0e100_dp) return
-      call raise(source, line, field%column, 'expected a value at most 1e100 in magnitude (larger loads '// &
-                 'overflow the equations in double precision: rescale the units), found '// &
-                 real_to_string(value), error)
+      message = 'expected a value at most 1e100 in magnitude (larger loads overflow the equations in '// &
+                'double precision: rescale the units), found '//real_to_string(value)
+      if (present(context)) message = message//context
+      call raise(source, line, field%column, message, error)
    end subroutine check_magnitude
+
+   !> Where an expression of position was evaluated, for a message: ' at element L (x = .., y = ..,
+   !> s = .., theta = ..)', `position` the element's (x, y, s, theta) of `element_positions`.
+   function where_evaluated(deck, element, position) result(text)
+      type(deck_t), intent(in) :: deck
+      integer, intent(in) :: element
+      real(dp), intent(in) :: position(4)
+      character(len=:), allocatable :: text
+      text = ' at element '//integer_to_string(deck%model%element_label(element))//' (x = '// &
+             real_to_string(position(1))//', y = '//real_to_string(position(2))//', s = '// &
+             real_to_string(position(3))//', theta = '//real_to_string(position(4))//')'
+   end function where_evaluated
 
 end module uniarc_deck_loads

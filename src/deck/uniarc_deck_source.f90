@@ -608,8 +608,10 @@ contains
       end if
    end subroutine require_field_count
 
-   !> Evaluate a real data field; `what` names it in the message when it is empty.
-   subroutine field_real(source, parameters, line, field, what, value, error)
+   !> Evaluate a real data field; `what` names it in the message when it is empty. `context`, when
+   !> present, ends the message of an expression that fails to evaluate: where it was evaluated (an
+   !> expression of position is evaluated once per element: ' at element 7 (x = 6.5, ...)').
+   subroutine field_real(source, parameters, line, field, what, value, error, context)
       type(source_t), intent(in) :: source
       type(parameter_table_t), intent(in) :: parameters
       integer, intent(in) :: line
@@ -617,6 +619,7 @@ contains
       character(len=*), intent(in) :: what
       real(dp), intent(out) :: value
       type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: context
       integer :: column
       character(len=:), allocatable :: message
       value = 0.0_dp
@@ -627,6 +630,7 @@ contains
       call evaluate_expression(field%text, parameters, value, error, column)
       if (allocated(error)) then
          message = error%message   ! raise() reallocates error: keep the text apart
+         if (present(context)) message = message//context
          call raise(source, line, field%column + column - 1, message, error)
       end if
    end subroutine field_real
