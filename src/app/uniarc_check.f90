@@ -118,22 +118,36 @@ contains
          end associate
          return
       end do
-      if (allocated(model%thermal_loads)) call check_thermal_scales(model, model%thermal_loads, error)
+      if (allocated(model%thermal_loads)) &
+         call check_thermal_scales(model, model%thermal_loads, reachable_lambda(model%analysis), error)
       if (allocated(error) .or. .not. allocated(model%steps)) return
       do e = 1, size(model%steps)
          if (allocated(model%steps(e)%loads%thermal_loads)) &
-            call check_thermal_scales(model, model%steps(e)%loads%thermal_loads, error)
+            call check_thermal_scales(model, model%steps(e)%loads%thermal_loads, &
+                                      reachable_lambda(model%steps(e)%analysis), error)
          if (allocated(error)) return
       end do
    end subroutine check_element_scales
+
+   !> The largest |λ| an analysis scales its load pattern by that is known before it runs: 1 for the
+   !> linear static analysis, `lambda_max` for a path that has one (its last step lands on it), 1 for
+   !> a path without (it may go farther: its thermal deformation is then judged at the reference load
+   !> only, docs/input.md *TEMPERATURE).
+   pure real(dp) function reachable_lambda(options) result(lambda)
+      type(analysis_options_t), intent(in) :: options
+      lambda = 1.0_dp
+      if (options%kind /= analysis_linear .and. options%lambda_max < huge(1.0_dp)) &
+         lambda = max(1.0_dp, abs(options%lambda_max))
+   end function reachable_lambda
 
    !> The free thermal deformations of the elements (uniarc_builder_loads, thermal_excess: the axial
    !> strain α ΔT at most 1 in magnitude, the free rotation α ΔT_d L/h at most π). A deck's *TEMPERATURE
    !> lines are checked as they are read (at their line and column); this guards a model built without
    !> a deck. Errors (error_input, exit code 2): the first element that fails, named with its values.
-   subroutine check_thermal_scales(model, loads, error)
+   subroutine check_thermal_scales(model, loads, lambda, error)
       type(model_t), intent(in) :: model
       type(thermal_load_t), intent(in) :: loads(:)
+      real(dp), intent(in) :: lambda   !< the largest load factor the temperatures are scaled by (>= 1)
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: x(2, 2)
       integer :: i, label
@@ -142,11 +156,13 @@ contains
       do i = 1, size(loads)
          associate (load => loads(i))
             x = element_coordinates(model, load%element)
-            call thermal_excess(load%alpha, load%delta_t, load%difference, load%depth, norm2(x(:, 2) - x(:, 1)), &
-                                what, axial)
+            call thermal_excess(load%alpha, lambda*load%delta_t, lambda*load%difference, load%depth, &
+                                norm2(x(:, 2) - x(:, 1)), what, axial)
             if (len(what) == 0) cycle
             label = load%element
             if (allocated(model%element_label)) label = model%element_label(load%element)
+            if (lambda > 1.0_dp) what = what//' at the path''s lambda_max = '//real_to_string(lambda)// &
+                                        ' (dT and dT_d scaled by it)'
             call make_error(error, model%deck_path//': element '//integer_to_string(label)//' has '//what// &
                             ' under *TEMPERATURE: its thermal deformation is beyond the element''s (a small '// &
                             'strain, a rotation against its chord) and overflows the equations; check the '// &
