@@ -154,7 +154,7 @@ module uniarc_model
       real(dp) :: uplift_force = 0.0_dp
       !> the flexibility 1/k_u of its uplift branch (KU=, with an uplift limit): the elastic law is
       !> r = δ/flexibility for δ ≥ 0 and r = δ/uplift_flexibility for δ < 0, δ = −(g + s) its elastic
-      !> deformation (docs/theory.md §3.9, "Two stiffnesses"); 0: one stiffness (k_u = k)
+      !> deformation (docs/theory.md §3.9, "Two stiffnesses"); 0: one stiffness (no KU=, or k_u = k)
       real(dp) :: uplift_flexibility = 0.0_dp
       !> a point of a Pasternak bed (foundation_pasternak): the contact is rigid (flexibility 0) with the
       !> bed's surface, whose deflection d (into the bed, along −direction) is an unknown of its own, and

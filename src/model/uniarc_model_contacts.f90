@@ -67,8 +67,11 @@ contains
             if (present(uplift_force)) then
                candidates(i)%uplift_force = uplift_force
                candidates(i)%bilateral = .true.
-               if (present(uplift_stiffness)) &
-                  candidates(i)%uplift_flexibility = spring_flexibility(uplift_stiffness)
+               ! k_u = k: one stiffness, no kink
+               if (present(uplift_stiffness)) then
+                  if (uplift_stiffness /= stiffness(i)) &
+                     candidates(i)%uplift_flexibility = spring_flexibility(uplift_stiffness)
+               end if
             end if
          end if
       end do
