@@ -57,7 +57,7 @@ module uniarc_contact
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t, analysis_linear, gap_fixed_direction
    use uniarc_contact_law, only: candidate_gap
-   use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force
+   use uniarc_contact_plastic, only: slip_shift, shifts_gap, limit_force, branch_flexibility
    use uniarc_dof_map, only: dof_map_t
    use uniarc_band, only: band_matrix_t, band_add, band_set
    implicit none
@@ -105,7 +105,7 @@ contains
       !> λ-derivative of −a r in R likewise (the residual unchanged, the tangent exact)
       real(dp), intent(in), optional :: lambda
       real(dp), intent(inout), optional :: reference(:)
-      real(dp) :: gap, gradient(2), hessian(2, 2), rate, at, swing(2)
+      real(dp) :: gap, gradient(2), hessian(2, 2), rate, at, swing(2), flexibility
       integer :: c, i, j, row, node, eq(2), bed
       logical :: yields, curved, carried
       ! no copy of `deflections` (a hot path): read where present, 0 otherwise (add_bed_row, d_c below)
@@ -160,11 +160,14 @@ contains
                internal(row) = reactions(c) - limit_force(candidate, reactions(c))
                call band_add(tangent, row, row, 1.0_dp)
             else if (in_set(model, active, c) .and. .not. carried) then
-               internal(row) = -(gap + candidate%flexibility*reactions(c))
+               ! t of the branch the reaction is on (1/k_u in tension with KU=; docs/theory.md §3.9):
+               ! g + t(r) r is continuous and piecewise linear in r, its derivative t(r)
+               flexibility = branch_flexibility(candidate, reactions(c))
+               internal(row) = -(gap + flexibility*reactions(c))
                do i = 1, 2
                   if (eq(i) > 0) call band_add(tangent, row, eq(i), -gradient(i))
                end do
-               call band_add(tangent, row, row, -candidate%flexibility)
+               call band_add(tangent, row, row, -flexibility)
                if (bed > 0) call band_add(tangent, row, bed, -1.0_dp)
                if (present(reference) .and. candidate%gap_rate /= 0.0_dp) reference(row) = candidate%gap_rate
                if (present(reference) .and. curved) then
@@ -423,6 +426,7 @@ contains
    !> along a = ∂g/∂u (F gets −a r) and its tangent a aᵀ/t − r ∂a/∂u, on the node's equations eq (2).
    !> A plastic one: its gap shifted by its slip `shift`; when `yields`, r = q (its bearing limit) and
    !> the tangent −q ∂a/∂u only (no spring stiffness at the limit); at an uplift limit r = −t likewise.
+   !> With its own uplift stiffness (KU=) t is 1/k_u where the spring is stretched (g > 0).
    pure subroutine add_condensed_spring(candidate, x0, u, eq, tangent, internal, shift, yields, shifted)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: x0(2), u(2)
@@ -432,11 +436,13 @@ contains
       real(dp), intent(in) :: shift
       logical, intent(in) :: yields
       logical, intent(in) :: shifted   !< whether `shift` moves the gap (uniarc_contact_plastic, shifts_gap)
-      real(dp) :: gap, gradient(2), hessian(2, 2), reaction, elastic
+      real(dp) :: gap, gradient(2), hessian(2, 2), reaction, elastic, flexibility
       integer :: i, j
       call candidate_gap(candidate, x0, u, gap, gradient, hessian)
       if (shifted) gap = gap + shift
-      reaction = -gap/candidate%flexibility
+      ! the branch of the bilinear law (KU=) is the sign of δ = −g (docs/theory.md §3.9)
+      flexibility = branch_flexibility(candidate, -gap)
+      reaction = -gap/flexibility
       elastic = 1.0_dp
       if (yields) then
          reaction = limit_force(candidate, reaction)   ! the side: the elastic force −g/t
@@ -447,7 +453,7 @@ contains
          internal(eq(i)) = internal(eq(i)) - gradient(i)*reaction
          do j = 1, 2
             if (eq(j) > 0) call band_add(tangent, eq(i), eq(j), &
-                                         elastic*(gradient(i)*gradient(j)/candidate%flexibility) - &
+                                         elastic*(gradient(i)*gradient(j)/flexibility) - &
                                          reaction*hessian(i, j))
          end do
       end do

@@ -292,6 +292,10 @@ contains
             if (foundation%uplift_limit > 0.0_dp) then
                candidates(i)%uplift_force = foundation%uplift_limit*lengths(i)
                candidates(i)%bilateral = .true.
+               ! its own uplift modulus k_u (KU=), lumped as the bearing modulus is (k_u = k: one
+               ! stiffness, no kink)
+               if (foundation%uplift_modulus > 0.0_dp .and. foundation%uplift_modulus /= foundation%modulus) &
+                  candidates(i)%uplift_flexibility = winkler_flexibility(foundation%uplift_modulus, lengths(i))
             end if
          end if
       end do

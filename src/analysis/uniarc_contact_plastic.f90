@@ -30,6 +30,13 @@
 !> off the sign of the reaction (`limit_force`), which the yield rule finds beyond q or below −T when it
 !> pivots the pair and the row r = q or r = −T then keeps (docs/theory.md §3.9). A yielding
 !> candidate's row is r = limit_force.
+!>
+!> With its own uplift stiffness (KU=, contact_candidate_t%uplift_flexibility = 1/k_u > 0) the elastic
+!> law is bilinear at δ = −(g + s) = 0: r = k δ in compression, r = k_u δ in tension. Its kink is one
+!> more complementarity pair (docs/theory.md §3.9, "Two stiffnesses"), exchanged as the yield pairs
+!> are, at every Newton state: the branch is the sign of the candidate's force there
+!> (`branch_flexibility`), so that the row is g + s + t(r) r = 0 with t(r) = 1/k for r ≥ 0 and 1/k_u
+!> for r < 0, continuous in r.
 module uniarc_contact_plastic
    use uniarc_kinds, only: dp
    use uniarc_model, only: model_t, contact_candidate_t
@@ -38,6 +45,7 @@ module uniarc_contact_plastic
    implicit none
    private
    public :: has_plastic, slip_shift, shifts_gap, yield_rule, plastic_violation, commit_slip, slip_increment, limit_force
+   public :: branch_flexibility, branch_changed
 
 contains
 
@@ -82,13 +90,72 @@ contains
       if (candidate%uplift_force > 0.0_dp .and. force < 0.0_dp) limit = -candidate%uplift_force
    end function limit_force
 
+   !> The flexibility of candidate c's elastic branch at the force `force`: 1/k_u (uplift_flexibility)
+   !> where the candidate has its own uplift stiffness and force < 0 (tension), else 1/k (flexibility).
+   !> `force` tells the branch: the reaction unknown of a candidate with a reaction row, the elastic
+   !> deformation δ = −(g + s) of a condensed spring (its force has the sign of δ on either branch).
+   !> The kink pair z ≥ 0, z − δ ≥ 0, z (z − δ) = 0 (z = max(δ, 0)) of docs/theory.md §3.9 is complementary
+   !> on the branch this names.
+   pure real(dp) function branch_flexibility(candidate, force) result(flexibility)
+      type(contact_candidate_t), intent(in) :: candidate
+      real(dp), intent(in) :: force
+      flexibility = candidate%flexibility
+      if (candidate%uplift_flexibility > 0.0_dp .and. force < 0.0_dp) flexibility = candidate%uplift_flexibility
+   end function branch_flexibility
+
+   !> Whether a candidate with its own uplift stiffness (KU=) is on another branch of its elastic law at
+   !> the unknowns `after` than at `before` (both (n), with the committed slip `slip`): the sign of its
+   !> force (its reaction unknown, or δ = −(g + s) of a condensed spring) changed. The tangent of such a
+   !> step jumps from k to k_u (or back) within it, so its corrector is O(Δl) from a predictor of the
+   !> tangent at its start, as a step whose working set changed (docs/theory.md §3.9, "Two stiffnesses").
+   pure logical function branch_changed(model, map, before, after, slip)
+      type(model_t), intent(in) :: model
+      type(dof_map_t), intent(in) :: map
+      real(dp), intent(in) :: before(:), after(:)
+      real(dp), intent(in), optional :: slip(:)
+      integer :: c
+      branch_changed = .false.
+      if (.not. allocated(model%contacts)) return
+      do c = 1, size(model%contacts)
+         if (.not. (model%contacts(c)%uplift_flexibility > 0.0_dp .and. candidate_live(map, c))) cycle
+         if ((elastic_side(c, before) < 0.0_dp) .neqv. (elastic_side(c, after) < 0.0_dp)) then
+            branch_changed = .true.
+            return
+         end if
+      end do
+
+   contains
+
+      !> A number of the sign of candidate c's elastic force at the unknowns x.
+      pure real(dp) function elastic_side(c, x) result(side)
+         integer, intent(in) :: c
+         real(dp), intent(in) :: x(:)
+         real(dp) :: u(2), gap, gradient(2), hessian(2, 2)
+         integer :: node, k
+         if (map%candidate_equation(c) > 0) then
+            side = x(map%candidate_equation(c))
+            return
+         end if
+         node = model%contacts(c)%node
+         u = 0.0_dp
+         do k = 1, 2
+            if (map%equation(k, node) > 0) u(k) = x(map%equation(k, node))
+         end do
+         call candidate_gap(model%contacts(c), model%coordinates(:, node), u, gap, gradient, hessian)
+         side = -(gap + slip_shift(model, c, slip))
+      end function elastic_side
+   end function branch_changed
+
    !> Δs = −(g + t r_y) of a yielding candidate whose gap with the committed slip is `gap` (g + s_n),
    !> r_y = limit_force(candidate, force): the signed slip increment that keeps w = 0 at r = r_y,
    !> non-negative in bearing and non-positive in uplift while the candidate still yields.
    pure real(dp) function slip_increment(candidate, gap, force) result(increment)
       type(contact_candidate_t), intent(in) :: candidate
       real(dp), intent(in) :: gap, force
-      increment = -(gap + candidate%flexibility*limit_force(candidate, force))
+      real(dp) :: limit
+      limit = limit_force(candidate, force)
+      ! t of the branch the limit lies on: at r = −t_u the uplift one (1/k_u)
+      increment = -(gap + branch_flexibility(candidate, limit)*limit)
    end function slip_increment
 
    !> The multiplier of the pivoted yield pair: Δs⁺ = Δs in bearing, Δs⁻ = −Δs in uplift (≥ 0 while
@@ -175,7 +242,8 @@ contains
          if (map%candidate_equation(c) > 0) then
             force = x(map%candidate_equation(c))
          else
-            force = -(gap + slip(c))/model%contacts(c)%flexibility
+            ! the elastic force's sign is that of δ = −(g + s_n) on either branch
+            force = -(gap + slip(c))/branch_flexibility(model%contacts(c), -(gap + slip(c)))
          end if
          if (limit_force(model%contacts(c), force) < 0.0_dp) then
             slip(c) = slip(c) + min(0.0_dp, slip_increment(model%contacts(c), gap + slip(c), force))

@@ -63,6 +63,7 @@ contains
       integer, intent(in), optional :: category
       integer, allocatable :: start(:), neighbours(:), natural(:), rcm(:), first_candidate(:), next_candidate(:)
       real(dp), allocatable :: stiffness(:)
+      real(dp) :: stiffest   ! the flexibility of a candidate's stiffer elastic branch
       integer :: i, k, node, next, c, n_candidates, status, rcm_bandwidth, natural_bandwidth, refusal_category
       n_candidates = 0
       if (allocated(model%contacts)) n_candidates = size(model%contacts)
@@ -118,9 +119,13 @@ contains
                if (model%fixed(1, candidate%node) .and. model%fixed(2, candidate%node)) cycle
                if (candidate_held_normal(model, c)) cycle
                ! a moving obstacle keeps its row: its ∂g/∂λ is that row's reference load (theory §3.11)
+               ! a spring with its own uplift stiffness (KU=) is condensed where both its branches are
+               ! as soft as its node: the smaller flexibility, the stiffer branch, decides
+               stiffest = candidate%flexibility
+               if (candidate%uplift_flexibility > 0.0_dp) stiffest = min(stiffest, candidate%uplift_flexibility)
                map%condensed(c) = candidate%flexibility > 0.0_dp .and. candidate%gap_rate == 0.0_dp .and. &
                                   all(candidate%motion == 0.0_dp) .and. &
-                                  candidate%flexibility*stiffness(candidate%node) >= 1.0_dp
+                                  stiffest*stiffness(candidate%node) >= 1.0_dp
             end associate
          end do
       end if

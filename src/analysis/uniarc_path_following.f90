@@ -29,6 +29,7 @@ module uniarc_path_following
    use uniarc_strings, only: integer_to_string, real_to_string
    use uniarc_model, only: model_t, control_displacement, control_arclength, control_load, has_moment_limits
    use uniarc_dof_map, only: build_dof_map, candidate_live
+   use uniarc_contact_plastic, only: branch_changed
    use uniarc_band, only: band_allocate
    use uniarc_assembly, only: assemble_reference_load
    use uniarc_path_state, only: path_state_t, path_point_t, path_system_t, step_trial_t, masked_dot, &
@@ -415,6 +416,11 @@ contains
                   ! so does one whose yielding set changed (a spring at its bearing limit loses its stiffness)
                   if (allocated(state%yielding)) then
                      if (any(trial%yielding .neqv. state%yielding)) exit
+                  end if
+                  ! and one where a spring with its own uplift stiffness (KU=) changed the branch of its
+                  ! elastic law (its tangent jumps from k to k_u within the step: docs/theory.md §3.9)
+                  if (allocated(state%slip)) then
+                     if (branch_changed(model, state%map, state%u, state%u + trial%increment, state%slip)) exit
                   end if
                   ! A load step of a degenerate tangent has no displacement predictor to be near; nor has
                   ! a release step (Δλ = 0, docs/theory.md §3.8).

@@ -39,7 +39,7 @@ contains
    !> [, GP=G_p [, CONTINUES=BOTH|NONE|START|END]]] [, GAP=g0] [, TU=t_u [, KU=k_u]]: a Winkler foundation
    !> along an element set, lumped to its nodes, with tangential springs of modulus K_t if asked
    !> (`tangential_springs`), a bearing limit q_u if asked (`bearing_limit`) and an uplift limit t_u with
-   !> it (`uplift_limit`; KU = K only); or a Pasternak bed, Winkler's under a shear layer G_p
+   !> it (`uplift_limit`, its own modulus KU=); or a Pasternak bed, Winkler's under a shear layer G_p
    !> (`foundation_law`; uniarc_contact_law, pasternak_bed); an initial gap g0.
    !>
    !> Node stiffness k = K × (half the initial length of the node's adjacent elements in the set): a
@@ -95,13 +95,7 @@ contains
       if (allocated(error)) return
       call uplift_limit(source, card, deck, foundation%uplift_limit, uplift_stiffness, error)
       if (allocated(error)) return
-      if (uplift_stiffness > 0.0_dp .and. uplift_stiffness /= foundation%modulus) then
-         call raise(source, card%line, card%options(option_index(card, 'KU'))%value_column, 'expected KU= ' // &
-                    'equal to MODULUS= (a different uplift stiffness, a bilinear elastic law, is not ' // &
-                    'implemented), found KU='//real_to_string(uplift_stiffness)//' with MODULUS='// &
-                    real_to_string(foundation%modulus), error)
-         return
-      end if
+      foundation%uplift_modulus = uplift_stiffness   ! k_u (0: the bearing modulus)
       call bearing_limit(source, card, deck, foundation%bearing_limit, error)
       if (allocated(error)) return
       call contact_scale(source, card, deck, foundation%scale, error)
@@ -185,8 +179,8 @@ contains
 
    !> *SPRING [, BILATERAL] [, NAME=name] [, QU=q_u [, TU=t_u [, KU=k_u]]]: lines `target, angle_deg, k`, a
    !> discrete spring of stiffness k at each node of the target pushing the node along the direction
-   !> `angle` (gap g = n·u, offset 0); with TU= also an uplift limit (`uplift_limit`), KU= then equal to
-   !> every k.
+   !> `angle` (gap g = n·u, offset 0); with TU= also an uplift limit (`uplift_limit`), KU= the stiffness
+   !> of every spring's uplift branch (default: its k).
    subroutine read_spring(source, card, deck, error)
       type(source_t), intent(in) :: source
       type(card_t), intent(in) :: card
@@ -235,12 +229,6 @@ contains
                        real_to_string(stiffness), error)
             return
          end if
-         if (uplift_stiffness > 0.0_dp .and. stiffness /= uplift_stiffness) then
-            call raise(source, line, fields(3)%column, 'expected k equal to the card''s KU='// &
-                       real_to_string(uplift_stiffness)//' (a different uplift stiffness, a bilinear elastic ' // &
-                       'law, is not implemented), found '//real_to_string(stiffness), error)
-            return
-         end if
          ! the springs' arrays grow with stat= (a spring at every node of a large set)
          status = 0
          if (count + size(nodes) > size(spring_nodes)) then
@@ -256,7 +244,10 @@ contains
          end do
          stiffnesses(1, count - size(nodes) + 1:count) = stiffness
       end do
-      if (uplift > 0.0_dp) then
+      if (uplift > 0.0_dp .and. uplift_stiffness > 0.0_dp) then
+         call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
+                          .false., error, limit, uplift, uplift_stiffness)
+      else if (uplift > 0.0_dp) then
          call add_springs(deck%model, name, spring_nodes(1:count), directions(:, 1:count), stiffnesses(1, 1:count), &
                           .false., error, limit, uplift)
       else if (limit > 0.0_dp) then
@@ -696,7 +687,7 @@ contains
    !> (force; stiffness): the uplift (tension) limit of a bearing-limited medium, the spring then bonded
    !> while elastic and elastic–perfectly plastic on both sides with one slip (docs/theory.md §3.9).
    !> `uplift` is 0 when TU= is absent; `uplift_stiffness` is KU (0 when absent: the bearing modulus),
-   !> which the caller checks against the modulus (only k_u = k is implemented).
+   !> the stiffness of the uplift branch (δ < 0) of the bilinear elastic law (docs/theory.md §3.9).
    !> Errors: KU= without TU=; TU= on TYPE=PASTERNAK, with BILATERAL or without QU=; t_u or k_u not
    !> positive and finite.
    subroutine uplift_limit(source, card, deck, uplift, uplift_stiffness, error)
@@ -744,9 +735,11 @@ contains
       if (ku == 0) return
       call option_real(source, card, deck, ku, 'an uplift stiffness', uplift_stiffness, error)
       if (allocated(error)) return
-      if (.not. (uplift_stiffness > 0.0_dp .and. uplift_stiffness < huge(1.0_dp))) then
-         call raise(source, card%line, card%options(ku)%value_column, 'expected a positive finite uplift ' // &
-                    'stiffness KU, found '//real_to_string(uplift_stiffness), error)
+      ! from 1e-100 to 1e100, as MODULUS and k: its flexibility 1/k_u stays finite (uniarc_check)
+      if (.not. stiffness_in_range(uplift_stiffness, zero_allowed=.false.)) then
+         call raise(source, card%line, card%options(ku)%value_column, 'expected an uplift stiffness KU ' // &
+                    'from 1e-100 to 1e100 (beyond, the springs overflow double precision: rescale the units), '// &
+                    'found '//real_to_string(uplift_stiffness), error)
       end if
    end subroutine uplift_limit
    !> TYPE=WINKLER|PASTERNAK, GP=G_p and GAP=g0 of *FOUNDATION: the law of the bed and its initial gap.

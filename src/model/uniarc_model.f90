@@ -152,6 +152,10 @@ module uniarc_model
       !> medium bears, r ≥ −uplift_force; such a candidate is `bilateral` (bonded while elastic) and
       !> shares one slip between both limits (docs/theory.md §3.9); 0: compression-only
       real(dp) :: uplift_force = 0.0_dp
+      !> the flexibility 1/k_u of its uplift branch (KU=, with an uplift limit): the elastic law is
+      !> r = δ/flexibility for δ ≥ 0 and r = δ/uplift_flexibility for δ < 0, δ = −(g + s) its elastic
+      !> deformation (docs/theory.md §3.9, "Two stiffnesses"); 0: one stiffness (no KU=, or k_u = k)
+      real(dp) :: uplift_flexibility = 0.0_dp
       !> a point of a Pasternak bed (foundation_pasternak): the contact is rigid (flexibility 0) with the
       !> bed's surface, whose deflection d (into the bed, along −direction) is an unknown of its own, and
       !> the gap is g0 + n·u + d. `bed_stiffness` is the candidate's row of the bed stiffness K_b
@@ -218,6 +222,8 @@ module uniarc_model
       real(dp) :: bearing_limit = 0.0_dp
       !> t_u: uplift (tension) limit of the bed, force per unit length (> 0, with a bearing limit); 0: none
       real(dp) :: uplift_limit = 0.0_dp
+      !> k_u: modulus of the bed's uplift branch (KU=, per unit length, > 0); 0: the bearing modulus
+      real(dp) :: uplift_modulus = 0.0_dp
       !> G_p: the shear-layer stiffness of a Pasternak bed (force, i.e. force per unit width; ≥ 0)
       real(dp) :: shear_modulus = 0.0_dp
       !> whether the Pasternak bed goes on beyond the set's (start, end) in chain order (an end spring

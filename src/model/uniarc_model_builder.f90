@@ -584,6 +584,7 @@ contains
       dst%tangential_law = src%tangential_law
       dst%bearing_limit = src%bearing_limit
       dst%uplift_limit = src%uplift_limit
+      dst%uplift_modulus = src%uplift_modulus
       dst%shear_modulus = src%shear_modulus
       dst%continues = src%continues
       call copy_array(src%elements, dst%elements, status, bytes)

@@ -30,7 +30,8 @@ contains
    !> cumulative distance between the nodes in order.
    !> Errors: the candidates refused by the system (error_input: the model does not fit in memory);
    !> nothing is then added.
-   subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, error, yield_force, uplift_force)
+   subroutine add_springs(builder, name, nodes, directions, stiffness, bilateral, error, yield_force, uplift_force, &
+                          uplift_stiffness)
       type(model_builder_t), intent(inout) :: builder
       character(len=*), intent(in) :: name
       integer, intent(in) :: nodes(:)
@@ -43,6 +44,9 @@ contains
       !> t_u > 0 (force), with yield_force: an uplift limit too, the spring bonded while elastic
       !> (docs/theory.md §3.9); absent: compression-only
       real(dp), intent(in), optional :: uplift_force
+      !> k_u > 0 (force per length), with uplift_force: the stiffness of every spring's uplift branch
+      !> (docs/theory.md §3.9, "Two stiffnesses"); absent: k_u = k
+      real(dp), intent(in), optional :: uplift_stiffness
       type(contact_candidate_t), allocatable :: candidates(:)
       real(dp), allocatable :: s(:)
       integer :: i, status
@@ -63,6 +67,11 @@ contains
             if (present(uplift_force)) then
                candidates(i)%uplift_force = uplift_force
                candidates(i)%bilateral = .true.
+               ! k_u = k: one stiffness, no kink
+               if (present(uplift_stiffness)) then
+                  if (uplift_stiffness /= stiffness(i)) &
+                     candidates(i)%uplift_flexibility = spring_flexibility(uplift_stiffness)
+               end if
             end if
          end if
       end do

@@ -15,7 +15,8 @@ block:   a block on a guided cantilever (spring kb = 12 EI/L^3) and a plastic so
          pushed, unloaded and pushed again (tests/regression/decks/plastic_spring_block.inp): every path
          row against the closed form of its load history, and the slip of STEM.contact; with a
          parameter tu and no ku (decks/plastic_spring_shared_slip.inp) one spring with both limits
-         (TU=) and one slip shared by them.
+         (TU=) and one slip shared by them; with a parameter kup too (decks/plastic_spring_two_stiffnesses.inp)
+         that spring's uplift branch has the stiffness kup (KU=).
 limit:   a stiff beam on a plastic bed under a central load: the limit load is qu x (contact length);
          the deck's own load qu L must be reached to 0.999 and not passed at 1.001: the run ends at
          the collapse with a bearing_collapse row of STEM.crit at lambda = 1 and exit code 0;
@@ -98,7 +99,7 @@ def clamp(value, high):
     return min(max(value, 0.0), high)
 
 
-def block_response(kb, bearing, uplift, loads, shared=None):
+def block_response(kb, bearing, uplift, loads, shared=None, k_up=None):
     """Deflection w (down positive) and slips after each of the loads P (down positive) applied in
     order, each from the state the previous one left: a spring kb (elastic) in parallel with a bearing
     spring (k, q) pushing up and, if given, an uplift spring (k_u, t_u) pushing down, both compression
@@ -108,15 +109,23 @@ def block_response(kb, bearing, uplift, loads, shared=None):
     limit moves its slip on (s_b = w - q/k, s_u = -w - t_u/k_u).
     shared = t_u instead: ONE spring (k, q) with the uplift limit t_u too (TU=), bonded while elastic,
     force clamp(k (w - s), -t_u, q) with one slip s (down) that either limit moves on (s = w - q/k
-    beyond the bearing limit, s = w + t_u/k beyond the uplift one); returned as (w, s, s)."""
+    beyond the bearing limit, s = w + t_u/k beyond the uplift one); returned as (w, s, s).
+    k_up (with shared): the stiffness of that spring's uplift branch (KU=), the force clamp(f(w - s), -t_u, q)
+    with f(d) = k d for d >= 0 and k_up d for d < 0, continuous and increasing, and s = w + t_u/k_up
+    beyond the uplift limit."""
     k, q = bearing
     ku, tu = uplift if uplift else (0.0, 0.0)
+    k_up = k if k_up is None else k_up
     s_b = s_u = 0.0
+
+    def elastic(d):
+        return k*d if d >= 0.0 else k_up*d
+
     out = []
     for p in loads:
         def resisting(w):
             if shared is not None:
-                return kb*w + min(max(k*(w - s_b), -shared), q) - p
+                return kb*w + min(max(elastic(w - s_b), -shared), q) - p
             force = kb*w + clamp(k*(w - s_b), q)
             if ku > 0.0:
                 force -= clamp(ku*(-w - s_u), tu)
@@ -134,7 +143,7 @@ def block_response(kb, bearing, uplift, loads, shared=None):
                 low = middle
         w = 0.5*(low + high)
         if shared is not None:
-            s_b = min(max(s_b, w - q/k), w + shared/k)
+            s_b = min(max(s_b, w - q/k), w + shared/k_up)
             out.append((w, s_b, s_b))
             continue
         s_b = max(s_b, w - q/k)
@@ -170,7 +179,7 @@ def check_block(args):
     forces = step_loads(args.deck)
     loads = [sum(forces[:int(a) - 1]) + lam*forces[int(a) - 1]
              for lam, a in zip(path['lambda'], path['analysis_step'])]
-    expected = block_response(kb, (values['k'], values['qu']), uplift, loads, shared)
+    expected = block_response(kb, (values['k'], values['qu']), uplift, loads, shared, values.get('kup'))
     # Tolerance: the path is converged to the displacement tolerance 1e-8 of the deck's default
     # (*PATH), relative to the displacements; the closed form is exact (small displacements: w/L ~ 1e-5,
     # so the corotational terms are 1e-10 of w).
@@ -182,6 +191,9 @@ def check_block(args):
         if error > 1e-7:
             fail(f'step {step}: w = {got!r}, closed form {w!r}')
     print(f'block: {len(loads)} rows, largest error of w {worst:.2e} of its largest value')
+    # hand values of the last row (the deck's comment), beside the closed form: the Newton tolerance
+    if args.final_w is not None and abs(path['w'][-1] - args.final_w) > 1e-7*scale:
+        fail(f'last row: w = {path["w"][-1]!r}, by hand {args.final_w!r}')
     contact = table(os.path.join(args.out, stem + '.contact'))
     last = contact[contact['step'] == contact['step'].max()]
     _, s_b, s_u = expected[-1]
@@ -189,6 +201,9 @@ def check_block(args):
         slip = s_b if row['medium'] == 'soil' else s_u
         if abs(row['slip'] - slip) > 1e-7*scale:
             fail(f'last step, {row["medium"]}: slip {row["slip"]!r}, closed form {slip!r}')
+        if args.final_slip is not None and row['medium'] == 'soil' and \
+                abs(row['slip'] - args.final_slip) > 1e-7*scale:
+            fail(f'last step, soil: slip {row["slip"]!r}, by hand {args.final_slip!r}')
         print(f'block: final slip of {row["medium"]} {row["slip"]:.12e} (closed form {slip:.12e}), '
               f'yielding {row["yielding"]}, reaction {row["reaction"]:.12e}')
 
@@ -249,7 +264,8 @@ def hermite_stiffness(ei, h):
                              [6*h, 2*h*h, -6*h, 4*h*h]])
 
 
-def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=None, history=None):
+def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=None, history=None,
+                          uplift_modulus=None):
     """Deflections w (down positive, n + 1 nodes), slips and yielding flags of a free-free beam on a
     tensionless elastic-perfectly plastic bed lumped to its nodes (k_i = K L_i, q_i = qu L_i), central
     load `load` applied in `increments` equal increments, each solved by an active-set loop over the
@@ -258,7 +274,10 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=N
     uplift = t_u (per length): the springs are bonded with the uplift limit t_i = t_u L_i too and one
     slip (TU=): states elastic, yielding in bearing (r = q), yielding in uplift (r = -t), never open.
     history: the central loads the increments go through in order (from 0; `load` then unused),
-    `increments` equal increments between each two."""
+    `increments` equal increments between each two.
+    uplift_modulus = k_u (per length, with uplift): the bonded springs' stiffness in tension (KU=), k_i
+    pressed and k_u L_i pulled (d = w - s < 0): a fourth state, elastic in tension, the kink at d = 0
+    exchanged as the other states are by the sign of the spring's force."""
     h = length/n
     dofs = 2*(n + 1)
     upper = 3
@@ -273,8 +292,10 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=N
     k = modulus*tributary
     q = qu*tributary
     t = (uplift if uplift else 0.0)*tributary
+    k_up = (uplift_modulus if uplift_modulus else modulus)*tributary
     slip = np.zeros(n + 1)
-    state = np.ones(n + 1, dtype=int)       # 0 open, 1 elastic, 2 yielding (3 in uplift); all touching
+    # 0 open, 1 elastic (pressed, k), 2 yielding (3 in uplift), 4 elastic pulled (k_up); all touching
+    state = np.ones(n + 1, dtype=int)
     w = np.zeros(n + 1)
     nodes = np.arange(n + 1)
     targets = history if history else [load]
@@ -289,17 +310,22 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=N
         for _ in range(200):
             matrix = band.copy()
             rhs = force.copy()
-            elastic = state == 1
-            matrix[upper, 2*nodes[elastic]] += k[elastic]
-            rhs[2*nodes[elastic]] += k[elastic]*committed[elastic]
+            stiffness = np.where(state == 1, k, np.where(state == 4, k_up, 0.0))
+            elastic = (state == 1) | (state == 4)
+            matrix[upper, 2*nodes[elastic]] += stiffness[elastic]
+            rhs[2*nodes[elastic]] += stiffness[elastic]*committed[elastic]
             rhs[2*nodes[state == 2]] -= q[state == 2]
             rhs[2*nodes[state == 3]] += t[state == 3]
             w = scipy.linalg.solve_banded((upper, upper), matrix, rhs)[0::2]
             new = state.copy()
-            reaction = k*(w - committed)
+            reaction = np.where(state == 4, k_up, k)*(w - committed)
             if uplift:
+                # the kink at d = 0: the branch of an elastic spring is the sign of its force
+                new[(state == 1) & (reaction < 0)] = 4
+                new[(state == 4) & (reaction > 0)] = 1
+                new[(state == 4) & (reaction < -t)] = 3
                 new[(state == 1) & (reaction < -t)] = 3
-                new[(state == 3) & (w + t/k > committed)] = 1
+                new[(state == 3) & (w + t/k_up > committed)] = 4
             else:
                 new[(state == 1) & (reaction < 0)] = 0
             new[(state == 1) & (reaction > q)] = 2
@@ -310,7 +336,7 @@ def plastic_bed_reference(length, n, ei, modulus, qu, load, increments, uplift=N
             state = new
         else:
             fail('reference: the active-set loop did not settle')
-        slip = np.where(state == 2, w - q/k, np.where(state == 3, w + t/k, committed))
+        slip = np.where(state == 2, w - q/k, np.where(state == 3, w + t/k_up, committed))
     return w, slip, np.where(state == 2, 1, np.where(state == 3, -1, 0))
 
 
@@ -326,7 +352,7 @@ def check_bed(args):
     history = [values['P'], -0.5*values['P']] if uplift else None
     w_ref, slip_ref, yielding_ref = plastic_bed_reference(values['L'], refine*int(values['n']), 1.0,
                                                           values['k'], values['qu'], values['P'], 20,
-                                                          uplift, history)
+                                                          uplift, history, values.get('ku'))
     stem = os.path.splitext(os.path.basename(args.deck))[0]
     shape = table(os.path.join(args.out, stem + '.shape'))
     last = shape[shape['step'] == shape['step'].max()]
@@ -689,6 +715,10 @@ def main():
     # shorter than the elastic strip between the yield zone and the lift-off: no staircase)
     parser.add_argument('--min-plateau-rows', type=int, default=1)
     parser.add_argument('--refine', type=int, default=16)
+    parser.add_argument('--final-w', type=float, default=None,
+                        help='block: the last row\'s w by hand (down positive), beside the closed form')
+    parser.add_argument('--final-slip', type=float, default=None,
+                        help='block: the final slip of the spring `soil` by hand, beside the closed form')
     parser.add_argument('--collapse-rtol', type=float, default=None,
                         help='plateau: the tolerance of the collapse load (default --rtol)')
     parser.add_argument('--load-node', type=int, default=None,

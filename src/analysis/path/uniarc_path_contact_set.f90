@@ -13,7 +13,7 @@ module uniarc_path_contact_set
    use uniarc_model, only: model_t
    use uniarc_dof_map, only: dof_map_t, candidate_live, bed_deflection
    use uniarc_contact, only: candidate_gap, in_set, carried_by_support, grazing
-   use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force
+   use uniarc_contact_plastic, only: slip_shift, shifts_gap, plastic_violation, limit_force, branch_flexibility
    use uniarc_contact_lcp, only: path_constraint_t, contact_scales_t, select_contact_set, contact_linearization_t, &
                                  contact_selection_t
    use uniarc_lcp_implicit, only: implicit_lcp_report_t
@@ -306,7 +306,8 @@ contains
          if (map%candidate_equation(c) > 0) then
             reaction(c) = x(map%candidate_equation(c))
          else if (map%condensed(c) .and. in_set(model, active, c)) then
-            reaction(c) = -gap(c)/model%contacts(c)%flexibility
+            ! t of the branch of δ = −g (1/k_u in tension with KU=; docs/theory.md §3.9)
+            reaction(c) = -gap(c)/branch_flexibility(model%contacts(c), -gap(c))
             if (present(yielding)) then
                if (yielding(c)) reaction(c) = limit_force(model%contacts(c), reaction(c))
             end if
