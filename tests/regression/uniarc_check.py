@@ -782,9 +782,10 @@ def check_limits_bracketed(path_file, crit_file):
     row of the same interval (the only place lambda can turn inside it), and each tracked column
     within the range of the neighbours' values (the tracked values are those of a state between them).
     A row at a whole step may end the interval before it or start the one after. contact_start and
-    contact_lost rows too: their lambda, read along the tangent of the piece leading to them, is
-    placed at the converged state where the set is seen changed when that tangent leaves the
-    interval (uniarc_critical_points, find_contact_events). Not a branch_switch row, whose interval
+    contact_lost rows too: a contact_start located by re-solving the step is an equilibrium state of
+    the path between them (uniarc_path_contact_start); otherwise their lambda, read along the tangent
+    of the piece leading to them, is placed at the converged state where the set is seen changed when
+    that tangent leaves the interval (uniarc_critical_points, find_contact_events). Not a branch_switch row, whose interval
     joins two branches; with analysis steps (*STEP) a row is compared with the rows of its own
     analysis step (the crit file's analysis_step), whose lambdas are one path's. The files carry 13 significant digits, so comparisons allow 1e-12 relative."""
     failures = []
