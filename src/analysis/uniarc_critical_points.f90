@@ -38,6 +38,12 @@ module uniarc_critical_points
    !> equilibrium tolerance (1e-8 of the load scale) that the converged λ cannot resolve anyway.
    real(dp), parameter :: flat_share = 1.0e-9_dp
 
+   !> A contact_corner whose fraction of the step is within this of the located contact start of the
+   !> same step is that start (find_critical_events): ten times the corner's bracket (1e-3 of the
+   !> step, uniarc_path_locate), across which its tangent-intersection placement lies (measured
+   !> 2.2e-3 on ex. 4's arch at gap 4.98); a later corner at another contact lies farther on.
+   real(dp), parameter :: start_corner_share = 1.0e-2_dp
+
    !> One critical point: its kind, where it lies between the two steps, and the state there.
    type :: critical_event_t
       !> limit_max, limit_min, contact_corner, bifurcation, unilateral_bifurcation or a contact event
@@ -110,6 +116,17 @@ contains
          ! Located at a change of the working set (uniarc_path_locate): a corner of the path, a contact
          ! event at which λ turns (docs/theory.md §2.12), not a limit point.
          if (after%limit_by_contact) event%kind = 'contact_corner'
+         ! A corner in a step that begins with no contact and whose contact start was located by
+         ! re-solving (uniarc_path_contact_start), within start_corner_share of it: the corner is that
+         ! start, the kink where the first contact closes, and λ turns at the state located there (the
+         ! corner's own placement, where the tangents of the two pieces meet across its bracket, is an
+         ! estimate of it: ex. 4's arch, gap 4.98, 2.2e-3 of the step and 2.2e-7 in λ away).
+         if (after%limit_by_contact .and. after%contact_start_fraction >= 0.0_dp) then
+            if (abs(event%fraction - after%contact_start_fraction) <= start_corner_share) then
+               event%fraction = after%contact_start_fraction
+               event%lambda = after%contact_start_lambda
+            end if
+         end if
          event%position = before%step + event%fraction
          if (real_turn(event)) then
             events = [events, event]
@@ -219,9 +236,11 @@ contains
    end subroutine sort_events
 
    !> Contact start (no candidate in contact before, some after) and loss (the reverse) between two
-   !> converged points. Each candidate's gap (free) or reaction (in contact) is extrapolated along the
-   !> path from `before` with its rate: the start is where the first gap closes, the loss where the last
-   !> reaction vanishes; λ there is read on the Hermite interpolant.
+   !> converged points. A start located by re-solving the step with the old working set
+   !> (uniarc_path_contact_start: after%contact_start_fraction ≥ 0) is the state where the first gap
+   !> closes, with its λ. Otherwise each candidate's gap (free) or reaction (in contact) is
+   !> extrapolated along the path from `before` with its rate: the start is where the first gap
+   !> closes, the loss where the last reaction vanishes, λ read along the tangent at `before`.
    pure subroutine find_contact_events(before, after, events)
       type(path_point_t), intent(in) :: before, after
       type(critical_event_t), allocatable, intent(inout) :: events(:)
@@ -234,6 +253,16 @@ contains
       ends = any(before%in_contact) .and. .not. any(after%in_contact)
       if (.not. (starts .or. ends)) return
       h = after%s - before%s
+      if (starts .and. after%contact_start_fraction >= 0.0_dp) then
+         ! Located on the path: its λ is that of an equilibrium state between the two (no reading
+         ! along a tangent to bound).
+         event%kind = 'contact_start'
+         event%fraction = after%contact_start_fraction
+         event%lambda = after%contact_start_lambda
+         event%position = before%step + event%fraction
+         events = [events, event]
+         return
+      end if
       if (starts) then
          event%kind = 'contact_start'
          event%fraction = 1.0_dp

@@ -110,9 +110,10 @@ module uniarc_path_driver
       !> Critical points and contact events between the previous converged point and this one, in path
       !> order (by position; at one position in the order of find_critical_events, find_contact_events).
       type(critical_event_t), allocatable :: events(:)
-      !> (size(model%tracks), size(events)): the tracked values at each event, linear between the two
-      !> steps at the event's fraction (the event's λ is on the Hermite interpolant; the displacements
-      !> vary slowly there).
+      !> (size(model%tracks), size(events)): the tracked values at each event: at a contact start
+      !> located by re-solving the step (uniarc_path_contact_start) those of the state there; at a
+      !> branch switch those of the bifurcation's state; at the others linear between the two steps at
+      !> the event's fraction (the displacements vary slowly there).
       real(dp), allocatable :: event_tracked(:, :)
       integer :: stop = stop_none       !< the stop reason if the path ended with this step
       !> a new converged step was taken (.false. at a bearing collapse: its event is at the last step)
@@ -213,7 +214,7 @@ contains
       type(step_outcome_t), intent(out) :: outcome
       type(error_t), allocatable, intent(out) :: error
       type(path_point_t) :: previous
-      real(dp), allocatable :: tracked_before(:), nodal_switch(:, :)
+      real(dp), allocatable :: tracked_before(:), nodal_event(:, :)
       character(len=:), allocatable :: finding, nodes
       type(path_state_t), allocatable :: before
       real(dp) :: upper
@@ -385,9 +386,33 @@ contains
       do k = 1, size(outcome%events)
          outcome%event_tracked(:, k) = tracked_before + outcome%events(k)%fraction*(driver%tracked - tracked_before)
       end do
+      ! A contact start located by re-solving the step (uniarc_path_contact_start): its tracked values
+      ! are those of the state there, not interpolated between the two steps.
+      if (.not. driver%state%point%switched .and. driver%state%point%contact_start_fraction >= 0.0_dp .and. &
+          allocated(driver%state%contact_start_u)) then
+         do k = 1, size(outcome%events)
+            ! (and a corner placed at that start, uniarc_critical_points)
+            if (.not. (outcome%events(k)%kind == 'contact_start' .or. (outcome%events(k)%kind == &
+                       'contact_corner' .and. outcome%events(k)%fraction == &
+                       driver%state%point%contact_start_fraction))) cycle
+            if (.not. allocated(nodal_event)) then
+               allocate (nodal_event(size(driver%displacement, 1), size(driver%displacement, 2)), stat=status)
+               call allocation_failure(status, 'the nodal displacements at the contact start', &
+                                       8.0_dp*size(driver%displacement), error_analysis, error)
+               if (allocated(error)) then
+                  driver%stop = stop_failure
+                  outcome%stop = stop_failure
+                  return
+               end if
+            end if
+            call gather_nodal(driver%state%map, driver%state%contact_start_u, nodal_event)
+            call add_prescribed(model, driver%state%point%contact_start_lambda, nodal_event)
+            outcome%event_tracked(:, k) = tracked_values(model, nodal_event)
+         end do
+      end if
       if (driver%state%point%switched) then
          ! The switch's tracked values: those of the state at the bifurcation it left from.
-         allocate (nodal_switch(size(driver%displacement, 1), size(driver%displacement, 2)), stat=status)
+         allocate (nodal_event(size(driver%displacement, 1), size(driver%displacement, 2)), stat=status)
          call allocation_failure(status, 'the nodal displacements of the branch switch''s tracked values', &
                                  8.0_dp*size(driver%displacement), error_analysis, error)
          if (allocated(error)) then
@@ -395,9 +420,9 @@ contains
             outcome%stop = stop_failure
             return
          end if
-         call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_switch)
-         call add_prescribed(model, driver%state%point%switch_lambda, nodal_switch)
-         outcome%event_tracked(:, 1) = tracked_values(model, nodal_switch)
+         call gather_nodal(driver%state%map, driver%state%bifurcation%u, nodal_event)
+         call add_prescribed(model, driver%state%point%switch_lambda, nodal_event)
+         outcome%event_tracked(:, 1) = tracked_values(model, nodal_event)
       end if
       driver%stop = stop_reason(driver%rules, outcome%step - driver%step_offset, outcome%lambda, driver%tracked)
       ! A step through the state where its branch began: the path has closed on itself and would go round

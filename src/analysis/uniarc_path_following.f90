@@ -39,6 +39,7 @@ module uniarc_path_following
    use uniarc_path_stability, only: commit_tangent
    use uniarc_path_point, only: describe_point
    use uniarc_path_locate, only: locate_critical_points
+   use uniarc_path_contact_start, only: locate_contact_start
    use uniarc_path_hidden, only: find_hidden_pair, eigenvalue_overshoot
    use uniarc_critical_points, only: same_signs
    use uniarc_path_mechanism, only: check_mechanism
@@ -326,6 +327,9 @@ contains
          return
       end if
       if (allocated(state%bifurcation)) deallocate (state%bifurcation)
+      ! (nor is a contact start located by the last step this one's)
+      if (allocated(state%contact_start_u)) deallocate (state%contact_start_u)
+      state%point%contact_start_fraction = -1.0_dp
       associate (options => model%analysis)
          ! The system of equations is the attempts' while they run: the committed state they read
          ! (intent(in)) cannot be written through it.
@@ -736,6 +740,20 @@ contains
                if (unresolved .and. .not. corner_passed .and. &
                    0.5_dp*length >= options%min_increment*state%first_length) &
                   jump = 'the critical point it passed could not be bracketed by re-solving it'
+            end if
+            if (len(jump) == 0 .and. .not. (trial%release .or. before%set_edited .or. corner_passed .or. &
+                                            trial%floating_slide)) then
+               ! A contact that closes in a step begun with none: where its gap reaches zero, located by
+               ! re-solving the step with the old set (uniarc_path_contact_start). Not across a release
+               ! step, a set changed in place or a corner (whose start is on another piece), nor the
+               ! slide of a floating structure onto its first contact (a rigid motion the old set does
+               ! not hold).
+               call locate_contact_start(model, before, state, system, length, error)
+               if (allocated(error)) then
+                  call move_alloc(system, state%system)
+                  call add_where(error, 'step '//integer_to_string(state%point%step)//' (converged state)', state)
+                  return
+               end if
             end if
             if (len(jump) == 0) then
                if (allocated(state%bifurcation)) then

@@ -159,7 +159,12 @@ contains
    !> the committed λ (the predictor along a buckling mode onto a secondary branch, uniarc_path_branch),
    !> or at λ + `start_dlambda` (optional; along the tangent of the next piece at a corner of the path,
    !> uniarc_path_corner).
-   subroutine attempt_step(model, state, system, trial, start, start_dlambda, analysis)
+   !> `keep_set` (optional, default false): the attempt keeps the committed working set throughout —
+   !> no contact LCP in the predictor, no complementarity test, no set or yield exchange: the
+   !> equilibrium of the structure with the contacts of state%active alone, whatever the gaps of the
+   !> others (the continuation of the old set's piece of path, on which uniarc_path_contact_start
+   !> finds where a gap closes).
+   subroutine attempt_step(model, state, system, trial, start, start_dlambda, analysis, keep_set)
       type(model_t), intent(in) :: model
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
@@ -170,6 +175,7 @@ contains
       !> uniarc_path_branch; load control to land on lambda_max, uniarc_path_following): no copy of the
       !> model is made for them
       type(analysis_options_t), intent(in), optional :: analysis
+      logical, intent(in), optional :: keep_set
       type(analysis_options_t) :: options_used
       type(linearization_t) :: lin
       type(newton_test_t) :: test
@@ -225,6 +231,7 @@ contains
       trial%floating_slide = .false.
       trial%release = .false.
       contacts = has_contacts(state)
+      if (present(keep_set)) contacts = contacts .and. .not. keep_set
       reuse_factors = .false.
       fresh_set = .false.
       if (present(analysis)) then
@@ -237,7 +244,7 @@ contains
          trial%increment(:) = start
          if (present(start_dlambda)) trial%dlambda = start_dlambda
       else
-         call predict(model, options_used, state, system, lin, trial, predicted)
+         call predict(model, options_used, state, system, lin, trial, contacts, predicted)
          if (allocated(trial%fatal)) return
          if (.not. predicted) return
       end if
@@ -552,15 +559,16 @@ contains
 
    !> The predictor of an attempt: trial%dlambda and trial%increment along the committed tangent K⁻¹R;
    !> with contact, the contact LCP at the committed state first chooses the working set trial%active
-   !> and the tangent is that of the set. `predicted` is false (and trial%reason says why) if a tangent
-   !> is singular or the LCP fails.
-   subroutine predict(model, options, state, system, lin, trial, predicted)
+   !> and the tangent is that of the set (not when `contacts` is false: the committed set is kept).
+   !> `predicted` is false (and trial%reason says why) if a tangent is singular or the LCP fails.
+   subroutine predict(model, options, state, system, lin, trial, contacts, predicted)
       type(model_t), intent(in) :: model
       type(analysis_options_t), intent(in) :: options   !< the attempt's (model%analysis or its own)
       type(path_state_t), intent(in) :: state
       type(path_system_t), intent(inout) :: system
       type(linearization_t), intent(inout) :: lin
       type(step_trial_t), intent(inout) :: trial
+      logical, intent(in) :: contacts   !< the contact LCP chooses the predictor's working set
       logical, intent(out) :: predicted
       real(dp), allocatable :: ut(:)
       type(path_constraint_t) :: constraint
@@ -609,7 +617,7 @@ contains
                return
             end if
          end if
-         if (has_contacts(state)) then
+         if (contacts) then
             lin%x = state%u
             call gather_nodal(state%map, state%u, lin%nodal)
             if (ready) then

@@ -81,6 +81,11 @@ module uniarc_path_state
       !> corner of the path, uniarc_path_locate): a contact event with λ at an extreme (`contact_corner`
       !> in STEM.crit), not a limit point (docs/theory.md §2.12).
       logical :: limit_by_contact = .false.
+      !> A contact start since the previous point (none in contact there, some here) located by
+      !> re-solving the step with the previous point's working set (uniarc_path_contact_start): the
+      !> fraction of the interval in path length (−1: not located) and λ of the state where the first
+      !> gap closes; path_state_t%contact_start_u holds its unknowns.
+      real(dp) :: contact_start_fraction = -1.0_dp, contact_start_lambda = 0.0_dp
       !> This point is the first of a secondary branch, reached from a bifurcation (uniarc_path_branch):
       !> the interval before it joins two branches and holds no critical point.
       logical :: switched = .false.
@@ -174,6 +179,9 @@ module uniarc_path_state
       type(path_point_t) :: point
       !> The bifurcation located by the last step, if it located one (else unallocated).
       type(bifurcation_state_t), allocatable :: bifurcation
+      !> (n) The unknowns at the contact start located in the last step (point%contact_start_fraction
+      !> ≥ 0; else unallocated): the state whose tracked values the contact_start row reports.
+      real(dp), allocatable :: contact_start_u(:)
       integer :: bifurcations = 0               !< bifurcations located so far
       !> The next step leaves the primary path along the mode of `bifurcation` (*PATH, SWITCH=n).
       logical :: switch_due = .false.

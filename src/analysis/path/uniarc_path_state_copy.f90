@@ -54,6 +54,7 @@ contains
       if (status == 0) call copy_array(src%floating_motion, dst%floating_motion, status, bytes)
       if (status == 0) call copy_array(src%floating_equation, dst%floating_equation, status, bytes)
       if (status == 0) call copy_point(src%point, dst%point, status, bytes)
+      if (status == 0) call copy_array(src%contact_start_u, dst%contact_start_u, status, bytes)
       if (status == 0 .and. allocated(src%bifurcation)) then
          bytes = real(storage_size(src%bifurcation)/8, dp)
          allocate (dst%bifurcation, stat=status)
@@ -150,6 +151,7 @@ contains
       call move_alloc(from%point%contact_value, to%point%contact_value)
       call move_alloc(from%point%contact_rate, to%point%contact_rate)
       call move_alloc(from%bifurcation, to%bifurcation)
+      call move_alloc(from%contact_start_u, to%contact_start_u)
    end subroutine move_state_arrays
 
    !> `dst` a copy of the point record `src` (scalars and arrays; `src` unchanged, inout for the move
