@@ -395,7 +395,7 @@ contains
                ! candidates are at their change and the corner step moves them together (§2.12).
                if (trial%converged .and. options%control == control_arclength .and. .not. trial%release .and. &
                    options%keep_ties .and. .not. split_allowed) then
-                  if (split_tie(state%point, state%active, trial%active, length, split_tolerance) > 0) then
+                  if (split_tie(state%point, state%active, trial%active, length, split_tolerance, split_tolerance) > 0) then
                      tie_split_cut = .true.
                      trial%converged = .false.
                      trial%reason = 'it changes one of two tied contacts and not the other (a branch point of '// &
