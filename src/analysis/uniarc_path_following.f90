@@ -53,7 +53,7 @@ module uniarc_path_following
                                 trace_retraced_step, trace_set_origin, trace_remember_corner, &
                                 trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
-                                  add_concave_corner_hint, add_convex_corner_hint
+                                  add_concave_corner_hint, add_convex_corner_hint, add_unstable_branch_hint
    use uniarc_path_start, only: size_first_step, find_floating, approach_first_contact
    implicit none
    private
@@ -493,6 +493,8 @@ contains
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
+                  call add_unstable_branch_hint(state%point%neg_pivots, state%bifurcations, &
+                                                options%switch_bifurcation, error)
                end if
                call add_concave_corner_hint(model, state, error)
                if (index(error%message, 'concave corner') == 0) &
@@ -805,6 +807,8 @@ contains
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
+                  call add_unstable_branch_hint(state%point%neg_pivots, state%bifurcations, &
+                                                options%switch_bifurcation, error)
                end if
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                if (present(cuts)) cuts = halvings
