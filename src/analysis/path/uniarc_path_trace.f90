@@ -26,8 +26,9 @@ module uniarc_path_trace
 
    !> Committed states kept for the test of a step going back along the path (trace_retraced_step).
    !> A path that comes back to the piece it left through a loop of its branches goes back along it
-   !> from where the loop ends: the loops seen end 29 and 30 steps after they began (the circular
-   !> liner in its host, ex. 2 as a whole arch on its bed at 200 elements; docs/theory.md §2.3).
+   !> from where the loop ends: ex. 2 as a whole arch on its bed at 200 elements went back along the
+   !> segment traced 32 steps before, the circular liner in its host along the one traced 58 steps
+   !> before (docs/theory.md §2.3). A piece traced longer ago is not compared.
    integer, parameter :: traced_kept = 64
    !> Corners kept for the test of a loop of corners (trace_corner_revisited): a loop of more corners
    !> than that is not recognised.
