@@ -55,7 +55,7 @@ module uniarc_path_following
                                 trace_retraced_step, trace_set_origin, trace_remember_corner, &
                                 trace_corner_revisited
    use uniarc_path_failure, only: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, &
-                                  add_concave_corner_hint, add_convex_corner_hint
+                                  add_concave_corner_hint, add_convex_corner_hint, add_unstable_branch_hint
    use uniarc_path_start, only: size_first_step, find_floating, approach_first_contact
    implicit none
    private
@@ -400,7 +400,7 @@ contains
                ! candidates are at their change and the corner step moves them together (§2.12).
                if (trial%converged .and. options%control == control_arclength .and. .not. trial%release .and. &
                    options%keep_ties .and. .not. split_allowed) then
-                  if (split_tie(state%point, state%active, trial%active, length, split_tolerance) > 0) then
+                  if (split_tie(state%point, state%active, trial%active, length, split_tolerance, split_tolerance) > 0) then
                      tie_split_cut = .true.
                      trial%converged = .false.
                      trial%reason = 'it changes one of two tied contacts and not the other (a branch point of '// &
@@ -503,6 +503,8 @@ contains
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
+                  call add_unstable_branch_hint(state%point%neg_pivots, state%bifurcations, &
+                                                options%switch_bifurcation, error)
                end if
                call add_concave_corner_hint(model, state, error)
                if (index(error%message, 'concave corner') == 0) &
@@ -692,7 +694,28 @@ contains
                                       any(trial%active .neqv. before%active)) .and. &
                 .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
                revisited = trace_retraced_step(trace, state%map, state%u, state%lambda, before%point%step, &
-                                               trial%increment, trial%dlambda)
+                                               trial%increment, trial%dlambda, -1)
+               if (revisited > 0) then
+                  jump = 'it goes back along the path traced between steps '// &
+                         integer_to_string(revisited)//' and '//integer_to_string(revisited + 1)
+                  went_back = jump
+               end if
+            else if (len(jump) == 0 .and. options%control == control_arclength .and. &
+                     state%point%neg_pivots == before%point%neg_pivots .and. &
+                     same_signs(before%point%dlambda_ds, state%point%dlambda_ds) .and. &
+                     .not. (degenerate_step(before, trial) .or. trial%floating_slide .or. trial%release)) then
+               ! A step on one smooth piece with no critical point in it (the count and the sign of
+               ! dλ/ds of its ends agree) goes back along the path only where the path came back to a
+               ! piece it traced through a loop of its branches and turned onto it, backwards, at the
+               ! branch point where the loop ends: such a state lies on the traced piece with that
+               ! piece's inertia, which the far side of a fold does not have (docs/theory.md §2.3,
+               ! "back along the path"). The circular liner in its host went round a loop of corners
+               ! into the bifurcation at 35.75 it had passed and back down its path to 31.46, where
+               ! no step converged (exit 1); ex. 2 as a whole arch on its bed (200 elements, steps of
+               ! 0.04) round its asymmetric loop into the contact branch point at 118.85 and back down
+               ! the symmetric path to lambda < 0 (exit 0).
+               revisited = trace_retraced_step(trace, state%map, state%u, state%lambda, before%point%step, &
+                                               trial%increment, trial%dlambda, state%point%neg_pivots)
                if (revisited > 0) then
                   jump = 'it goes back along the path traced between steps '// &
                          integer_to_string(revisited)//' and '//integer_to_string(revisited + 1)
@@ -760,8 +783,8 @@ contains
                   state%bifurcations = state%bifurcations + 1
                   state%switch_due = state%bifurcations == options%switch_bifurcation
                end if
-               call trace_remember(trace, state%u, state%lambda, state%point%step, before%u, before%lambda, &
-                                   before%point%step)
+               call trace_remember(trace, state%u, state%lambda, state%point%step, state%point%neg_pivots, &
+                                   before%u, before%lambda, before%point%step, before%point%neg_pivots)
                ! μ's slope along this step, for the next step's test of a hidden zero of μ
                ! (uniarc_path_hidden): only across a smooth piece with one working set, where μ is
                ! the least eigenvalue of one continuous tangent.
@@ -808,6 +831,8 @@ contains
                if (allocated(went_back)) then
                   if (index(trial%reason, went_back) == 0) error%message = error%message// &
                      '; a converged step was rejected: '//went_back//' (the path folds back here)'
+                  call add_unstable_branch_hint(state%point%neg_pivots, state%bifurcations, &
+                                                options%switch_bifurcation, error)
                end if
                call add_where(error, 'step '//integer_to_string(state%point%step + 1), state)
                if (present(cuts)) cuts = halvings

@@ -6,8 +6,8 @@
 !>  - per equation: the band tangent K_T held three times (the assembled matrix, its LU factors and a
 !>    work copy of the stability test), each (3 b + 1) reals for half bandwidth b (LAPACK dgbtrf's
 !>    storage: 2 kl + ku + 1 rows), and about 40 vectors of the Newton iteration, its trial and
-!>    committed states and the critical-point search (u, Δu, R, F, residuals, tangents), and the 35
-!>    vectors of the memory of the path traced (uniarc_path_trace: the last 16 committed states, the
+!>    committed states and the critical-point search (u, Δu, R, F, residuals, tangents), and the 83
+!>    vectors of the memory of the path traced (uniarc_path_trace: the last 64 committed states, the
 !>    last 8 corners, the last 8 states past a critical point or a corner, the state where the branch
 !>    began and two work vectors, allocated once);
 !>  - per node: coordinates, labels, DOF numbering, nodal displacements of the committed, trial and
@@ -28,9 +28,9 @@ module uniarc_memory
    public :: model_memory_bytes, available_memory, memory_text, memory_shortfall, allocation_failure
 
    real(dp), parameter :: bytes_per_equation_vectors = 320.0_dp   !< 40 vectors of reals
-   !> uniarc_path_trace's traced_vectors (35) vectors of reals: the path traced (kept states, corners,
+   !> uniarc_path_trace's traced_vectors (83) vectors of reals: the path traced (kept states, corners,
    !> event states, the branch's origin)
-   real(dp), parameter :: bytes_per_equation_traced = 280.0_dp
+   real(dp), parameter :: bytes_per_equation_traced = 664.0_dp
    real(dp), parameter :: band_copies = 3.0_dp                    !< K_T, its LU factors, a work copy
    real(dp), parameter :: bytes_per_node = 320.0_dp
    real(dp), parameter :: bytes_per_element = 160.0_dp

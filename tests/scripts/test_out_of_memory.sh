@@ -3,13 +3,13 @@
 # did not fit and its size, and no result file (docs/contracts.md, "Memory"). The allocation failure is
 # made deterministic with an address-space limit (`ulimit -v`, RLIMIT_AS) in a subshell, on a deck whose
 # element count passes the memory estimate at its count field but whose element sets do not fit: a line
-# of 10,000 elements (estimate about 42 MB) and 2,500 sets of every element (40 kB each, 100 MB in
+# of 10,000 elements (estimate 61.8 MB) and 2,500 sets of every element (40 kB each, 100 MB in
 # the builder and as much again in the model).
 #
 # The limits, with their margins: uniarc itself (program, gfortran runtime, LAPACK, libc) occupies
 # about 13 MB of address space when the count field is read (VmSize in /proc/self/status), so the
-# count check needs about 13 + 42 = 55 MB; the sets need 13 + 100 MB in the builder and 13 + 200 MB
-# with the model's copy. Measured with the Release build, every limit from 60 to 125 MB fails while
+# count check needs about 13 + 62 = 75 MB; the sets need 13 + 100 MB in the builder and 13 + 200 MB
+# with the model's copy. Measured with the Release build, every limit from 76 to 125 MB fails while
 # the sets are built (at the card, `sets.inp:LINE:`), every one from 130 to 200 MB while finish_model
 # copies them, and 210 MB passes both and is refused by the whole model's estimate. The test uses
 # 100 MB and 160 MB, each about 40 MB from the ends of its range. A control run of the same line with
@@ -29,9 +29,9 @@
 # 50 to 140 MB every 10 MB, all of which end while the deck is read or at the estimate — the range where
 # the Release build crashed in the copies of a step's supports (an array function result that gfortran
 # -O2 allocates unchecked, located with gdb). Exactly asserted: the bed under 30 MB is refused at its
-# element count (its estimate, 48.2 MB, exceeds the 15 MB left), under 300 MB it runs (exit 0, 10 rows);
+# element count (its estimate, 61.8 MB, exceeds the 15 MB left), under 300 MB it runs (exit 0, 10 rows);
 # the many-step deck under 90 MB is refused while its steps are read (at `steps.inp:LINE`; the Debug
-# build: 70 to 120 MB; under 60 MB its estimate, 48.2 MB with the path trace, refuses it first).
+# build: from about 76 to 120 MB; under 75 MB its estimate, 61.8 MB with the 64 states of the path trace, refuses it first).
 # Three more reach the analysis' other checked allocations (docs/contracts.md, "Memory"): Walker's arch
 # of 2,000 elements whose imperfection is computed by a first run (*IMPERFECTION without FILE=: copies
 # of the model for the perfect and the imperfect structure, the nodal mode), limits 30 to 46 MB; the

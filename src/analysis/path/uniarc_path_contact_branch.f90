@@ -15,10 +15,21 @@ module uniarc_path_contact_branch
    private
    public :: find_contact_branching, split_tie, tie_pair
 
-   !> Two candidates tie when their values and their rates at the step's start agree to this fraction
-   !> of the larger: round-off of mirror-image candidates is 1e-15 to 1e-12 of the values, while
-   !> candidates that merely change in the same step differ at first order.
+   !> Two candidates tie when their values at the step's start agree to this fraction of the larger:
+   !> round-off of mirror-image candidates is 1e-15 to 1e-8 of the values (the converged state's
+   !> component along a nearly singular mode: 6.6e-9 below), while candidates that merely change in
+   !> the same step differ at first order.
    real(dp), parameter :: tie_tolerance = 1.0e-8_dp
+   !> ... and when their rates along the path agree to this fraction of the larger. The rates are read
+   !> along the committed tangent K⁻¹R, whose round-off a nearly singular K_T amplifies by its
+   !> condition: on the unstable symmetric branch of ex. 2 as a whole arch on its bed (200 elements,
+   !> max_increment 0.04; μ = −1.9e-6 past the bifurcation at 117.948) the mirror candidates 40 and 162
+   !> had gaps equal to 6.6e-9 and rates −2.91924801e-2 and −2.91924787e-2, 4.7e-8 apart; the step
+   !> closed 40 alone and the path left the symmetric branch at λ = 118.86 with no row (review of
+   !> issue 11). The path following's own test (split_tolerance) reads them to 1e-4 for the same
+   !> reason; the values, of the converged state itself, keep tie_tolerance, which is what tells a
+   !> mirror pair from candidates that change in the same step.
+   real(dp), parameter :: rate_tie_tolerance = 1.0e-4_dp
    !> The tolerance of the path following's own test (split_tie in path_advance and the corner step):
    !> a step that splits a tied pair is cut and the pair moved together (docs/theory.md §2.3). Looser
    !> than the row's: the rates are read along the committed tangent, and where K_T is nearly singular
@@ -46,10 +57,11 @@ contains
       if (.not. allocated(before%in_contact) .or. .not. allocated(after%in_contact)) return
       if (size(before%in_contact) /= size(after%in_contact)) return
       h = after%s - before%s
-      c = split_tie(before, before%in_contact, after%in_contact, h, tie_tolerance)
+      c = split_tie(before, before%in_contact, after%in_contact, h, tie_tolerance, rate_tie_tolerance)
       ! A step cut because a longer one split a tied pair, and that moved the pair together: the branch
       ! point passed on the branch followed (path_advance keeps tied contacts together).
-      if (c == 0 .and. after%tie_kept) c = moved_tie(before, before%in_contact, after%in_contact, h, split_tolerance)
+      if (c == 0 .and. after%tie_kept) &
+         c = moved_tie(before, before%in_contact, after%in_contact, h, split_tolerance)
       if (c == 0) return
       event%kind = 'contact_branching'
       event%fraction = 1.0_dp
@@ -69,10 +81,10 @@ contains
    !> another candidate that tied with it at `before` (same state, value and rate) did not change:
    !> the step split a tied pair. 0 if none. `h` is the step's length along the path (the scale of a
    !> free candidate's round-off gap). Points without contact data split nothing.
-   pure integer function split_tie(before, start, finish, h, tolerance) result(split)
+   pure integer function split_tie(before, start, finish, h, tolerance, rate_tolerance) result(split)
       type(path_point_t), intent(in) :: before
-      !> the fraction of the larger value (and rate) within which two candidates tie
-      real(dp), intent(in) :: tolerance
+      !> the fraction of the larger value, and of the larger rate, within which two candidates tie
+      real(dp), intent(in) :: tolerance, rate_tolerance
       !> per candidate: in contact (or in the working set) at the step's start and at its end
       logical, intent(in) :: start(:), finish(:)
       real(dp), intent(in) :: h
@@ -96,7 +108,7 @@ contains
             if (.not. (before%in_contact(d) .eqv. before%in_contact(c))) cycle
             if (.not. (start(d) .eqv. finish(d))) cycle
             if (.not. tie_pair(before%contact_value(c), before%contact_value(d), before%contact_rate(c), &
-                               before%contact_rate(d), h, tolerance)) cycle
+                               before%contact_rate(d), h, tolerance, rate_tolerance)) cycle
             split = c
             return
          end do
@@ -119,7 +131,7 @@ contains
             if (start(d) .eqv. finish(d)) cycle
             if (.not. (before%in_contact(d) .eqv. before%in_contact(c))) cycle
             if (.not. tie_pair(before%contact_value(c), before%contact_value(d), before%contact_rate(c), &
-                               before%contact_rate(d), h, tolerance)) cycle
+                               before%contact_rate(d), h, tolerance, tolerance)) cycle
             moved = c
             return
          end do
@@ -127,13 +139,13 @@ contains
    end function moved_tie
 
    !> Whether two candidates with values a, b and rates ra, rb along the path tie: the rates agree to
-   !> `tolerance` of the larger, and so do the values, measured against the larger of themselves and
-   !> of what the rates change in a step of length h. The second scale is that of candidates at their
+   !> `rate_tolerance` of the larger, and the values to `tolerance`, measured against the larger of
+   !> themselves and of what the rates change in a step of length h. The second scale is that of candidates at their
    !> change: there the values are round-off about zero (gaps of 1e-21 and −3e-22 of a mirror pair
    !> past the pipeline's limit, steps_pipeline_hump_history.inp), which no relative test compares.
-   pure logical function tie_pair(a, b, ra, rb, h, tolerance)
-      real(dp), intent(in) :: a, b, ra, rb, h, tolerance
-      tie_pair = abs(ra - rb) <= tolerance*max(abs(ra), abs(rb)) .and. &
+   pure logical function tie_pair(a, b, ra, rb, h, tolerance, rate_tolerance)
+      real(dp), intent(in) :: a, b, ra, rb, h, tolerance, rate_tolerance
+      tie_pair = abs(ra - rb) <= rate_tolerance*max(abs(ra), abs(rb)) .and. &
                  abs(a - b) <= tolerance*max(abs(a), abs(b), abs(ra*h), abs(rb*h))
    end function tie_pair
 

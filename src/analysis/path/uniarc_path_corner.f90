@@ -276,7 +276,7 @@ contains
          ! the scale of their change over the step length that failed (tie_pair); the reactions and
          ! their rates of those in the working set
          if (keep) then
-            ties = tie_pair(value(p), value(q), rate(p), rate(q), state%step_length, tie_tolerance)
+            ties = tie_pair(value(p), value(q), rate(p), rate(q), state%step_length, tie_tolerance, tie_tolerance)
          else
             ties = close_to(state%point%contact_value(p), state%point%contact_value(q)) .and. &
                    close_to(state%point%contact_rate(p), state%point%contact_rate(q))

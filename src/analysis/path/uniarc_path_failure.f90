@@ -19,12 +19,29 @@ module uniarc_path_failure
    implicit none
    private
    public :: add_crest_hint, add_mechanism_hint, lift_off_error, at_bearing_limit, add_concave_corner_hint
-   public :: add_convex_corner_hint
+   public :: add_convex_corner_hint, add_unstable_branch_hint
 
    !> How a real is written in these messages (λ): 6 digits suffice, as in uniarc_path_following.
    character(len=*), parameter :: message_edit = '(es12.5)'
 
 contains
+
+   !> A path that goes back along itself (docs/theory.md §2.3, "back along the path") from an unstable
+   !> state (`neg_pivots` > 0) past a bifurcation it passed without switching (`bifurcations` > 0,
+   !> `switch_bifurcation` 0): the branch traced is one the structure does not take, and a loop of its
+   !> branches led the path back onto itself. The message says so and names the way onto the branch
+   !> that leaves the first bifurcation (*PATH, SWITCH=1; the circular liner in its host, whose perfect
+   !> ring bifurcates into its oval mode at 3.0 before it touches the host, collapses at 35.04 along
+   !> that branch, as the oval liners do along their paths).
+   subroutine add_unstable_branch_hint(neg_pivots, bifurcations, switch_bifurcation, error)
+      integer, intent(in) :: neg_pivots, bifurcations, switch_bifurcation
+      type(error_t), intent(inout) :: error
+      if (neg_pivots <= 0 .or. bifurcations <= 0 .or. switch_bifurcation /= 0) return
+      error%message = error%message//'; the path is on an unstable branch ('// &
+                      integer_to_string(neg_pivots)//' negative pivots) past '// &
+                      integer_to_string(bifurcations)//' bifurcation(s) it did not switch at: '// &
+                      '*PATH, SWITCH=1 follows the branch that leaves the first (docs/input.md, *PATH)'
+   end subroutine add_unstable_branch_hint
 
    !> A step that fails where a moving curved obstacle (contact_candidate_t%motion) carries a node in
    !> contact over its crest: there ∂g/∂λ = −a·d vanishes (|a·d| below 2 % of |d|), so the motion pushes

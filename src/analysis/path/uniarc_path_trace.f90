@@ -25,7 +25,11 @@ module uniarc_path_trace
              trace_remember_event
 
    !> Committed states kept for the test of a step going back along the path (trace_retraced_step).
-   integer, parameter :: traced_kept = 16
+   !> A path that comes back to the piece it left through a loop of its branches goes back along it
+   !> from where the loop ends: ex. 2 as a whole arch on its bed at 200 elements went back along the
+   !> segment traced 32 steps before, the circular liner in its host along the one traced 58 steps
+   !> before (docs/theory.md §2.3). A piece traced longer ago is not compared.
+   integer, parameter :: traced_kept = 64
    !> Corners kept for the test of a loop of corners (trace_corner_revisited): a loop of more corners
    !> than that is not recognised.
    integer, parameter :: corners_kept = 8
@@ -51,6 +55,7 @@ module uniarc_path_trace
       real(dp), allocatable :: u(:, :)      !< (n, traced_kept) displacements of the kept states (ring)
       real(dp) :: lambda(traced_kept) = 0.0_dp
       integer :: step(traced_kept) = 0
+      integer :: neg_pivots(traced_kept) = 0   !< the count of negative pivots of each kept state
       integer :: count = 0                  !< states kept
       integer :: newest = 0                 !< column of the newest kept state
       real(dp), allocatable :: corner_u(:, :)   !< (n, corners_kept) committed states of the corners (ring)
@@ -200,26 +205,30 @@ contains
 
    !> The committed state (u, λ, its step) appended to the kept states (the last traced_kept); if none
    !> is kept, the start of the step (u_before, λ_before, its step) first.
-   subroutine trace_remember(trace, u, lambda, step, u_before, lambda_before, step_before)
+   subroutine trace_remember(trace, u, lambda, step, neg_pivots, u_before, lambda_before, step_before, &
+                             neg_pivots_before)
       type(path_trace_t), intent(inout) :: trace
       real(dp), intent(in) :: u(:), u_before(:)
       real(dp), intent(in) :: lambda, lambda_before
       integer, intent(in) :: step, step_before
+      !> the count of negative pivots of the state and of the one before it
+      integer, intent(in) :: neg_pivots, neg_pivots_before
       if (.not. ready(trace, size(u))) return
-      if (trace%count == 0) call push(trace, u_before, lambda_before, step_before)
-      call push(trace, u, lambda, step)
+      if (trace%count == 0) call push(trace, u_before, lambda_before, step_before, neg_pivots_before)
+      call push(trace, u, lambda, step, neg_pivots)
    end subroutine trace_remember
 
    !> One state into the ring of kept states.
-   pure subroutine push(trace, u, lambda, step)
+   pure subroutine push(trace, u, lambda, step, neg_pivots)
       type(path_trace_t), intent(inout) :: trace
       real(dp), intent(in) :: u(:), lambda
-      integer, intent(in) :: step
+      integer, intent(in) :: step, neg_pivots
       trace%newest = modulo(trace%newest, traced_kept) + 1
       trace%count = min(trace%count + 1, traced_kept)
       trace%u(:, trace%newest) = u
       trace%lambda(trace%newest) = lambda
       trace%step(trace%newest) = step
+      trace%neg_pivots(trace%newest) = neg_pivots
    end subroutine push
 
    !> The step number at the start of a traced segment (two consecutive kept states a, b, before the
@@ -234,12 +243,16 @@ contains
    !> is not compared: the piece a corner step folds back onto differs from the traced one by a contact
    !> of almost no reaction (pipeline over the hump, weight then axial force: one node). The segment
    !> that ends at the step's start is not tested: going back over it is the reversal test's (and a
-   !> corner may turn back by more than a right angle there, §2.12).
-   integer function trace_retraced_step(trace, map, u, lambda, step_before, increment, dlambda) result(step)
+   !> corner may turn back by more than a right angle there, §2.12). `neg_pivots` ≥ 0: only segments
+   !> whose two ends have that count of negative pivots (a state of a smooth piece goes back along the
+   !> path only where it lies on it, with its inertia; the far side of a regular fold has the count of
+   !> the near side changed by one); −1: any segment.
+   integer function trace_retraced_step(trace, map, u, lambda, step_before, increment, dlambda, neg_pivots) &
+      result(step)
       type(path_trace_t), intent(inout) :: trace   !< its kept states unchanged (work vectors used)
       type(dof_map_t), intent(in) :: map
       real(dp), intent(in) :: u(:), lambda, increment(:), dlambda
-      integer, intent(in) :: step_before
+      integer, intent(in) :: step_before, neg_pivots
       real(dp) :: length2, t, low, high
       integer :: k, a, b
       step = 0
@@ -248,6 +261,9 @@ contains
          a = column(k, trace%count, trace%newest, traced_kept)
          b = column(k + 1, trace%count, trace%newest, traced_kept)
          if (trace%step(b) >= step_before) cycle
+         if (neg_pivots >= 0 .and. (trace%neg_pivots(a) /= neg_pivots .or. trace%neg_pivots(b) /= neg_pivots)) &
+            cycle
+         if (dlambda*(trace%lambda(b) - trace%lambda(a)) >= 0.0_dp) cycle
          trace%chord(:) = trace%u(:, b) - trace%u(:, a)
          length2 = masked_dot(map, trace%chord, trace%chord)
          if (length2 <= 0.0_dp) cycle
